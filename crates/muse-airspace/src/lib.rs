@@ -1,0 +1,10 @@
+//! Building and analysing airspaces.
+//!
+//! - [`builder`]: stations (and waypoints) → Delaunay triangulation → the paper's
+//!   "join collinear nodes" → optional maximum edge length → a connected [`Airspace`](muse_model::Airspace);
+//! - [`closures`]: zones + a date range → each node's and edge's closure windows;
+//! - [`stats`]: graph statistics for `muse airspace info`.
+
+pub mod builder;
+pub mod closures;
+pub mod stats;

@@ -1,0 +1,401 @@
+//! The airspace graph: nodes (stations and waypoints) joined by undirected corridors.
+//!
+//! Built once, queried many times. Node and edge ids from files map to dense indices;
+//! adjacency is stored in compressed-sparse-row form (one offsets array and one flat array
+//! of `(neighbour, edge)` pairs) so that a search touches contiguous memory.
+
+use std::collections::HashMap;
+
+use crate::coords::LonLat;
+use crate::ids::{EdgeId, NodeId};
+use crate::units::Speed;
+use crate::time::Millis;
+
+/// Whether a node is a landing pad.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum NodeKind {
+    /// A pad where trips start and end; can also be flown through.
+    Station,
+    /// A point in the air that can be flown through and hovered at, but not landed on.
+    Waypoint,
+}
+
+impl NodeKind {
+    /// The spelling used in files: `station` or `waypoint`.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            NodeKind::Station => "station",
+            NodeKind::Waypoint => "waypoint",
+        }
+    }
+}
+
+/// A node of the airspace.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Node {
+    /// Unique id as in files, e.g. `S001`.
+    pub id: String,
+    /// Station or waypoint.
+    pub kind: NodeKind,
+    /// Human-readable name (may be empty).
+    pub name: String,
+    /// Position.
+    pub pos: LonLat,
+}
+
+/// An undirected corridor between two nodes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Edge {
+    /// Unique id as in files (by convention `FROM-TO`).
+    pub id: String,
+    /// One end.
+    pub from: NodeId,
+    /// The other end.
+    pub to: NodeId,
+    /// Length in metres; authoritative for timing.
+    pub length_m: f64,
+}
+
+impl Edge {
+    /// The end that is not `n` (or `from` if `n` is neither end).
+    #[inline]
+    pub fn other(&self, n: NodeId) -> NodeId {
+        if n == self.from { self.to } else { self.from }
+    }
+}
+
+/// One entry of a node's adjacency list.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Adjacent {
+    /// The neighbour.
+    pub node: NodeId,
+    /// The edge leading to it.
+    pub edge: EdgeId,
+}
+
+/// Why a set of nodes and edges is not a valid airspace. Indices refer to the input vectors,
+/// so that readers can point at the offending feature.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum AirspaceError {
+    /// Two nodes share an id.
+    #[error("duplicate node id `{id}` (nodes {first} and {second})")]
+    DuplicateNodeId {
+        /// The id.
+        id: String,
+        /// Index of the first node with it.
+        first: usize,
+        /// Index of the second node with it.
+        second: usize,
+    },
+    /// Two edges share an id.
+    #[error("duplicate edge id `{id}` (edges {first} and {second})")]
+    DuplicateEdgeId {
+        /// The id.
+        id: String,
+        /// Index of the first edge with it.
+        first: usize,
+        /// Index of the second edge with it.
+        second: usize,
+    },
+    /// Two edges join the same pair of nodes.
+    #[error("edges {first} and {second} both join `{a}` and `{b}`")]
+    ParallelEdge {
+        /// One end's id.
+        a: String,
+        /// The other end's id.
+        b: String,
+        /// Index of the first edge.
+        first: usize,
+        /// Index of the second edge.
+        second: usize,
+    },
+    /// An edge joins a node to itself.
+    #[error("edge {index} (`{id}`) is a self-loop at `{node}`")]
+    SelfLoop {
+        /// Edge index.
+        index: usize,
+        /// Edge id.
+        id: String,
+        /// Node id.
+        node: String,
+    },
+    /// An edge's length is not a finite positive number.
+    #[error("edge {index} (`{id}`) has length {length_m} m; it must be a finite number > 0")]
+    BadLength {
+        /// Edge index.
+        index: usize,
+        /// Edge id.
+        id: String,
+        /// The length.
+        length_m: f64,
+    },
+    /// An edge refers to a node index that does not exist.
+    #[error("edge {index} (`{id}`) refers to a node index that does not exist")]
+    NodeOutOfRange {
+        /// Edge index.
+        index: usize,
+        /// Edge id.
+        id: String,
+    },
+    /// A node position is not a valid WGS84 coordinate.
+    #[error("node {index} (`{id}`) has an invalid position")]
+    BadPosition {
+        /// Node index.
+        index: usize,
+        /// Node id.
+        id: String,
+    },
+    /// More nodes or edges than fit a `u32` index.
+    #[error("too many nodes or edges")]
+    TooLarge,
+}
+
+/// The airspace graph. Immutable once built.
+#[derive(Clone, Debug)]
+pub struct Airspace {
+    nodes: Vec<Node>,
+    edges: Vec<Edge>,
+    by_id: HashMap<String, NodeId>,
+    edge_by_id: HashMap<String, EdgeId>,
+    offsets: Vec<u32>,
+    adjacent: Vec<Adjacent>,
+}
+
+impl Airspace {
+    /// Validates and indexes nodes and edges.
+    ///
+    /// ```
+    /// use muse_model::{Airspace, Edge, LonLat, Node, NodeId, NodeKind};
+    /// let node = |id: &str, lon| Node {
+    ///     id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.3),
+    /// };
+    /// let a = Airspace::new(
+    ///     vec![node("A", 103.80), node("B", 103.81)],
+    ///     vec![Edge { id: "A-B".into(), from: NodeId(0), to: NodeId(1), length_m: 1_113.2 }],
+    /// ).unwrap();
+    /// assert_eq!(a.neighbours(NodeId(0))[0].node, NodeId(1));
+    /// assert_eq!(a.node_id("B"), Some(NodeId(1)));
+    /// ```
+    pub fn new(nodes: Vec<Node>, edges: Vec<Edge>) -> Result<Self, AirspaceError> {
+        if nodes.len() >= u32::MAX as usize || edges.len() >= u32::MAX as usize {
+            return Err(AirspaceError::TooLarge);
+        }
+        let mut by_id = HashMap::with_capacity(nodes.len());
+        for (i, n) in nodes.iter().enumerate() {
+            if !n.pos.is_valid() {
+                return Err(AirspaceError::BadPosition { index: i, id: n.id.clone() });
+            }
+            if let Some(prev) = by_id.insert(n.id.clone(), NodeId(i as u32)) {
+                return Err(AirspaceError::DuplicateNodeId {
+                    id: n.id.clone(),
+                    first: prev.index(),
+                    second: i,
+                });
+            }
+        }
+        let mut edge_by_id = HashMap::with_capacity(edges.len());
+        let mut pairs: HashMap<(NodeId, NodeId), usize> = HashMap::with_capacity(edges.len());
+        let mut degree = vec![0u32; nodes.len()];
+        for (i, e) in edges.iter().enumerate() {
+            if e.from.index() >= nodes.len() || e.to.index() >= nodes.len() {
+                return Err(AirspaceError::NodeOutOfRange { index: i, id: e.id.clone() });
+            }
+            if e.from == e.to {
+                return Err(AirspaceError::SelfLoop {
+                    index: i,
+                    id: e.id.clone(),
+                    node: nodes[e.from.index()].id.clone(),
+                });
+            }
+            if !e.length_m.is_finite() || e.length_m <= 0.0 {
+                return Err(AirspaceError::BadLength {
+                    index: i,
+                    id: e.id.clone(),
+                    length_m: e.length_m,
+                });
+            }
+            if let Some(prev) = edge_by_id.insert(e.id.clone(), EdgeId(i as u32)) {
+                return Err(AirspaceError::DuplicateEdgeId {
+                    id: e.id.clone(),
+                    first: prev.index(),
+                    second: i,
+                });
+            }
+            let key = (e.from.min(e.to), e.from.max(e.to));
+            if let Some(prev) = pairs.insert(key, i) {
+                return Err(AirspaceError::ParallelEdge {
+                    a: nodes[key.0.index()].id.clone(),
+                    b: nodes[key.1.index()].id.clone(),
+                    first: prev,
+                    second: i,
+                });
+            }
+            degree[e.from.index()] += 1;
+            degree[e.to.index()] += 1;
+        }
+        let mut offsets = Vec::with_capacity(nodes.len() + 1);
+        offsets.push(0u32);
+        for d in &degree {
+            offsets.push(offsets.last().copied().unwrap_or(0) + d);
+        }
+        let mut fill: Vec<u32> = offsets[..nodes.len()].to_vec();
+        let mut adjacent =
+            vec![Adjacent { node: NodeId(0), edge: EdgeId(0) }; offsets[nodes.len()] as usize];
+        for (i, e) in edges.iter().enumerate() {
+            let eid = EdgeId(i as u32);
+            for (x, y) in [(e.from, e.to), (e.to, e.from)] {
+                adjacent[fill[x.index()] as usize] = Adjacent { node: y, edge: eid };
+                fill[x.index()] += 1;
+            }
+        }
+        for n in 0..nodes.len() {
+            adjacent[offsets[n] as usize..offsets[n + 1] as usize].sort_by_key(|a| a.node);
+        }
+        Ok(Airspace { nodes, edges, by_id, edge_by_id, offsets, adjacent })
+    }
+
+    /// All nodes, indexed by [`NodeId`].
+    #[inline]
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// All edges, indexed by [`EdgeId`].
+    #[inline]
+    pub fn edges(&self) -> &[Edge] {
+        &self.edges
+    }
+
+    /// Number of nodes.
+    #[inline]
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Number of edges.
+    #[inline]
+    pub fn edge_count(&self) -> usize {
+        self.edges.len()
+    }
+
+    /// The node with index `n`.
+    #[inline]
+    pub fn node(&self, n: NodeId) -> &Node {
+        &self.nodes[n.index()]
+    }
+
+    /// The edge with index `e`.
+    #[inline]
+    pub fn edge(&self, e: EdgeId) -> &Edge {
+        &self.edges[e.index()]
+    }
+
+    /// The index of the node with file id `id`.
+    pub fn node_id(&self, id: &str) -> Option<NodeId> {
+        self.by_id.get(id).copied()
+    }
+
+    /// The index of the edge with file id `id`.
+    pub fn edge_id(&self, id: &str) -> Option<EdgeId> {
+        self.edge_by_id.get(id).copied()
+    }
+
+    /// The neighbours of `n`, sorted by node index.
+    #[inline]
+    pub fn neighbours(&self, n: NodeId) -> &[Adjacent] {
+        &self.adjacent[self.offsets[n.index()] as usize..self.offsets[n.index() + 1] as usize]
+    }
+
+    /// The edge joining `a` and `b`, if any.
+    pub fn edge_between(&self, a: NodeId, b: NodeId) -> Option<EdgeId> {
+        let adj = self.neighbours(a);
+        adj.binary_search_by_key(&b, |x| x.node).ok().map(|i| adj[i].edge)
+    }
+
+    /// Indices of all stations, in index order.
+    pub fn stations(&self) -> impl Iterator<Item = NodeId> + '_ {
+        self.nodes
+            .iter()
+            .enumerate()
+            .filter(|(_, n)| n.kind == NodeKind::Station)
+            .map(|(i, _)| NodeId(i as u32))
+    }
+
+    /// Whether node `n` is a station.
+    #[inline]
+    pub fn is_station(&self, n: NodeId) -> bool {
+        self.nodes[n.index()].kind == NodeKind::Station
+    }
+
+    /// Traversal time of every edge at `speed`, indexed by [`EdgeId`].
+    pub fn traversal_times(&self, speed: Speed) -> Vec<Millis> {
+        self.edges.iter().map(|e| speed.traversal_time(e.length_m)).collect()
+    }
+
+    /// Whether every node can reach every other node.
+    pub fn is_connected(&self) -> bool {
+        if self.nodes.is_empty() {
+            return true;
+        }
+        let mut seen = vec![false; self.nodes.len()];
+        let mut stack = vec![NodeId(0)];
+        seen[0] = true;
+        let mut count = 1;
+        while let Some(n) = stack.pop() {
+            for a in self.neighbours(n) {
+                if !seen[a.node.index()] {
+                    seen[a.node.index()] = true;
+                    count += 1;
+                    stack.push(a.node);
+                }
+            }
+        }
+        count == self.nodes.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn node(id: &str, lon: f64) -> Node {
+        Node { id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.3) }
+    }
+
+    fn edge(id: &str, a: u32, b: u32, len: f64) -> Edge {
+        Edge { id: id.into(), from: NodeId(a), to: NodeId(b), length_m: len }
+    }
+
+    #[test]
+    fn csr_adjacency_and_lookup() {
+        let a = Airspace::new(
+            vec![node("A", 103.8), node("B", 103.81), node("C", 103.82)],
+            vec![edge("A-B", 0, 1, 10.0), edge("B-C", 1, 2, 20.0)],
+        )
+        .unwrap();
+        assert_eq!(a.neighbours(NodeId(1)).len(), 2);
+        assert_eq!(a.edge_between(NodeId(2), NodeId(1)), Some(EdgeId(1)));
+        assert_eq!(a.edge_between(NodeId(0), NodeId(2)), None);
+        assert!(a.is_connected());
+        assert_eq!(a.edge_id("B-C"), Some(EdgeId(1)));
+    }
+
+    #[test]
+    fn validation_errors() {
+        let two = || vec![node("A", 103.8), node("B", 103.81)];
+        let err = Airspace::new(vec![node("A", 1.0), node("A", 2.0)], vec![]).unwrap_err();
+        assert!(matches!(err, AirspaceError::DuplicateNodeId { second: 1, .. }));
+        let err = Airspace::new(two(), vec![edge("x", 0, 0, 1.0)]).unwrap_err();
+        assert!(err.to_string().contains("self-loop"));
+        let err = Airspace::new(two(), vec![edge("x", 0, 1, 0.0)]).unwrap_err();
+        assert!(matches!(err, AirspaceError::BadLength { .. }));
+        let err = Airspace::new(two(), vec![edge("x", 0, 1, 1.0), edge("y", 1, 0, 1.0)]).unwrap_err();
+        assert!(matches!(err, AirspaceError::ParallelEdge { .. }));
+        let err = Airspace::new(two(), vec![edge("x", 0, 1, 1.0), edge("x", 0, 1, 1.0)]).unwrap_err();
+        assert!(matches!(err, AirspaceError::DuplicateEdgeId { .. }));
+        let err = Airspace::new(two(), vec![edge("x", 0, 5, 1.0)]).unwrap_err();
+        assert!(matches!(err, AirspaceError::NodeOutOfRange { .. }));
+        let disconnected = Airspace::new(two(), vec![]).unwrap();
+        assert!(!disconnected.is_connected());
+    }
+}

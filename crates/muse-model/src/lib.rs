@@ -1,0 +1,30 @@
+//! Core types of MUSE, shared by every other crate.
+//!
+//! Everything here is plain data with exact arithmetic where the SPEC demands it:
+//!
+//! - [`ids`]: dense node and edge indices;
+//! - [`time`]: integer-millisecond instants and durations, RFC 3339 at the edges;
+//! - [`coords`]: WGS84 and SVY21 (EPSG:3414) coordinates and geodesic lengths;
+//! - [`units`]: cruise speed and the exact edge traversal time `w(e)`;
+//! - [`airspace`]: the airspace graph with a compact adjacency layout;
+//! - [`request`]: delivery requests;
+//! - [`zone`]: no-fly zones (area and/or explicit elements, with time windows);
+//! - [`plan`]: planned flights and rejections.
+
+pub mod airspace;
+pub mod coords;
+pub mod ids;
+pub mod plan;
+pub mod request;
+pub mod time;
+pub mod units;
+pub mod zone;
+
+pub use airspace::{Adjacent, Airspace, AirspaceError, Edge, Node, NodeKind};
+pub use coords::{LonLat, Svy21};
+pub use ids::{EdgeId, NodeId};
+pub use plan::{Plan, RejectReason, Stay};
+pub use request::Request;
+pub use time::{Instant, Millis, UtcOffset};
+pub use units::Speed;
+pub use zone::{DailyWindow, Period, Weekday, Zone, ZoneArea};

@@ -1,0 +1,31 @@
+//! Delivery requests.
+
+use crate::ids::NodeId;
+use crate::time::Instant;
+
+/// A delivery request: fly from `origin` to `destination`, taking off no earlier than
+/// `departure`. Origin and destination are distinct stations (checked by the readers).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Request {
+    /// Unique id as in files, e.g. `r000042`.
+    pub id: String,
+    /// Origin station.
+    pub origin: NodeId,
+    /// Destination station.
+    pub destination: NodeId,
+    /// Requested departure (earliest take-off).
+    pub departure: Instant,
+}
+
+/// Sorts requests into planning order, `(departure, id)` (SPEC §5: first come, first served).
+///
+/// ```
+/// use muse_model::{request::sort_for_planning, Instant, NodeId, Request};
+/// let r = |id: &str, t| Request { id: id.into(), origin: NodeId(0), destination: NodeId(1), departure: Instant(t) };
+/// let mut v = vec![r("b", 5), r("a", 5), r("c", 1)];
+/// sort_for_planning(&mut v);
+/// assert_eq!(v.iter().map(|r| r.id.as_str()).collect::<Vec<_>>(), ["c", "a", "b"]);
+/// ```
+pub fn sort_for_planning(requests: &mut [Request]) {
+    requests.sort_by(|a, b| a.departure.cmp(&b.departure).then_with(|| a.id.cmp(&b.id)));
+}

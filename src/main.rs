@@ -1,0 +1,2 @@
+//! `muse`: the command-line interface.
+fn main() {}
