@@ -128,12 +128,19 @@ impl Svy21 {
 mod tests {
     use super::*;
 
-    /// Reference points for EPSG:3414, computed independently with PROJ (pyproj
-    /// `Transformer.from_crs("EPSG:4326", "EPSG:3414", always_xy=True)`), the projection
-    /// library of record. See `data/SOURCES.md`.
+    /// Reference points for EPSG:3414, computed independently with PROJ 9.5.1 through pyproj
+    /// 3.7.2 (`Transformer.from_crs("EPSG:4326", "EPSG:3414", always_xy=True)`, which uses the
+    /// EPSG database's definition, not ours): the SVY21 origin, the corners of the HDB data's
+    /// extent, a car park (ACM), the island's centre and two points beyond the island.
     const REFERENCE: &[(f64, f64, f64, f64)] = &[
         // (lon, lat, easting, northing)
-        (103.833_333_333_333_33, 1.366_666_666_666_666_7, 28_001.642, 38_744.572),
+        (103.833_333_333_333_33, 1.366_666_666_666_666_7, 28_001.642_0, 38_744.572_0),
+        (103.685_4, 1.270_6, 11_537.782_3, 28_122.484_7),
+        (103.988_5, 1.456_6, 45_269.193_4, 48_689.540_2),
+        (103.885_06, 1.321, 33_758.308_8, 33_695.045_4),
+        (103.819_8, 1.352_1, 26_495.534_9, 37_133.868_5),
+        (103.6, 1.16, 2_032.309_5, 15_893.513_7),
+        (104.09, 1.47, 56_564.400_4, 50_172.292_0),
     ];
 
     #[test]
