@@ -54,54 +54,10 @@ pub fn read_airspace(text: &str, file: &str) -> Result<Airspace, InputError> {
             .ok_or_else(|| ctx.err("properties", "missing or not an object"))?;
         match gtype {
             "Point" => {
-                let pos = ctx.position(geometry.get("coordinates"), "geometry.coordinates")?;
-                let id = ctx.string(props, "id")?;
-                let kind = match ctx.string(props, "kind")?.as_str() {
-                    "station" => NodeKind::Station,
-                    "waypoint" => NodeKind::Waypoint,
-                    other => {
-                        return Err(ctx.err(
-                            "kind",
-                            format!("`{other}` is not `station` or `waypoint`"),
-                        ));
-                    }
-                };
-                let name = match props.get("name") {
-                    None | Some(Value::Null) => String::new(),
-                    Some(Value::String(s)) => s.clone(),
-                    Some(_) => return Err(ctx.err("name", "must be a string")),
-                };
-                nodes.push(Node { id, kind, name, pos });
+                nodes.push(ctx.node(geometry, props)?);
                 node_feature.push(index);
             }
-            "LineString" => {
-                let coords = geometry
-                    .get("coordinates")
-                    .and_then(Value::as_array)
-                    .ok_or_else(|| ctx.err("geometry.coordinates", "missing or not an array"))?;
-                if coords.len() != 2 {
-                    return Err(ctx.err(
-                        "geometry.coordinates",
-                        format!("an edge has exactly two positions, found {}", coords.len()),
-                    ));
-                }
-                let ends = [
-                    ctx.position(coords.first(), "geometry.coordinates[0]")?,
-                    ctx.position(coords.get(1), "geometry.coordinates[1]")?,
-                ];
-                let from = ctx.string(props, "from")?;
-                let to = ctx.string(props, "to")?;
-                let length_m = match props.get("length_m") {
-                    None | Some(Value::Null) => None,
-                    Some(v) => Some(v.as_f64().ok_or_else(|| ctx.err("length_m", "must be a number"))?),
-                };
-                let id = match props.get("id") {
-                    None | Some(Value::Null) => format!("{from}-{to}"),
-                    Some(Value::String(s)) if !s.is_empty() => s.clone(),
-                    Some(_) => return Err(ctx.err("id", "must be a non-empty string")),
-                };
-                pending_edges.push((index, id, from, to, length_m, ends));
-            }
+            "LineString" => pending_edges.push(ctx.edge(geometry, props)?),
             "" => return Err(ctx.err("geometry.type", "missing")),
             other => {
                 return Err(ctx.err(
@@ -129,7 +85,7 @@ pub fn read_airspace(text: &str, file: &str) -> Result<Airspace, InputError> {
     }
     let mut edges = Vec::with_capacity(pending_edges.len());
     let mut edge_feature = Vec::with_capacity(pending_edges.len());
-    for (index, id, from, to, length_m, ends) in pending_edges {
+    for PendingEdge { index, id, from, to, length_m, ends } in pending_edges {
         let ctx = FeatureCtx { file, index, id: Some(id.clone()) };
         let lookup = |name: &str, field: &str| {
             by_id.get(name).copied().ok_or_else(|| ctx.err(field, format!("unknown node id `{name}`")))
@@ -260,6 +216,16 @@ fn airspace_error(
     }
 }
 
+/// An edge read from its feature, before its node ids are resolved.
+struct PendingEdge {
+    index: usize,
+    id: String,
+    from: String,
+    to: String,
+    length_m: Option<f64>,
+    ends: [LonLat; 2],
+}
+
 /// Error context for one feature.
 struct FeatureCtx<'a> {
     file: &'a str,
@@ -275,6 +241,53 @@ impl FeatureCtx<'_> {
             Some(field),
             msg,
         )
+    }
+
+    fn node(&self, geometry: &Value, props: &Map<String, Value>) -> Result<Node, InputError> {
+        let pos = self.position(geometry.get("coordinates"), "geometry.coordinates")?;
+        let id = self.string(props, "id")?;
+        let kind = match self.string(props, "kind")?.as_str() {
+            "station" => NodeKind::Station,
+            "waypoint" => NodeKind::Waypoint,
+            other => {
+                return Err(self.err("kind", format!("`{other}` is not `station` or `waypoint`")));
+            }
+        };
+        let name = match props.get("name") {
+            None | Some(Value::Null) => String::new(),
+            Some(Value::String(s)) => s.clone(),
+            Some(_) => return Err(self.err("name", "must be a string")),
+        };
+        Ok(Node { id, kind, name, pos })
+    }
+
+    fn edge(&self, geometry: &Value, props: &Map<String, Value>) -> Result<PendingEdge, InputError> {
+        let coords = geometry
+            .get("coordinates")
+            .and_then(Value::as_array)
+            .ok_or_else(|| self.err("geometry.coordinates", "missing or not an array"))?;
+        if coords.len() != 2 {
+            return Err(self.err(
+                "geometry.coordinates",
+                format!("an edge has exactly two positions, found {}", coords.len()),
+            ));
+        }
+        let ends = [
+            self.position(coords.first(), "geometry.coordinates[0]")?,
+            self.position(coords.get(1), "geometry.coordinates[1]")?,
+        ];
+        let from = self.string(props, "from")?;
+        let to = self.string(props, "to")?;
+        let length_m = match props.get("length_m") {
+            None | Some(Value::Null) => None,
+            Some(v) => Some(v.as_f64().ok_or_else(|| self.err("length_m", "must be a number"))?),
+        };
+        let id = match props.get("id") {
+            None | Some(Value::Null) => format!("{from}-{to}"),
+            Some(Value::String(s)) if !s.is_empty() => s.clone(),
+            Some(_) => return Err(self.err("id", "must be a non-empty string")),
+        };
+        Ok(PendingEdge { index: self.index, id, from, to, length_m, ends })
     }
 
     fn string(&self, props: &Map<String, Value>, key: &str) -> Result<String, InputError> {
@@ -303,6 +316,7 @@ impl FeatureCtx<'_> {
 }
 
 #[cfg(test)]
+#[allow(clippy::float_cmp)] // the values compared are exact by construction
 mod tests {
     use super::*;
 

@@ -49,8 +49,8 @@ impl InputError {
 }
 
 impl fmt::Display for InputError {
-    /// `file: line 3: field `departure`: message` or
-    /// `file: feature 5 (`S001`): field `length_m`: message`.
+    /// For example ``r.csv: line 3: field `departure`: message`` or
+    /// ``a.geojson: feature 5 (`S001`): field `length_m`: message``.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}", self.file)?;
         match &self.location {

@@ -9,11 +9,13 @@
 //! - [`airspace`]: the airspace graph with a compact adjacency layout;
 //! - [`request`]: delivery requests;
 //! - [`zone`]: no-fly zones (area and/or explicit elements, with time windows);
+//! - [`params`]: the flight model parameters (speed, battery, separations, ground delay);
 //! - [`plan`]: planned flights and rejections.
 
 pub mod airspace;
 pub mod coords;
 pub mod ids;
+pub mod params;
 pub mod plan;
 pub mod request;
 pub mod time;
@@ -23,6 +25,7 @@ pub mod zone;
 pub use airspace::{Adjacent, Airspace, AirspaceError, Edge, Node, NodeKind};
 pub use coords::{LonLat, Svy21};
 pub use ids::{EdgeId, NodeId};
+pub use params::{EdgeRule, FlightParams};
 pub use plan::{Plan, RejectReason, Stay};
 pub use request::Request;
 pub use time::{Instant, Millis, UtcOffset};

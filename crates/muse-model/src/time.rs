@@ -81,7 +81,7 @@ impl Millis {
     /// assert!(muse_model::Millis::from_secs_f64(-1.0).is_err());
     /// ```
     pub fn from_secs_f64(s: f64) -> Result<Self, TimeError> {
-        if !s.is_finite() || s < 0.0 || s > 1e12 {
+        if !s.is_finite() || !(0.0..=1e12).contains(&s) {
             return Err(TimeError::Seconds(s));
         }
         Ok(Millis((s * 1_000.0).round() as i64))

@@ -1,1 +1,153 @@
-//! muse-scenario
+//! Built-in scenarios of MUSE: the Singapore default `singapore-77` (SPEC §8), built from
+//! open data embedded in the crate.
+//!
+//! # Source data
+//!
+//! The crate embeds three files of the repository's top-level `data/` folder (provenance,
+//! checksums and licence in `data/SOURCES.md`):
+//!
+//! - `hdb_carpark_information.csv`: HDB car parks with SVY21 (EPSG:3414) coordinates;
+//! - `ura_mp2019_planning_area_no_sea.geojson`: the 55 URA Master Plan 2019 planning areas;
+//! - `ura_mp2019_downtown_core.geojson`: the Downtown Core planning area alone.
+//!
+//! [`ATTRIBUTION`]: *Contains information from HDB Carpark Information and Master Plan 2019
+//! Planning Area Boundary (No Sea) accessed from data.gov.sg, which is made available under
+//! the terms of the Singapore Open Data Licence version 1.0.*
+//!
+//! # Station selection rule
+//!
+//! The 77 stations are HDB multi-storey car parks (rooftop pads), chosen so that they spread
+//! over the inhabited island the way the car parks do:
+//!
+//! 1. **Candidates:** the 1,115 rows with `car_park_type` = `MULTI-STOREY CAR PARK`, in file
+//!    order (by car park number), at their SVY21 coordinates in metres.
+//! 2. **Seeded k-means, k = 77:** k-means++ initialisation driven by a `ChaCha8Rng` seeded
+//!    with [`KMEANS_SEED`] = 77 (uniform numbers made from the raw `u64` stream), then Lloyd
+//!    iterations until no car park changes cluster (11 iterations here).
+//! 3. **Snap to real car parks:** for each centre in k-means++ pick order, the nearest car
+//!    park not already taken.
+//! 4. **Numbering:** north to south (SVY21 northing descending), `S001` … `S077`. A station
+//!    is named `"{car_park_no} {address}"` (e.g. `ACM BLK 98A ALJUNIED CRESCENT`); its
+//!    position is the SVY21 position converted to WGS84 by `muse-model` and rounded to 7
+//!    decimals (about 1 cm), so that the written file is the source of truth.
+//!
+//! The details are in [`stations`].
+//!
+//! # Edges
+//!
+//! [`muse_airspace::builder::build_airspace`] with its default options: the Delaunay
+//! triangulation of the stations (on a stereographic projection centred on them; 214
+//! edges), then the paper's "join collinear nodes" with a tolerance of **15°**: edge A–C is
+//! dropped when a station B with edges A–B and B–C makes an angle ABC ≥ 165° (the detour is
+//! then at most 0.9 % longer). Edges are considered longest first and dropped only while
+//! A–B and B–C remain, which keeps the graph connected. No maximum edge length. Lengths
+//! are geodesic on WGS84, rounded to the millimetre. The result has 211 edges from 0.59 to
+//! 9.44 km (median 2.1 km): the step removes the 14.5 km hull edge `S050-S077` along the
+//! south-western coast (angle 169.2° at `S062`), so every edge can be flown within the
+//! 20-minute battery limit at 30 km/h.
+//!
+//! # No-fly zone
+//!
+//! [`cbd_zone`]: the Downtown Core polygon (z dropped; 638 vertices, stored to 7 decimals ≈
+//! 1 cm), closed daily 10:00–12:00 `+08:00` on all seven days, restriction `PROHIBITED`,
+//! id `SG-CBD-DOWNTOWN-CORE`, name "Downtown Core (CBD) no-fly zone 10:00–12:00". No
+//! station lies in it (none of the 1,115 candidates does); edges crossing it close with it.
+//!
+//! # Land
+//!
+//! [`planning_areas`] / [`singapore_land`]: the 55 planning areas; a point is on land when
+//! some planning area contains it (boundary included). The union is not computed.
+//!
+//! # Files
+//!
+//! [`build_singapore_77`] produces `scenarios/singapore-77/airspace.geojson` and
+//! `scenarios/singapore-77/cbd_zone.geojson` (written by `muse airspace build`). The
+//! committed files are embedded ([`AIRSPACE_GEOJSON`], [`CBD_ZONE_GEOJSON`]) and parsed by
+//! [`singapore_77`] (Monday 2026-01-05, `+08:00`); a test checks that rebuilding them from
+//! the source data gives the same bytes. Building takes a few milliseconds. After a
+//! deliberate change of the rule, regenerate them with `muse airspace build` or
+//! `cargo test -p muse-scenario -- --ignored write_files`.
+
+pub mod carparks;
+pub mod land;
+pub mod singapore;
+pub mod stations;
+
+pub use land::{PlanningArea, planning_areas, singapore_land};
+pub use singapore::{
+    BuiltFiles, CBD_ZONE_ID, CBD_ZONE_NAME, KMEANS_SEED, SINGAPORE_77, STATION_COUNT, Scenario,
+    build_singapore_77, build_singapore_77_airspace, cbd_zone, singapore_77, station_nodes,
+};
+
+use muse_airspace::builder::BuildError;
+use muse_formats::InputError;
+use muse_model::coords::CoordError;
+
+/// The attribution required by the Singapore Open Data Licence v1.0 for the embedded data.
+pub const ATTRIBUTION: &str = "Contains information from HDB Carpark Information and Master \
+    Plan 2019 Planning Area Boundary (No Sea) accessed from data.gov.sg, which is made \
+    available under the terms of the Singapore Open Data Licence version 1.0.";
+
+/// The committed `scenarios/singapore-77/airspace.geojson`, embedded.
+pub const AIRSPACE_GEOJSON: &str = include_str!("../../../scenarios/singapore-77/airspace.geojson");
+
+/// The committed `scenarios/singapore-77/cbd_zone.geojson` (ED-318), embedded.
+pub const CBD_ZONE_GEOJSON: &str = include_str!("../../../scenarios/singapore-77/cbd_zone.geojson");
+
+/// The embedded source data (copies of the repository's `data/` files) and their names.
+pub mod data {
+    /// `data/hdb_carpark_information.csv`: HDB Carpark Information (data.gov.sg).
+    pub const HDB_CARPARK_CSV: &str = include_str!("../../../data/hdb_carpark_information.csv");
+    /// The name used for [`HDB_CARPARK_CSV`] in messages.
+    pub const HDB_CARPARK_CSV_NAME: &str = "data/hdb_carpark_information.csv";
+    /// `data/ura_mp2019_planning_area_no_sea.geojson`: URA MP2019 planning areas (no sea).
+    pub const PLANNING_AREAS_GEOJSON: &str =
+        include_str!("../../../data/ura_mp2019_planning_area_no_sea.geojson");
+    /// The name used for [`PLANNING_AREAS_GEOJSON`] in messages.
+    pub const PLANNING_AREAS_GEOJSON_NAME: &str = "data/ura_mp2019_planning_area_no_sea.geojson";
+    /// `data/ura_mp2019_downtown_core.geojson`: the Downtown Core planning area.
+    pub const DOWNTOWN_CORE_GEOJSON: &str =
+        include_str!("../../../data/ura_mp2019_downtown_core.geojson");
+    /// The name used for [`DOWNTOWN_CORE_GEOJSON`] in messages.
+    pub const DOWNTOWN_CORE_GEOJSON_NAME: &str = "data/ura_mp2019_downtown_core.geojson";
+}
+
+/// Why a scenario could not be built.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ScenarioError {
+    /// A row of a CSV source file is malformed.
+    #[error("{file}: line {line}: {message}")]
+    Data {
+        /// The file.
+        file: String,
+        /// 1-based line (the header is line 1).
+        line: u64,
+        /// What is wrong.
+        message: String,
+    },
+    /// A `GeoJSON` source file is malformed.
+    #[error("{file}: {message}")]
+    Geo {
+        /// The file.
+        file: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// Fewer distinct candidates than stations wanted.
+    #[error("{wanted} stations wanted but only {available} distinct candidate car parks")]
+    TooFewCandidates {
+        /// Stations wanted.
+        wanted: usize,
+        /// Distinct candidate positions.
+        available: usize,
+    },
+    /// A coordinate conversion failed.
+    #[error(transparent)]
+    Coord(#[from] CoordError),
+    /// The airspace builder failed.
+    #[error(transparent)]
+    Build(#[from] BuildError),
+    /// A generated file could not be read back.
+    #[error(transparent)]
+    Input(#[from] InputError),
+}

@@ -1,0 +1,51 @@
+//! Flight-model parameters (SPEC §3), shared by the planner and the verifier.
+
+use crate::time::Millis;
+use crate::units::Speed;
+
+/// How two traversals of the same edge must be separated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum EdgeRule {
+    /// At most one drone on an edge at a time, whatever the direction (the paper).
+    Exclusive,
+    /// Opposite directions as `Exclusive`; same direction at least `headway` apart at entry.
+    Headway(Millis),
+}
+
+impl EdgeRule {
+    /// The name used on the command line and in summaries.
+    pub const fn name(self) -> &'static str {
+        match self {
+            EdgeRule::Exclusive => "exclusive",
+            EdgeRule::Headway(_) => "headway",
+        }
+    }
+}
+
+/// The flight model: speed, battery, separations and ground delay.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct FlightParams {
+    /// Cruise speed `v`.
+    pub speed: Speed,
+    /// Maximum airborne time `T_max` (landing − take-off).
+    pub max_flight: Millis,
+    /// Node separation `tau`.
+    pub node_separation: Millis,
+    /// Edge separation rule.
+    pub edge_rule: EdgeRule,
+    /// Maximum ground delay `G_max` (take-off − requested departure).
+    pub max_ground_delay: Millis,
+}
+
+impl Default for FlightParams {
+    /// The paper's parameters: 30 km/h, 20 min, `tau` = 5 s, exclusive edges, no ground delay.
+    fn default() -> Self {
+        FlightParams {
+            speed: Speed::PAPER,
+            max_flight: Millis::from_mins(20),
+            node_separation: Millis::from_secs(5),
+            edge_rule: EdgeRule::Exclusive,
+            max_ground_delay: Millis::ZERO,
+        }
+    }
+}
