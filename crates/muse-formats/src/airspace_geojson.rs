@@ -39,14 +39,22 @@ pub fn read_airspace(text: &str, file: &str) -> Result<Airspace, InputError> {
     let features = root
         .get("features")
         .and_then(Value::as_array)
-        .ok_or_else(|| whole("expected a GeoJSON FeatureCollection with a `features` array".into()))?;
+        .ok_or_else(|| {
+            whole("expected a GeoJSON FeatureCollection with a `features` array".into())
+        })?;
 
     let mut nodes = Vec::new();
     let mut node_feature = Vec::new();
     let mut pending_edges = Vec::new();
     for (index, feature) in features.iter().enumerate() {
-        let ctx = FeatureCtx { file, index, id: feature_label(feature) };
-        let geometry = feature.get("geometry").ok_or_else(|| ctx.err("geometry", "missing"))?;
+        let ctx = FeatureCtx {
+            file,
+            index,
+            id: feature_label(feature),
+        };
+        let geometry = feature
+            .get("geometry")
+            .ok_or_else(|| ctx.err("geometry", "missing"))?;
         let gtype = geometry.get("type").and_then(Value::as_str).unwrap_or("");
         let props = feature
             .get("properties")
@@ -73,7 +81,10 @@ pub fn read_airspace(text: &str, file: &str) -> Result<Airspace, InputError> {
         if let Some(prev) = by_id.insert(n.id.as_str(), NodeId(i as u32)) {
             return Err(InputError::new(
                 file,
-                Location::Feature { index: node_feature[i], id: Some(n.id.clone()) },
+                Location::Feature {
+                    index: node_feature[i],
+                    id: Some(n.id.clone()),
+                },
                 Some("id"),
                 format!(
                     "duplicate node id `{}` (first used by feature {})",
@@ -85,15 +96,35 @@ pub fn read_airspace(text: &str, file: &str) -> Result<Airspace, InputError> {
     }
     let mut edges = Vec::with_capacity(pending_edges.len());
     let mut edge_feature = Vec::with_capacity(pending_edges.len());
-    for PendingEdge { index, id, from, to, length_m, ends } in pending_edges {
-        let ctx = FeatureCtx { file, index, id: Some(id.clone()) };
+    for PendingEdge {
+        index,
+        id,
+        from,
+        to,
+        length_m,
+        ends,
+    } in pending_edges
+    {
+        let ctx = FeatureCtx {
+            file,
+            index,
+            id: Some(id.clone()),
+        };
         let lookup = |name: &str, field: &str| {
-            by_id.get(name).copied().ok_or_else(|| ctx.err(field, format!("unknown node id `{name}`")))
+            by_id
+                .get(name)
+                .copied()
+                .ok_or_else(|| ctx.err(field, format!("unknown node id `{name}`")))
         };
         let a = lookup(&from, "from")?;
         let b = lookup(&to, "to")?;
         let length_m = length_m.unwrap_or_else(|| ends[0].geodesic_distance_m(ends[1]));
-        edges.push(Edge { id, from: a, to: b, length_m });
+        edges.push(Edge {
+            id,
+            from: a,
+            to: b,
+            length_m,
+        });
         edge_feature.push(index);
     }
     Airspace::new(nodes, edges).map_err(|e| airspace_error(file, &e, &node_feature, &edge_feature))
@@ -189,7 +220,10 @@ fn airspace_error(
     let at_edge = |index: usize, id: &str, field: &str| {
         InputError::new(
             file,
-            Location::Feature { index: edge_feature[index], id: Some(id.to_owned()) },
+            Location::Feature {
+                index: edge_feature[index],
+                id: Some(id.to_owned()),
+            },
             Some(field),
             e.to_string(),
         )
@@ -198,17 +232,25 @@ fn airspace_error(
         AirspaceError::SelfLoop { index, id, .. } => at_edge(*index, id, "to"),
         AirspaceError::BadLength { index, id, .. } => at_edge(*index, id, "length_m"),
         AirspaceError::DuplicateEdgeId { id, second, .. } => at_edge(*second, id, "id"),
-        AirspaceError::ParallelEdge { second, a, b, .. } => at_edge(*second, &format!("{a}-{b}"), "to"),
+        AirspaceError::ParallelEdge { second, a, b, .. } => {
+            at_edge(*second, &format!("{a}-{b}"), "to")
+        }
         AirspaceError::NodeOutOfRange { index, id } => at_edge(*index, id, "from"),
         AirspaceError::DuplicateNodeId { id, second, .. } => InputError::new(
             file,
-            Location::Feature { index: node_feature[*second], id: Some(id.clone()) },
+            Location::Feature {
+                index: node_feature[*second],
+                id: Some(id.clone()),
+            },
             Some("id"),
             e.to_string(),
         ),
         AirspaceError::BadPosition { index, id } => InputError::new(
             file,
-            Location::Feature { index: node_feature[*index], id: Some(id.clone()) },
+            Location::Feature {
+                index: node_feature[*index],
+                id: Some(id.clone()),
+            },
             Some("geometry.coordinates"),
             e.to_string(),
         ),
@@ -237,7 +279,10 @@ impl FeatureCtx<'_> {
     fn err(&self, field: &str, msg: impl Into<String>) -> InputError {
         InputError::new(
             self.file,
-            Location::Feature { index: self.index, id: self.id.clone() },
+            Location::Feature {
+                index: self.index,
+                id: self.id.clone(),
+            },
             Some(field),
             msg,
         )
@@ -258,10 +303,19 @@ impl FeatureCtx<'_> {
             Some(Value::String(s)) => s.clone(),
             Some(_) => return Err(self.err("name", "must be a string")),
         };
-        Ok(Node { id, kind, name, pos })
+        Ok(Node {
+            id,
+            kind,
+            name,
+            pos,
+        })
     }
 
-    fn edge(&self, geometry: &Value, props: &Map<String, Value>) -> Result<PendingEdge, InputError> {
+    fn edge(
+        &self,
+        geometry: &Value,
+        props: &Map<String, Value>,
+    ) -> Result<PendingEdge, InputError> {
         let coords = geometry
             .get("coordinates")
             .and_then(Value::as_array)
@@ -280,14 +334,24 @@ impl FeatureCtx<'_> {
         let to = self.string(props, "to")?;
         let length_m = match props.get("length_m") {
             None | Some(Value::Null) => None,
-            Some(v) => Some(v.as_f64().ok_or_else(|| self.err("length_m", "must be a number"))?),
+            Some(v) => Some(
+                v.as_f64()
+                    .ok_or_else(|| self.err("length_m", "must be a number"))?,
+            ),
         };
         let id = match props.get("id") {
             None | Some(Value::Null) => format!("{from}-{to}"),
             Some(Value::String(s)) if !s.is_empty() => s.clone(),
             Some(_) => return Err(self.err("id", "must be a non-empty string")),
         };
-        Ok(PendingEdge { index: self.index, id, from, to, length_m, ends })
+        Ok(PendingEdge {
+            index: self.index,
+            id,
+            from,
+            to,
+            length_m,
+            ends,
+        })
     }
 
     fn string(&self, props: &Map<String, Value>, key: &str) -> Result<String, InputError> {
@@ -309,7 +373,10 @@ impl FeatureCtx<'_> {
         };
         let p = LonLat::new(lon, lat);
         if !p.is_valid() {
-            return Err(self.err(field, format!("[{lon}, {lat}] is not a WGS84 [lon, lat] position")));
+            return Err(self.err(
+                field,
+                format!("[{lon}, {lat}] is not a WGS84 [lon, lat] position"),
+            ));
         }
         Ok(p)
     }
@@ -333,27 +400,50 @@ mod tests {
     }
 
     fn collection(features: &[String]) -> String {
-        format!(r#"{{"type": "FeatureCollection", "features": [{}]}}"#, features.join(","))
+        format!(
+            r#"{{"type": "FeatureCollection", "features": [{}]}}"#,
+            features.join(",")
+        )
     }
 
     fn err(features: &[String]) -> String {
-        read_airspace(&collection(features), "air.geojson").unwrap_err().to_string()
+        read_airspace(&collection(features), "air.geojson")
+            .unwrap_err()
+            .to_string()
     }
 
     #[test]
     fn geodesic_length_when_absent_and_authoritative_when_present() {
         let a = read_airspace(
-            &collection(&[point("A", 103.8), point("B", 103.81), point("C", 103.82), line("A", "B", ""), line("B", "C", r#", "length_m": 5.5"#)]),
+            &collection(&[
+                point("A", 103.8),
+                point("B", 103.81),
+                point("C", 103.82),
+                line("A", "B", ""),
+                line("B", "C", r#", "length_m": 5.5"#),
+            ]),
             "t",
         )
         .unwrap();
-        assert!((a.edges()[0].length_m - 1_113.2).abs() < 1.0, "{}", a.edges()[0].length_m);
+        assert!(
+            (a.edges()[0].length_m - 1_113.2).abs() < 1.0,
+            "{}",
+            a.edges()[0].length_m
+        );
         assert_eq!(a.edges()[1].length_m, 5.5);
     }
 
     #[test]
     fn round_trip_is_byte_stable() {
-        let a = read_airspace(&collection(&[point("A", 103.8), point("B", 103.812_345_678_9), line("A", "B", "")]), "t").unwrap();
+        let a = read_airspace(
+            &collection(&[
+                point("A", 103.8),
+                point("B", 103.812_345_678_9),
+                line("A", "B", ""),
+            ]),
+            "t",
+        )
+        .unwrap();
         let once = write_airspace(&a);
         let twice = write_airspace(&read_airspace(&once, "t").unwrap());
         assert_eq!(once, twice);
@@ -374,19 +464,48 @@ mod tests {
             err(&[point("A", 103.8), point("A", 103.81)]),
             "air.geojson: feature 1 (`A`): field `id`: duplicate node id `A` (first used by feature 0)"
         );
-        assert!(err(&[point("A", 103.8), line("A", "A", "")])
-            .starts_with("air.geojson: feature 1 (`A-A`): field `to`: edge 0 (`A-A`) is a self-loop"));
-        assert!(err(&[point("A", 103.8), point("B", 103.81), line("A", "B", r#", "length_m": 0"#)])
-            .starts_with("air.geojson: feature 2 (`A-B`): field `length_m`: edge 0 (`A-B`) has length 0 m"));
-        assert!(err(&[point("A", 103.8), point("B", 103.81), line("A", "B", r#", "length_m": -3"#)])
-            .contains("field `length_m`"));
-        assert!(err(&[point("A", 103.8), point("B", 103.81), line("A", "B", ""), line("B", "A", "")])
-            .contains("both join"));
+        assert!(err(&[point("A", 103.8), line("A", "A", "")]).starts_with(
+            "air.geojson: feature 1 (`A-A`): field `to`: edge 0 (`A-A`) is a self-loop"
+        ));
+        assert!(
+            err(&[
+                point("A", 103.8),
+                point("B", 103.81),
+                line("A", "B", r#", "length_m": 0"#)
+            ])
+            .starts_with(
+                "air.geojson: feature 2 (`A-B`): field `length_m`: edge 0 (`A-B`) has length 0 m"
+            )
+        );
+        assert!(
+            err(&[
+                point("A", 103.8),
+                point("B", 103.81),
+                line("A", "B", r#", "length_m": -3"#)
+            ])
+            .contains("field `length_m`")
+        );
+        assert!(
+            err(&[
+                point("A", 103.8),
+                point("B", 103.81),
+                line("A", "B", ""),
+                line("B", "A", "")
+            ])
+            .contains("both join")
+        );
         assert_eq!(
-            read_airspace("[1, 2]", "x.geojson").unwrap_err().to_string(),
+            read_airspace("[1, 2]", "x.geojson")
+                .unwrap_err()
+                .to_string(),
             "x.geojson: expected a GeoJSON FeatureCollection with a `features` array"
         );
-        assert!(read_airspace("{", "x.geojson").unwrap_err().to_string().starts_with("x.geojson: not valid JSON"));
+        assert!(
+            read_airspace("{", "x.geojson")
+                .unwrap_err()
+                .to_string()
+                .starts_with("x.geojson: not valid JSON")
+        );
         assert!(err(&[r#"{"type": "Feature", "geometry": {"type": "Point", "coordinates": [200, 1.3]}, "properties": {"id": "A", "kind": "station"}}"#.into()])
             .contains("field `geometry.coordinates`"));
         assert!(err(&[r#"{"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.8, 1.3]}, "properties": {"id": "A", "kind": "pad"}}"#.into()])

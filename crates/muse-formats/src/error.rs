@@ -56,7 +56,10 @@ impl fmt::Display for InputError {
         match &self.location {
             Location::Whole => {}
             Location::Line(n) => write!(f, ": line {n}")?,
-            Location::Feature { index, id: Some(id) } => write!(f, ": feature {index} (`{id}`)")?,
+            Location::Feature {
+                index,
+                id: Some(id),
+            } => write!(f, ": feature {index} (`{id}`)")?,
             Location::Feature { index, id: None } => write!(f, ": feature {index}")?,
         }
         if let Some(field) = &self.field {
@@ -76,10 +79,16 @@ mod tests {
         assert_eq!(e.to_string(), "r.csv: line 3: field `departure`: bad time");
         let e = InputError::new(
             "a.geojson",
-            Location::Feature { index: 5, id: Some("S001".into()) },
+            Location::Feature {
+                index: 5,
+                id: Some("S001".into()),
+            },
             Some("length_m"),
             "must be > 0",
         );
-        assert_eq!(e.to_string(), "a.geojson: feature 5 (`S001`): field `length_m`: must be > 0");
+        assert_eq!(
+            e.to_string(),
+            "a.geojson: feature 5 (`S001`): field `length_m`: must be > 0"
+        );
     }
 }

@@ -6,10 +6,12 @@
 //!
 //! - [`airspace_geojson`]: the airspace GeoJSON (nodes as `Point`s, edges as `LineString`s);
 //! - [`zones`]: no-fly zones in the ED-318 GeoJSON profile and ED-269 JSON;
-//! - [`requests`]: the requests CSV.
+//! - [`requests`]: the requests CSV;
+//! - [`plans`]: plan output as JSON Lines.
 
 pub mod airspace_geojson;
 pub mod error;
+pub mod plans;
 pub mod requests;
 pub mod zones;
 
@@ -18,6 +20,11 @@ pub use error::{InputError, Location};
 /// Reads a whole file to a string, mapping I/O failures to an [`InputError`].
 pub fn read_to_string(path: &std::path::Path) -> Result<String, InputError> {
     std::fs::read_to_string(path).map_err(|e| {
-        InputError::new(path.display().to_string(), Location::Whole, None, format!("cannot read: {e}"))
+        InputError::new(
+            path.display().to_string(),
+            Location::Whole,
+            None,
+            format!("cannot read: {e}"),
+        )
     })
 }

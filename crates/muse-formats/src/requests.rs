@@ -45,10 +45,19 @@ pub fn read_requests(
     airspace: &Airspace,
     day: LocalDay,
 ) -> Result<Vec<Request>, InputError> {
-    let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).from_reader(text.as_bytes());
+    let mut reader = csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .from_reader(text.as_bytes());
     let headers = reader
         .headers()
-        .map_err(|e| InputError::new(file, Location::Line(1), None, format!("cannot read the header: {e}")))?
+        .map_err(|e| {
+            InputError::new(
+                file,
+                Location::Line(1),
+                None,
+                format!("cannot read the header: {e}"),
+            )
+        })?
         .clone();
     let mut col = [0usize; 4];
     for (slot, name) in col.iter_mut().zip(COLUMNS) {
@@ -57,7 +66,10 @@ pub fn read_requests(
                 file,
                 Location::Line(1),
                 Some(name),
-                format!("missing column (the header must have {})", COLUMNS.join(",")),
+                format!(
+                    "missing column (the header must have {})",
+                    COLUMNS.join(",")
+                ),
             )
         })?;
     }
@@ -66,17 +78,27 @@ pub fn read_requests(
     for record in reader.records() {
         let record = record.map_err(|e| {
             let line = e.position().map_or(0, |p| p.line() as usize);
-            InputError::new(file, Location::Line(line), None, format!("malformed CSV record: {e}"))
+            InputError::new(
+                file,
+                Location::Line(line),
+                None,
+                format!("malformed CSV record: {e}"),
+            )
         })?;
         let line = record.position().map_or(0, |p| p.line() as usize);
-        let err = |field: &str, msg: String| InputError::new(file, Location::Line(line), Some(field), msg);
+        let err = |field: &str, msg: String| {
+            InputError::new(file, Location::Line(line), Some(field), msg)
+        };
         let get = |i: usize| record.get(col[i]).unwrap_or("");
         let id = get(0);
         if id.is_empty() {
             return Err(err("id", "missing".into()));
         }
         if let Some(prev) = seen.insert(id.to_owned(), line) {
-            return Err(err("id", format!("duplicate request id `{id}` (first on line {prev})")));
+            return Err(err(
+                "id",
+                format!("duplicate request id `{id}` (first on line {prev})"),
+            ));
         }
         let station = |i: usize| -> Result<NodeId, InputError> {
             let name = get(i);
@@ -87,24 +109,44 @@ pub fn read_requests(
                 .node_id(name)
                 .ok_or_else(|| err(COLUMNS[i], format!("unknown node id `{name}`")))?;
             if !airspace.is_station(n) {
-                return Err(err(COLUMNS[i], format!("`{name}` is a waypoint, not a station")));
+                return Err(err(
+                    COLUMNS[i],
+                    format!("`{name}` is a waypoint, not a station"),
+                ));
             }
             Ok(n)
         };
         let origin = station(1)?;
         let destination = station(2)?;
         if origin == destination {
-            return Err(err("destination", format!("origin and destination are both `{}`", get(1))));
+            return Err(err(
+                "destination",
+                format!("origin and destination are both `{}`", get(1)),
+            ));
         }
         let departure = parse_departure(get(3), day).map_err(|m| err("departure", m))?;
-        out.push(Request { id: id.to_owned(), origin, destination, departure });
+        out.push(Request {
+            id: id.to_owned(),
+            origin,
+            destination,
+            departure,
+        });
     }
     Ok(out)
 }
 
 /// Reads a requests CSV file.
-pub fn read_requests_file(path: &Path, airspace: &Airspace, day: LocalDay) -> Result<Vec<Request>, InputError> {
-    read_requests(&crate::read_to_string(path)?, &path.display().to_string(), airspace, day)
+pub fn read_requests_file(
+    path: &Path,
+    airspace: &Airspace,
+    day: LocalDay,
+) -> Result<Vec<Request>, InputError> {
+    read_requests(
+        &crate::read_to_string(path)?,
+        &path.display().to_string(),
+        airspace,
+        day,
+    )
 }
 
 /// Writes requests as CSV with RFC 3339 departures in `offset`.
@@ -161,7 +203,9 @@ mod tests {
 
     fn air() -> Airspace {
         let p = |id: &str, kind: &str, lon: f64| {
-            format!(r#"{{"type": "Feature", "geometry": {{"type": "Point", "coordinates": [{lon}, 1.3]}}, "properties": {{"id": "{id}", "kind": "{kind}"}}}}"#)
+            format!(
+                r#"{{"type": "Feature", "geometry": {{"type": "Point", "coordinates": [{lon}, 1.3]}}, "properties": {{"id": "{id}", "kind": "{kind}"}}}}"#
+            )
         };
         read_airspace(
             &format!(
@@ -175,12 +219,20 @@ mod tests {
         .unwrap()
     }
 
-    const DAY: LocalDay = LocalDay { date: jiff::civil::date(2026, 1, 5), offset: UtcOffset::SINGAPORE };
+    const DAY: LocalDay = LocalDay {
+        date: jiff::civil::date(2026, 1, 5),
+        offset: UtcOffset::SINGAPORE,
+    };
 
     fn err(body: &str) -> String {
-        read_requests(&format!("id,origin,destination,departure\n{body}"), "r.csv", &air(), DAY)
-            .unwrap_err()
-            .to_string()
+        read_requests(
+            &format!("id,origin,destination,departure\n{body}"),
+            "r.csv",
+            &air(),
+            DAY,
+        )
+        .unwrap_err()
+        .to_string()
     }
 
     #[test]
@@ -193,23 +245,49 @@ mod tests {
         )
         .unwrap();
         assert_eq!(reqs[0].departure, reqs[1].departure);
-        assert_eq!(reqs[0].departure.to_rfc3339(UtcOffset::SINGAPORE), "2026-01-05T08:15:00.000+08:00");
+        assert_eq!(
+            reqs[0].departure.to_rfc3339(UtcOffset::SINGAPORE),
+            "2026-01-05T08:15:00.000+08:00"
+        );
         let text = write_requests(&reqs, &air(), UtcOffset::SINGAPORE);
         assert_eq!(read_requests(&text, "w.csv", &air(), DAY).unwrap(), reqs);
     }
 
     #[test]
     fn errors_name_file_line_and_field() {
-        assert_eq!(err("r1,A,B,08:00\nr2,A,Q,08:00\n"), "r.csv: line 3: field `destination`: unknown node id `Q`");
-        assert_eq!(err("r1,A,A,08:00\n"), "r.csv: line 2: field `destination`: origin and destination are both `A`");
-        assert_eq!(err("r1,W,B,08:00\n"), "r.csv: line 2: field `origin`: `W` is a waypoint, not a station");
-        assert!(err("r1,A,B,8 o'clock\n").starts_with("r.csv: line 2: field `departure`: `8 o'clock` is neither"));
-        assert!(err("r1,A,B,2026-01-05T08:15:00\n").starts_with("r.csv: line 2: field `departure`: `2026-01-05T08:15:00` is not an RFC 3339"));
-        assert_eq!(err("r1,A,B,08:00\nr1,B,A,09:00\n"), "r.csv: line 3: field `id`: duplicate request id `r1` (first on line 2)");
+        assert_eq!(
+            err("r1,A,B,08:00\nr2,A,Q,08:00\n"),
+            "r.csv: line 3: field `destination`: unknown node id `Q`"
+        );
+        assert_eq!(
+            err("r1,A,A,08:00\n"),
+            "r.csv: line 2: field `destination`: origin and destination are both `A`"
+        );
+        assert_eq!(
+            err("r1,W,B,08:00\n"),
+            "r.csv: line 2: field `origin`: `W` is a waypoint, not a station"
+        );
+        assert!(
+            err("r1,A,B,8 o'clock\n")
+                .starts_with("r.csv: line 2: field `departure`: `8 o'clock` is neither")
+        );
+        assert!(err("r1,A,B,2026-01-05T08:15:00\n").starts_with(
+            "r.csv: line 2: field `departure`: `2026-01-05T08:15:00` is not an RFC 3339"
+        ));
+        assert_eq!(
+            err("r1,A,B,08:00\nr1,B,A,09:00\n"),
+            "r.csv: line 3: field `id`: duplicate request id `r1` (first on line 2)"
+        );
         assert_eq!(err(",A,B,08:00\n"), "r.csv: line 2: field `id`: missing");
-        assert_eq!(err("r1,,B,08:00\n"), "r.csv: line 2: field `origin`: missing");
+        assert_eq!(
+            err("r1,,B,08:00\n"),
+            "r.csv: line 2: field `origin`: missing"
+        );
         assert!(err("r1,A,B\n").starts_with("r.csv: line 2: malformed CSV record"));
         let missing = read_requests("id,origin,departure\n", "r.csv", &air(), DAY).unwrap_err();
-        assert_eq!(missing.to_string(), "r.csv: line 1: field `destination`: missing column (the header must have id,origin,destination,departure)");
+        assert_eq!(
+            missing.to_string(),
+            "r.csv: line 1: field `destination`: missing column (the header must have id,origin,destination,departure)"
+        );
     }
 }

@@ -8,8 +8,8 @@ use std::collections::HashMap;
 
 use crate::coords::LonLat;
 use crate::ids::{EdgeId, NodeId};
-use crate::units::Speed;
 use crate::time::Millis;
+use crate::units::Speed;
 
 /// Whether a node is a landing pad.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -183,7 +183,10 @@ impl Airspace {
         let mut by_id = HashMap::with_capacity(nodes.len());
         for (i, n) in nodes.iter().enumerate() {
             if !n.pos.is_valid() {
-                return Err(AirspaceError::BadPosition { index: i, id: n.id.clone() });
+                return Err(AirspaceError::BadPosition {
+                    index: i,
+                    id: n.id.clone(),
+                });
             }
             if let Some(prev) = by_id.insert(n.id.clone(), NodeId(i as u32)) {
                 return Err(AirspaceError::DuplicateNodeId {
@@ -198,7 +201,10 @@ impl Airspace {
         let mut degree = vec![0u32; nodes.len()];
         for (i, e) in edges.iter().enumerate() {
             if e.from.index() >= nodes.len() || e.to.index() >= nodes.len() {
-                return Err(AirspaceError::NodeOutOfRange { index: i, id: e.id.clone() });
+                return Err(AirspaceError::NodeOutOfRange {
+                    index: i,
+                    id: e.id.clone(),
+                });
             }
             if e.from == e.to {
                 return Err(AirspaceError::SelfLoop {
@@ -239,8 +245,13 @@ impl Airspace {
             offsets.push(offsets.last().copied().unwrap_or(0) + d);
         }
         let mut fill: Vec<u32> = offsets[..nodes.len()].to_vec();
-        let mut adjacent =
-            vec![Adjacent { node: NodeId(0), edge: EdgeId(0) }; offsets[nodes.len()] as usize];
+        let mut adjacent = vec![
+            Adjacent {
+                node: NodeId(0),
+                edge: EdgeId(0)
+            };
+            offsets[nodes.len()] as usize
+        ];
         for (i, e) in edges.iter().enumerate() {
             let eid = EdgeId(i as u32);
             for (x, y) in [(e.from, e.to), (e.to, e.from)] {
@@ -251,7 +262,14 @@ impl Airspace {
         for n in 0..nodes.len() {
             adjacent[offsets[n] as usize..offsets[n + 1] as usize].sort_by_key(|a| a.node);
         }
-        Ok(Airspace { nodes, edges, by_id, edge_by_id, offsets, adjacent })
+        Ok(Airspace {
+            nodes,
+            edges,
+            by_id,
+            edge_by_id,
+            offsets,
+            adjacent,
+        })
     }
 
     /// All nodes, indexed by [`NodeId`].
@@ -309,7 +327,9 @@ impl Airspace {
     /// The edge joining `a` and `b`, if any.
     pub fn edge_between(&self, a: NodeId, b: NodeId) -> Option<EdgeId> {
         let adj = self.neighbours(a);
-        adj.binary_search_by_key(&b, |x| x.node).ok().map(|i| adj[i].edge)
+        adj.binary_search_by_key(&b, |x| x.node)
+            .ok()
+            .map(|i| adj[i].edge)
     }
 
     /// Indices of all stations, in index order.
@@ -329,7 +349,10 @@ impl Airspace {
 
     /// Traversal time of every edge at `speed`, indexed by [`EdgeId`].
     pub fn traversal_times(&self, speed: Speed) -> Vec<Millis> {
-        self.edges.iter().map(|e| speed.traversal_time(e.length_m)).collect()
+        self.edges
+            .iter()
+            .map(|e| speed.traversal_time(e.length_m))
+            .collect()
     }
 
     /// Whether every node can reach every other node.
@@ -359,11 +382,21 @@ mod tests {
     use super::*;
 
     fn node(id: &str, lon: f64) -> Node {
-        Node { id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.3) }
+        Node {
+            id: id.into(),
+            kind: NodeKind::Station,
+            name: String::new(),
+            pos: LonLat::new(lon, 1.3),
+        }
     }
 
     fn edge(id: &str, a: u32, b: u32, len: f64) -> Edge {
-        Edge { id: id.into(), from: NodeId(a), to: NodeId(b), length_m: len }
+        Edge {
+            id: id.into(),
+            from: NodeId(a),
+            to: NodeId(b),
+            length_m: len,
+        }
     }
 
     #[test]
@@ -384,14 +417,19 @@ mod tests {
     fn validation_errors() {
         let two = || vec![node("A", 103.8), node("B", 103.81)];
         let err = Airspace::new(vec![node("A", 1.0), node("A", 2.0)], vec![]).unwrap_err();
-        assert!(matches!(err, AirspaceError::DuplicateNodeId { second: 1, .. }));
+        assert!(matches!(
+            err,
+            AirspaceError::DuplicateNodeId { second: 1, .. }
+        ));
         let err = Airspace::new(two(), vec![edge("x", 0, 0, 1.0)]).unwrap_err();
         assert!(err.to_string().contains("self-loop"));
         let err = Airspace::new(two(), vec![edge("x", 0, 1, 0.0)]).unwrap_err();
         assert!(matches!(err, AirspaceError::BadLength { .. }));
-        let err = Airspace::new(two(), vec![edge("x", 0, 1, 1.0), edge("y", 1, 0, 1.0)]).unwrap_err();
+        let err =
+            Airspace::new(two(), vec![edge("x", 0, 1, 1.0), edge("y", 1, 0, 1.0)]).unwrap_err();
         assert!(matches!(err, AirspaceError::ParallelEdge { .. }));
-        let err = Airspace::new(two(), vec![edge("x", 0, 1, 1.0), edge("x", 0, 1, 1.0)]).unwrap_err();
+        let err =
+            Airspace::new(two(), vec![edge("x", 0, 1, 1.0), edge("x", 0, 1, 1.0)]).unwrap_err();
         assert!(matches!(err, AirspaceError::DuplicateEdgeId { .. }));
         let err = Airspace::new(two(), vec![edge("x", 0, 5, 1.0)]).unwrap_err();
         assert!(matches!(err, AirspaceError::NodeOutOfRange { .. }));

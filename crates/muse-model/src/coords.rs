@@ -83,7 +83,10 @@ impl LonLat {
         let mut xy = (self.lon.to_radians(), self.lat.to_radians(), 0.0);
         proj4rs::transform::transform(&p.wgs84, &p.svy21, &mut xy)
             .map_err(|e| CoordError::Projection(self.lon, self.lat, e.to_string()))?;
-        Ok(Svy21 { easting: xy.0, northing: xy.1 })
+        Ok(Svy21 {
+            easting: xy.0,
+            northing: xy.1,
+        })
     }
 
     /// Geodesic distance on the WGS84 ellipsoid, metres.
@@ -94,7 +97,10 @@ impl LonLat {
     /// assert!((d - 1_105.8).abs() < 1.0);
     /// ```
     pub fn geodesic_distance_m(self, other: LonLat) -> f64 {
-        Geodesic.distance(Point::new(self.lon, self.lat), Point::new(other.lon, other.lat))
+        Geodesic.distance(
+            Point::new(self.lon, self.lat),
+            Point::new(other.lon, other.lat),
+        )
     }
 }
 
@@ -120,7 +126,10 @@ impl Svy21 {
         let mut xy = (self.easting, self.northing, 0.0);
         proj4rs::transform::transform(&p.svy21, &p.wgs84, &mut xy)
             .map_err(|e| CoordError::Projection(self.easting, self.northing, e.to_string()))?;
-        Ok(LonLat { lon: xy.0.to_degrees(), lat: xy.1.to_degrees() })
+        Ok(LonLat {
+            lon: xy.0.to_degrees(),
+            lat: xy.1.to_degrees(),
+        })
     }
 }
 
@@ -134,7 +143,12 @@ mod tests {
     /// extent, a car park (ACM), the island's centre and two points beyond the island.
     const REFERENCE: &[(f64, f64, f64, f64)] = &[
         // (lon, lat, easting, northing)
-        (103.833_333_333_333_33, 1.366_666_666_666_666_7, 28_001.642_0, 38_744.572_0),
+        (
+            103.833_333_333_333_33,
+            1.366_666_666_666_666_7,
+            28_001.642_0,
+            38_744.572_0,
+        ),
         (103.685_4, 1.270_6, 11_537.782_3, 28_122.484_7),
         (103.988_5, 1.456_6, 45_269.193_4, 48_689.540_2),
         (103.885_06, 1.321, 33_758.308_8, 33_695.045_4),

@@ -54,8 +54,11 @@ pub enum RejectReason {
 
 impl RejectReason {
     /// All reasons, in report order.
-    pub const ALL: [RejectReason; 3] =
-        [RejectReason::OutOfRange, RejectReason::Unreachable, RejectReason::NoFeasiblePlan];
+    pub const ALL: [RejectReason; 3] = [
+        RejectReason::OutOfRange,
+        RejectReason::Unreachable,
+        RejectReason::NoFeasiblePlan,
+    ];
 
     /// The spelling used in files.
     pub const fn as_str(self) -> &'static str {

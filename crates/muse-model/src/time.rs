@@ -15,7 +15,9 @@ use jiff::tz::{Offset, TimeZone};
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TimeError {
     /// The text is not an RFC 3339 timestamp with an explicit offset.
-    #[error("`{text}` is not an RFC 3339 timestamp with an offset (e.g. 2026-01-05T08:15:03.250+08:00): {reason}")]
+    #[error(
+        "`{text}` is not an RFC 3339 timestamp with an offset (e.g. 2026-01-05T08:15:03.250+08:00): {reason}"
+    )]
     Rfc3339 {
         /// The offending text.
         text: String,
@@ -155,10 +157,13 @@ impl Instant {
     /// assert!(Instant::parse_rfc3339("2026-01-05T08:15:03").is_err());
     /// ```
     pub fn parse_rfc3339(text: &str) -> Result<Self, TimeError> {
-        let ts: Timestamp = text.trim().parse().map_err(|e: jiff::Error| TimeError::Rfc3339 {
-            text: text.to_owned(),
-            reason: e.to_string(),
-        })?;
+        let ts: Timestamp = text
+            .trim()
+            .parse()
+            .map_err(|e: jiff::Error| TimeError::Rfc3339 {
+                text: text.to_owned(),
+                reason: e.to_string(),
+            })?;
         if ts.subsec_nanosecond() % 1_000_000 != 0 {
             return Err(TimeError::SubMillisecond(text.to_owned()));
         }
@@ -174,7 +179,10 @@ impl Instant {
     /// assert_eq!(t, Instant(0));
     /// ```
     pub fn at_local(date: Date, time_of_day: Millis, offset: UtcOffset) -> Self {
-        let days = i64::from(date.since(jiff::civil::date(1970, 1, 1)).map_or(0, |s| s.get_days()));
+        let days = i64::from(
+            date.since(jiff::civil::date(1970, 1, 1))
+                .map_or(0, |s| s.get_days()),
+        );
         Instant(days * 86_400_000 + time_of_day.0 - i64::from(offset.0) * 1_000)
     }
 
@@ -345,7 +353,10 @@ mod tests {
     fn local_dates_and_negative_offsets() {
         let d = jiff::civil::date(2026, 1, 5);
         let t = Instant::at_local(d, Millis::from_secs(3_600), UtcOffset::SINGAPORE);
-        assert_eq!(t.to_rfc3339(UtcOffset::SINGAPORE), "2026-01-05T01:00:00.000+08:00");
+        assert_eq!(
+            t.to_rfc3339(UtcOffset::SINGAPORE),
+            "2026-01-05T01:00:00.000+08:00"
+        );
         assert_eq!(t.local_date(UtcOffset::SINGAPORE), d);
         assert_eq!(t.local_date(UtcOffset(0)), jiff::civil::date(2026, 1, 4));
         let ny = UtcOffset::parse("-05:30").unwrap();
@@ -356,7 +367,15 @@ mod tests {
     #[test]
     fn clock_times() {
         assert_eq!(parse_clock("24:00").unwrap(), Millis::from_secs(86_400));
-        for bad in ["8:15", "08:60", "24:01", "08:15:3", "08:15:03.", "ab:cd", "08:15:03.1234"] {
+        for bad in [
+            "8:15",
+            "08:60",
+            "24:01",
+            "08:15:3",
+            "08:15:03.",
+            "ab:cd",
+            "08:15:03.1234",
+        ] {
             assert!(parse_clock(bad).is_err(), "{bad}");
         }
     }

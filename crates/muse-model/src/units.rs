@@ -20,7 +20,9 @@ pub enum UnitError {
 
 impl Speed {
     /// The paper's cruise speed, 30 km/h.
-    pub const PAPER: Speed = Speed { um_per_hour: 30_000_000_000 };
+    pub const PAPER: Speed = Speed {
+        um_per_hour: 30_000_000_000,
+    };
 
     /// A speed in km/h (rounded to 10⁻⁹ km/h).
     ///

@@ -1,1 +1,29 @@
-//! muse-render
+//! Rendering for MUSE: SVG maps drawn with `plotters`, with no system fonts.
+//!
+//! - [`render_map`]: the airspace map (the paper's Fig. 1): land, no-fly zones, corridors
+//!   (optionally coloured by how busy they are), stations with their ids, a scale bar, a
+//!   north arrow and lon/lat ticks.
+//!
+//! All output is deterministic: the same input gives byte-identical SVG. Text is written as
+//! SVG `<text>` in the viewer's sans-serif font; layout that depends on text size uses a
+//! conservative width estimate, so nothing needs font files.
+
+mod geom;
+mod map;
+mod style;
+
+pub use map::{MapInput, MapOptions, ZoneLayer, circle_polygon, render_map, zone_area_polygons};
+
+/// Why a map could not be drawn.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RenderError {
+    /// There is nothing to draw: no nodes, no land and no zone areas.
+    #[error("nothing to draw: the airspace has no nodes and there is no land or zone area")]
+    Empty,
+    /// The input or options are inconsistent (e.g. a load per edge of the wrong length).
+    #[error("invalid map input: {0}")]
+    Input(String),
+    /// The drawing backend failed.
+    #[error("drawing failed: {0}")]
+    Drawing(String),
+}

@@ -1,0 +1,50 @@
+//! The A* heuristic: exact free-flow time to the destination.
+//!
+//! For a destination `d`, `h(v)` is the shortest traversal time from `v` to `d` on the empty
+//! graph, ignoring traffic and zones. It never overestimates the remaining flight (traffic
+//! and zones only add waiting) and it is consistent (`h(u) ≤ w(u, v) + h(v)` by the triangle
+//! inequality of shortest paths), unlike the paper's straight-line estimate divided by speed,
+//! which is admissible but not tight. Tables are computed once per destination, on first use,
+//! by one Dijkstra search from the destination (edges are undirected), and then shared.
+
+use std::sync::OnceLock;
+
+use muse_airspace::shortest::Dijkstra;
+use muse_model::{Airspace, Millis, NodeId, Speed};
+
+/// Marks a node from which the destination cannot be reached.
+pub const UNREACHABLE: i64 = i64::MAX;
+
+/// Lazily computed free-flow time tables, one per destination; safe to share between threads.
+#[derive(Debug)]
+pub struct Heuristics {
+    times: Vec<Millis>,
+    tables: Vec<OnceLock<Box<[i64]>>>,
+}
+
+impl Heuristics {
+    /// Prepares (but does not yet compute) the tables for `airspace` at `speed`.
+    pub fn new(airspace: &Airspace, speed: Speed) -> Self {
+        Heuristics {
+            times: airspace.traversal_times(speed),
+            tables: (0..airspace.node_count())
+                .map(|_| OnceLock::new())
+                .collect(),
+        }
+    }
+
+    /// Free-flow time from every node to `destination` in ms ([`UNREACHABLE`] if none),
+    /// indexed by node. Computed on the first call for this destination.
+    pub fn to(&self, airspace: &Airspace, destination: NodeId) -> &[i64] {
+        self.tables[destination.index()].get_or_init(|| {
+            let mut search = Dijkstra::new(airspace.node_count());
+            search.run(airspace, &self.times, destination);
+            search.raw_times().into()
+        })
+    }
+
+    /// Number of destination tables computed so far.
+    pub fn computed(&self) -> usize {
+        self.tables.iter().filter(|t| t.get().is_some()).count()
+    }
+}

@@ -1,0 +1,47 @@
+//! The MUSE planner: exact, optimal, collision-free routing of one request at a time
+//! against everything already planned.
+//!
+//! - [`schedule`]: the reservation table (the paper's *CurrentSchedule*): accepted stays and
+//!   traversals plus zone closures, with safe-interval queries;
+//! - [`heuristic`]: exact free-flow times to each destination, computed once and shared;
+//! - [`sipp`]: the safe-interval A* search (hovering, battery, ground delay);
+//! - [`planner`]: [`Planner`], prepared once per airspace and parameters, and [`plan_day`],
+//!   which plans a list of requests first come, first served.
+//!
+//! ```
+//! use muse_airspace::closures::Closures;
+//! use muse_model::{Airspace, Edge, FlightParams, Instant, LonLat, Millis, Node, NodeId, NodeKind, Request};
+//! use muse_planner::{Planner, Schedule, Scratch};
+//!
+//! let node = |id: &str, lon| Node {
+//!     id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.3),
+//! };
+//! let airspace = Airspace::new(
+//!     vec![node("A", 103.80), node("B", 103.81)],
+//!     vec![Edge { id: "A-B".into(), from: NodeId(0), to: NodeId(1), length_m: 1_000.0 }],
+//! ).unwrap();
+//! // The paper's parameters, but drones may wait on the ground up to 10 minutes.
+//! let params = FlightParams { max_ground_delay: Millis::from_mins(10), ..FlightParams::default() };
+//! let planner = Planner::new(&airspace, params);
+//! let mut schedule = Schedule::new(&airspace, &params, &Closures::none(&airspace));
+//! let mut scratch = Scratch::new();
+//! let r = |id: &str| Request { id: id.into(), origin: NodeId(0), destination: NodeId(1), departure: Instant(0) };
+//!
+//! let first = planner.plan(&schedule, &r("r1"), &mut scratch).result.unwrap();
+//! assert_eq!(first.landing(), Instant(120_000)); // 1 km at 30 km/h
+//! schedule.insert(&airspace, 0, &first);
+//! // The second drone may not enter the corridor while the first is on it: it lands as early
+//! // as possible, and waits for that on the ground rather than in the air.
+//! let second = planner.plan(&schedule, &r("r2"), &mut scratch).result.unwrap();
+//! assert_eq!(second.landing(), Instant(240_000));
+//! assert_eq!(second.takeoff(), Instant(120_000));
+//! ```
+
+pub mod heuristic;
+pub mod planner;
+pub mod schedule;
+pub mod sipp;
+
+pub use planner::{Outcome, Planner, plan_day};
+pub use schedule::{FlightId, Schedule};
+pub use sipp::Scratch;

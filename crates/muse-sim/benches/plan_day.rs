@@ -1,0 +1,61 @@
+//! Planning a whole day on the Singapore default with the CBD zone (SPEC §8 demand: uniform
+//! departures 08:00–20:00, uniform distinct station pairs, seed 1).
+//!
+//! Run with `cargo bench -p muse-sim --bench plan_day`. Each sample plans the whole day from
+//! an empty schedule, on one thread; zone resolution and demand generation are outside the
+//! timed section. Search effort (labels expanded per request) is printed once per size.
+
+use std::sync::Once;
+
+use divan::Bencher;
+use muse_model::{FlightParams, Instant, Millis};
+use muse_sim::day::{closure_range, plan_requests};
+use muse_sim::demand::{DemandSpec, OdRule, generate};
+
+fn main() {
+    divan::main();
+}
+
+fn day(count: usize) -> Vec<muse_model::Request> {
+    let s = muse_scenario::singapore_77();
+    let eight = Instant::at_local(s.date, Millis::from_mins(8 * 60), s.offset);
+    let twenty = Instant::at_local(s.date, Millis::from_mins(20 * 60), s.offset);
+    let spec = DemandSpec {
+        count,
+        start: eight,
+        end: twenty,
+        seed: 1,
+        od: OdRule::Uniform,
+    };
+    generate(&s.airspace, &spec).expect("demand")
+}
+
+static PRINT: [Once; 3] = [Once::new(), Once::new(), Once::new()];
+
+#[divan::bench(args = [1_000, 5_000, 10_000], sample_count = 30)]
+fn singapore_77_cbd(bencher: Bencher, count: usize) {
+    let s = muse_scenario::singapore_77();
+    let params = FlightParams::default();
+    let requests = day(count);
+    let _ = closure_range(&requests, &params);
+    let slot = match count {
+        1_000 => 0,
+        5_000 => 1,
+        _ => 2,
+    };
+    PRINT[slot].call_once(|| {
+        let run = plan_requests(&s.airspace, &s.zones, params, requests.clone(), |_| {}).unwrap();
+        let expanded: u64 = run.outcomes.iter().map(|o| o.expanded).sum();
+        let planned = run.outcomes.iter().filter(|o| o.result.is_ok()).count();
+        eprintln!(
+            "\n{count} requests: {planned} planned, {:.2} labels expanded per request",
+            expanded as f64 / count as f64
+        );
+    });
+    bencher
+        .counter(divan::counter::ItemsCount::new(count))
+        .with_inputs(|| requests.clone())
+        .bench_local_values(|reqs| {
+            plan_requests(&s.airspace, &s.zones, params, reqs, |_| {}).unwrap()
+        });
+}

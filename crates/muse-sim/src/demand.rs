@@ -1,0 +1,223 @@
+//! Seeded demand: requests with uniform departures in a window and random origin–destination
+//! pairs (SPEC §8).
+//!
+//! The generator is `ChaCha8` seeded from a `u64`, so a seed gives the same requests on every
+//! machine. Request `i` (0-based) draws its departure (a uniform whole millisecond in
+//! `[start, end)`) and then its pair; ids are `r` followed by `i + 1` zero-padded to the width
+//! of the count (`r0001` … `r5000`).
+
+use muse_airspace::shortest::Dijkstra;
+use muse_model::{Airspace, Instant, Millis, NodeId, Request, Speed};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// How origin–destination pairs are drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OdRule {
+    /// Uniform over ordered pairs of distinct stations (the paper).
+    Uniform,
+    /// Uniform over ordered pairs of distinct stations whose free-flow time fits the battery.
+    InRange {
+        /// Cruise speed.
+        speed: Speed,
+        /// Battery limit `T_max`.
+        max_flight: Millis,
+    },
+}
+
+/// What to generate.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DemandSpec {
+    /// Number of requests.
+    pub count: usize,
+    /// First possible departure (inclusive).
+    pub start: Instant,
+    /// End of the departure window (exclusive).
+    pub end: Instant,
+    /// Seed.
+    pub seed: u64,
+    /// Origin–destination rule.
+    pub od: OdRule,
+}
+
+/// Why demand cannot be generated.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum DemandError {
+    /// The window is empty.
+    #[error("the departure window is empty (its end must be after its start)")]
+    EmptyWindow,
+    /// No pair of stations satisfies the rule.
+    #[error("no origin-destination pair satisfies the rule ({0} stations)")]
+    NoPairs(usize),
+}
+
+/// The ordered station pairs a rule allows, in a fixed order (origin, then destination index).
+pub fn allowed_pairs(airspace: &Airspace, od: OdRule) -> Vec<(NodeId, NodeId)> {
+    let stations: Vec<NodeId> = airspace.stations().collect();
+    let mut pairs = Vec::with_capacity(stations.len() * stations.len());
+    let (times, limit) = match od {
+        OdRule::Uniform => (None, 0),
+        OdRule::InRange { speed, max_flight } => {
+            (Some(airspace.traversal_times(speed)), max_flight.0)
+        }
+    };
+    let mut search = Dijkstra::new(airspace.node_count());
+    for &o in &stations {
+        if let Some(times) = &times {
+            search.run(airspace, times, o);
+        }
+        for &d in &stations {
+            if o == d {
+                continue;
+            }
+            let ok = times.is_none() || search.raw_times()[d.index()] <= limit;
+            if ok {
+                pairs.push((o, d));
+            }
+        }
+    }
+    pairs
+}
+
+/// Generates the requests of `spec`, in id order.
+///
+/// ```
+/// # let air = muse_scenario_free_airspace();
+/// # fn muse_scenario_free_airspace() -> muse_model::Airspace {
+/// #     use muse_model::*;
+/// #     let n = |id: &str, lon| Node { id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.3) };
+/// #     Airspace::new(vec![n("A", 103.8), n("B", 103.81), n("C", 103.82)], vec![]).unwrap()
+/// # }
+/// use muse_model::Instant;
+/// use muse_sim::demand::{generate, DemandSpec, OdRule};
+/// let spec = DemandSpec { count: 3, start: Instant(0), end: Instant(3_600_000), seed: 1, od: OdRule::Uniform };
+/// let a = generate(&air, &spec).unwrap();
+/// assert_eq!(a, generate(&air, &spec).unwrap()); // same seed, same requests
+/// assert_eq!(a[2].id, "r3");
+/// assert!(a.iter().all(|r| r.origin != r.destination && r.departure < Instant(3_600_000)));
+/// ```
+pub fn generate(airspace: &Airspace, spec: &DemandSpec) -> Result<Vec<Request>, DemandError> {
+    if spec.end <= spec.start {
+        return Err(DemandError::EmptyWindow);
+    }
+    let pairs = allowed_pairs(airspace, spec.od);
+    if pairs.is_empty() && spec.count > 0 {
+        return Err(DemandError::NoPairs(airspace.stations().count()));
+    }
+    let width = spec.count.to_string().len();
+    let span = spec.end.0 - spec.start.0;
+    let mut rng = ChaCha8Rng::seed_from_u64(spec.seed);
+    Ok((0..spec.count)
+        .map(|i| {
+            let departure = Instant(spec.start.0 + rng.random_range(0..span));
+            let (origin, destination) = pairs[rng.random_range(0..pairs.len())];
+            Request {
+                id: format!("r{:0width$}", i + 1),
+                origin,
+                destination,
+                departure,
+            }
+        })
+        .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use muse_model::{Edge, LonLat, Node, NodeKind};
+
+    fn line_airspace() -> Airspace {
+        let n = |id: &str, lon| Node {
+            id: id.into(),
+            kind: NodeKind::Station,
+            name: String::new(),
+            pos: LonLat::new(lon, 1.3),
+        };
+        let e = |a: u32, b: u32, m| Edge {
+            id: format!("{a}-{b}"),
+            from: NodeId(a),
+            to: NodeId(b),
+            length_m: m,
+        };
+        // A -1 km- B -9 km- C: at 30 km/h A-B is 2 min, B-C 18 min, A-C 20 min.
+        Airspace::new(
+            vec![n("A", 103.8), n("B", 103.81), n("C", 103.9)],
+            vec![e(0, 1, 1_000.0), e(1, 2, 9_000.0)],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn reproducible_distinct_and_inside_the_window() {
+        let air = line_airspace();
+        let spec = DemandSpec {
+            count: 2_000,
+            start: Instant(1_000),
+            end: Instant(61_000),
+            seed: 42,
+            od: OdRule::Uniform,
+        };
+        let a = generate(&air, &spec).unwrap();
+        assert_eq!(a, generate(&air, &spec).unwrap());
+        assert_ne!(a, generate(&air, &DemandSpec { seed: 43, ..spec }).unwrap());
+        assert!(a.iter().all(|r| r.origin != r.destination));
+        assert!(
+            a.iter()
+                .all(|r| (Instant(1_000)..Instant(61_000)).contains(&r.departure))
+        );
+        assert_eq!(a[0].id, "r0001");
+        // All six ordered pairs occur.
+        let mut seen: Vec<_> = a.iter().map(|r| (r.origin, r.destination)).collect();
+        seen.sort();
+        seen.dedup();
+        assert_eq!(seen.len(), 6);
+    }
+
+    #[test]
+    fn in_range_keeps_only_pairs_within_the_battery() {
+        let air = line_airspace();
+        let od = OdRule::InRange {
+            speed: Speed::PAPER,
+            max_flight: Millis::from_mins(19),
+        };
+        let pairs = allowed_pairs(&air, od);
+        // A-B (2 min) and B-C (18 min) fit 19 min; A-C (20 min) does not.
+        assert_eq!(
+            pairs,
+            vec![
+                (NodeId(0), NodeId(1)),
+                (NodeId(1), NodeId(0)),
+                (NodeId(1), NodeId(2)),
+                (NodeId(2), NodeId(1))
+            ]
+        );
+        let od20 = OdRule::InRange {
+            speed: Speed::PAPER,
+            max_flight: Millis::from_mins(20),
+        };
+        assert_eq!(allowed_pairs(&air, od20).len(), 6, "the limit is inclusive");
+    }
+
+    #[test]
+    fn errors() {
+        let air = line_airspace();
+        let spec = DemandSpec {
+            count: 1,
+            start: Instant(5),
+            end: Instant(5),
+            seed: 1,
+            od: OdRule::Uniform,
+        };
+        assert_eq!(generate(&air, &spec), Err(DemandError::EmptyWindow));
+        let od = OdRule::InRange {
+            speed: Speed::PAPER,
+            max_flight: Millis::from_secs(1),
+        };
+        let spec = DemandSpec {
+            end: Instant(6),
+            od,
+            ..spec
+        };
+        assert_eq!(generate(&air, &spec), Err(DemandError::NoPairs(3)));
+    }
+}

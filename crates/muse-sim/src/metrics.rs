@@ -1,0 +1,290 @@
+//! Run metrics and the `summary.json` document (SPEC §7).
+
+use std::collections::BTreeMap;
+
+use muse_model::{EdgeRule, FlightParams, Millis, Plan, RejectReason};
+use serde::Serialize;
+
+/// Mean, median, 95th percentile and maximum of a sample, in seconds. Percentiles use the
+/// nearest-rank definition on the sorted sample (the median of an even sample is the lower of
+/// the two middle values), so each figure is a value that occurred. All zero for an empty
+/// sample.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Distribution {
+    /// Arithmetic mean.
+    pub mean: f64,
+    /// Median (nearest rank).
+    pub median: f64,
+    /// 95th percentile (nearest rank).
+    pub p95: f64,
+    /// Maximum.
+    pub max: f64,
+}
+
+impl Distribution {
+    /// Statistics of durations.
+    ///
+    /// ```
+    /// use muse_model::Millis;
+    /// let d = muse_sim::metrics::Distribution::of(&[Millis(1_000), Millis(3_000), Millis(2_000)]);
+    /// assert_eq!((d.mean, d.median, d.p95, d.max), (2.0, 2.0, 3.0, 3.0));
+    /// ```
+    pub fn of(sample: &[Millis]) -> Self {
+        if sample.is_empty() {
+            return Distribution::default();
+        }
+        let mut v: Vec<i64> = sample.iter().map(|m| m.0).collect();
+        v.sort_unstable();
+        let rank = |p: f64| {
+            let k = (p * v.len() as f64).ceil() as usize;
+            Millis(v[k.clamp(1, v.len()) - 1]).as_secs_f64()
+        };
+        let sum: i128 = v.iter().map(|&x| i128::from(x)).sum();
+        Distribution {
+            mean: round_ms(sum as f64 / v.len() as f64 / 1_000.0),
+            median: rank(0.5),
+            p95: rank(0.95),
+            max: Millis(v[v.len() - 1]).as_secs_f64(),
+        }
+    }
+}
+
+fn round_ms(secs: f64) -> f64 {
+    (secs * 1e6).round() / 1e6
+}
+
+/// The flight-model parameters, as recorded in a summary.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ParamsRecord {
+    /// Cruise speed, km/h.
+    pub speed_kmh: f64,
+    /// Battery limit, minutes.
+    pub max_flight_min: f64,
+    /// Node separation, seconds.
+    pub node_separation_s: f64,
+    /// `exclusive` or `headway`.
+    pub edge_rule: String,
+    /// Same-direction headway, seconds (headway rule only).
+    pub headway_s: Option<f64>,
+    /// Maximum ground delay, seconds.
+    pub max_ground_delay_s: f64,
+}
+
+impl From<&FlightParams> for ParamsRecord {
+    fn from(p: &FlightParams) -> Self {
+        ParamsRecord {
+            speed_kmh: p.speed.kmh(),
+            max_flight_min: p.max_flight.as_secs_f64() / 60.0,
+            node_separation_s: p.node_separation.as_secs_f64(),
+            edge_rule: p.edge_rule.name().to_owned(),
+            headway_s: match p.edge_rule {
+                EdgeRule::Exclusive => None,
+                EdgeRule::Headway(h) => Some(h.as_secs_f64()),
+            },
+            max_ground_delay_s: p.max_ground_delay.as_secs_f64(),
+        }
+    }
+}
+
+/// Planner wall time.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Timing {
+    /// Total planner wall time, seconds.
+    pub total_s: f64,
+    /// Per request, microseconds.
+    pub per_request_us: f64,
+}
+
+/// Search effort.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Effort {
+    /// Labels expanded in all.
+    pub expanded_total: u64,
+    /// Mean labels expanded per request.
+    pub expanded_per_request: f64,
+    /// Most labels expanded for one request.
+    pub expanded_max: u64,
+}
+
+/// What produced a run: scenario, inputs and seed.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Provenance {
+    /// Airspace source (file or embedded scenario).
+    pub airspace: String,
+    /// Zone ids in force.
+    pub zones: Vec<String>,
+    /// Requests source (file, or generated).
+    pub requests: String,
+    /// Seed of generated demand, if any.
+    pub seed: Option<u64>,
+}
+
+/// The `summary.json` of a run.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Summary {
+    /// Requests planned (accepted or rejected).
+    pub requests: usize,
+    /// Accepted.
+    pub planned: usize,
+    /// Rejected, in all.
+    pub rejected: usize,
+    /// Rejected, by reason (every reason listed, zero included).
+    pub rejected_by_reason: BTreeMap<&'static str, usize>,
+    /// `planned / requests` (1 for an empty run).
+    pub success_rate: f64,
+    /// Air delay (airborne − free-flow) of planned requests, seconds.
+    pub air_delay_s: Distribution,
+    /// Ground delay (take-off − requested departure) of planned requests, seconds.
+    pub ground_delay_s: Distribution,
+    /// Planner wall time.
+    pub planner_time: Timing,
+    /// Search effort.
+    pub search: Effort,
+    /// Parameters.
+    pub parameters: ParamsRecord,
+    /// Inputs and seed.
+    pub provenance: Provenance,
+}
+
+/// One planned-or-rejected request, as the metrics see it.
+#[derive(Clone, Copy, Debug)]
+pub struct RunItem<'a> {
+    /// Requested departure.
+    pub departure: muse_model::Instant,
+    /// The plan or the rejection.
+    pub result: &'a Result<Plan, RejectReason>,
+    /// Free-flow time, where defined.
+    pub free_flow: Option<Millis>,
+    /// Labels expanded.
+    pub expanded: u64,
+}
+
+impl Summary {
+    /// Computes the summary of a run.
+    pub fn compute<'a>(
+        items: impl IntoIterator<Item = RunItem<'a>>,
+        params: &FlightParams,
+        planner_wall: std::time::Duration,
+        provenance: Provenance,
+    ) -> Summary {
+        let mut rejected_by_reason: BTreeMap<&'static str, usize> =
+            RejectReason::ALL.iter().map(|r| (r.as_str(), 0)).collect();
+        let (mut air, mut ground) = (Vec::new(), Vec::new());
+        let mut requests = 0;
+        let mut effort = Effort::default();
+        for item in items {
+            requests += 1;
+            effort.expanded_total += item.expanded;
+            effort.expanded_max = effort.expanded_max.max(item.expanded);
+            match item.result {
+                Ok(plan) => {
+                    if let Some(ff) = item.free_flow {
+                        air.push(plan.airborne() - ff);
+                    }
+                    ground.push(plan.takeoff() - item.departure);
+                }
+                Err(r) => *rejected_by_reason.entry(r.as_str()).or_default() += 1,
+            }
+        }
+        let planned = ground.len();
+        effort.expanded_per_request = if requests == 0 {
+            0.0
+        } else {
+            effort.expanded_total as f64 / requests as f64
+        };
+        let total_s = planner_wall.as_secs_f64();
+        Summary {
+            requests,
+            planned,
+            rejected: requests - planned,
+            rejected_by_reason,
+            success_rate: if requests == 0 {
+                1.0
+            } else {
+                planned as f64 / requests as f64
+            },
+            air_delay_s: Distribution::of(&air),
+            ground_delay_s: Distribution::of(&ground),
+            planner_time: Timing {
+                total_s,
+                per_request_us: if requests == 0 {
+                    0.0
+                } else {
+                    total_s * 1e6 / requests as f64
+                },
+            },
+            search: effort,
+            parameters: params.into(),
+            provenance,
+        }
+    }
+
+    /// The summary as pretty JSON with a trailing newline.
+    pub fn to_json(&self) -> String {
+        let mut s = serde_json::to_string_pretty(self).unwrap_or_default();
+        s.push('\n');
+        s
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::float_cmp)] // the values compared are exact by construction
+mod tests {
+    use super::*;
+    use muse_model::{Instant, NodeId, Stay};
+
+    #[test]
+    fn hand_checked_summary() {
+        let plan = |takeoff: i64, landing: i64| Plan {
+            path: vec![
+                Stay {
+                    node: NodeId(0),
+                    arrive: Instant(takeoff),
+                    depart: Instant(takeoff),
+                },
+                Stay {
+                    node: NodeId(1),
+                    arrive: Instant(landing),
+                    depart: Instant(landing),
+                },
+            ],
+        };
+        let results = [
+            Ok(plan(0, 100_000)),    // air delay 10 s, ground 0
+            Ok(plan(5_000, 95_000)), // air delay 0 s, ground 5 s
+            Err(RejectReason::NoFeasiblePlan),
+            Err(RejectReason::OutOfRange),
+        ];
+        let items = results.iter().map(|r| RunItem {
+            departure: Instant(0),
+            result: r,
+            free_flow: Some(Millis(90_000)),
+            expanded: 4,
+        });
+        let s = Summary::compute(
+            items,
+            &FlightParams::default(),
+            std::time::Duration::from_millis(2),
+            Provenance::default(),
+        );
+        assert_eq!((s.requests, s.planned, s.rejected), (4, 2, 2));
+        assert_eq!(s.success_rate, 0.5);
+        assert_eq!(s.rejected_by_reason["no_feasible_plan"], 1);
+        assert_eq!(s.rejected_by_reason["out_of_range"], 1);
+        assert_eq!(s.rejected_by_reason["unreachable"], 0);
+        assert_eq!(
+            s.air_delay_s,
+            Distribution {
+                mean: 5.0,
+                median: 0.0,
+                p95: 10.0,
+                max: 10.0
+            }
+        );
+        assert_eq!(s.ground_delay_s.mean, 2.5);
+        assert_eq!(s.search.expanded_per_request, 4.0);
+        assert_eq!(s.planner_time.per_request_us, 500.0);
+        assert_eq!(s.parameters.edge_rule, "exclusive");
+        assert!(s.to_json().contains("\"success_rate\": 0.5"));
+    }
+}

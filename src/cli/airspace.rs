@@ -1,0 +1,230 @@
+//! `muse airspace build | info | map`.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::Context as _;
+use clap::Subcommand;
+use muse_airspace::closures::closed_elements;
+use muse_airspace::stats::airspace_stats;
+use muse_model::{Millis, Period, Zone};
+
+use super::common::{RangeArgs, WorldArgs};
+
+/// The airspace subcommands.
+#[derive(Debug, Subcommand)]
+pub enum AirspaceCommand {
+    /// Regenerate the embedded Singapore files from the source data in `data/`.
+    Build {
+        /// Output folder.
+        #[arg(long, value_name = "DIR", default_value = "scenarios/singapore-77")]
+        out: PathBuf,
+        /// Do not write: compare with the files in the output folder and fail if they differ.
+        #[arg(long)]
+        check: bool,
+    },
+    /// Print graph statistics and what the zones close.
+    Info {
+        #[command(flatten)]
+        world: WorldArgs,
+        #[command(flatten)]
+        range: RangeArgs,
+    },
+    /// Draw the airspace, the land and the zones as an SVG map (the paper's Fig. 1).
+    Map {
+        #[command(flatten)]
+        world: WorldArgs,
+        /// Output SVG file.
+        #[arg(long, value_name = "FILE", default_value = "map.svg")]
+        out: PathBuf,
+        /// Width of the drawing, pixels.
+        #[arg(long, default_value_t = 1800)]
+        width: u32,
+    },
+}
+
+/// Runs an airspace subcommand.
+pub fn run(cmd: AirspaceCommand) -> anyhow::Result<ExitCode> {
+    match cmd {
+        AirspaceCommand::Build { out, check } => build(&out, check),
+        AirspaceCommand::Info { world, range } => info(&world, range),
+        AirspaceCommand::Map { world, out, width } => map(&world, &out, width),
+    }
+}
+
+const AIRSPACE_FILE: &str = "airspace.geojson";
+const ZONES_FILE: &str = "cbd_zone.geojson";
+
+fn build(out: &Path, check: bool) -> anyhow::Result<ExitCode> {
+    let built = muse_scenario::build_singapore_77().context("building the Singapore airspace")?;
+    let files = [
+        (AIRSPACE_FILE, &built.airspace_geojson),
+        (ZONES_FILE, &built.zones_geojson),
+    ];
+    if check {
+        let mut same = true;
+        for (name, text) in files {
+            let path = out.join(name);
+            let committed = std::fs::read_to_string(&path)
+                .with_context(|| format!("reading {}", path.display()))?;
+            if committed == *text {
+                println!("{}: identical to the build", path.display());
+            } else {
+                println!("{}: DIFFERS from the build", path.display());
+                same = false;
+            }
+        }
+        return Ok(if same {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::FAILURE
+        });
+    }
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    for (name, text) in files {
+        let path = out.join(name);
+        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
+        println!("wrote {} ({} bytes)", path.display(), text.len());
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn info(world: &WorldArgs, range: RangeArgs) -> anyhow::Result<ExitCode> {
+    let world = world.load()?;
+    let (speed, t_max) = (range.speed()?, range.t_max()?);
+    let a = &world.airspace;
+    let s = airspace_stats(a, speed, t_max);
+    let km = |m: Option<f64>| m.map_or_else(|| "-".to_owned(), |m| format!("{:.2} km", m / 1000.0));
+    let mins = |t: Millis| t.as_secs_f64() / 60.0;
+    let mut o = String::new();
+    let _ = writeln!(o, "airspace      {}", world.airspace_source);
+    let _ = writeln!(
+        o,
+        "nodes         {} ({} stations, {} waypoints)",
+        s.nodes,
+        s.stations,
+        s.nodes - s.stations
+    );
+    let _ = writeln!(
+        o,
+        "edges         {}{}",
+        s.edges,
+        if s.connected { "" } else { "  (NOT connected)" }
+    );
+    let _ = writeln!(
+        o,
+        "edge length   min {}, median {}, max {}, total {}",
+        km(s.min_edge_m),
+        km(s.median_edge_m),
+        km(s.max_edge_m),
+        km(Some(s.total_edge_m))
+    );
+    let _ = writeln!(
+        o,
+        "diameter      {:.1} min of flight at {} km/h (between stations: {:.1} min)",
+        mins(s.diameter),
+        speed.kmh(),
+        mins(s.station_diameter)
+    );
+    let _ = writeln!(
+        o,
+        "in range      {} of {} ordered station pairs ({:.1}%) have a free-flow time within the {:.0}-min battery",
+        s.station_pairs_within_t_max,
+        s.station_pairs,
+        100.0 * s.share_within_t_max,
+        mins(t_max)
+    );
+    if world.zones.is_empty() {
+        let _ = writeln!(o, "zones         none");
+    }
+    for zone in &world.zones {
+        let (nodes, edges) =
+            closed_elements(a, zone).with_context(|| format!("zone `{}`", zone.id))?;
+        let _ = writeln!(
+            o,
+            "zone          {} — {} ({})",
+            zone.id,
+            zone.name,
+            describe_periods(zone)
+        );
+        let node_ids: Vec<&str> = nodes.iter().map(|&n| a.node(n).id.as_str()).collect();
+        let edge_ids: Vec<&str> = edges.iter().map(|&e| a.edge(e).id.as_str()).collect();
+        let _ = writeln!(
+            o,
+            "  closes      {} nodes: {}",
+            nodes.len(),
+            list_or_none(&node_ids)
+        );
+        let _ = writeln!(
+            o,
+            "  closes      {} edges: {}",
+            edges.len(),
+            list_or_none(&edge_ids)
+        );
+    }
+    print!("{o}");
+    Ok(ExitCode::SUCCESS)
+}
+
+fn list_or_none(ids: &[&str]) -> String {
+    if ids.is_empty() {
+        "none".to_owned()
+    } else {
+        ids.join(", ")
+    }
+}
+
+/// A one-line human description of when a zone applies.
+fn describe_periods(zone: &Zone) -> String {
+    if zone.is_permanent() {
+        return "permanent".to_owned();
+    }
+    let clock = |t: Millis| format!("{:02}:{:02}", t.0 / 3_600_000, (t.0 / 60_000) % 60);
+    let describe = |p: &Period| {
+        let mut parts = Vec::new();
+        if let Some(start) = p.start {
+            parts.push(format!(
+                "from {}",
+                start.to_rfc3339(muse_model::UtcOffset(0))
+            ));
+        }
+        if let Some(end) = p.end {
+            parts.push(format!(
+                "until {}",
+                end.to_rfc3339(muse_model::UtcOffset(0))
+            ));
+        }
+        for w in &p.daily {
+            let days = if w.days.len() == 7 {
+                "daily".to_owned()
+            } else {
+                w.days
+                    .iter()
+                    .map(|d| d.as_str())
+                    .collect::<Vec<_>>()
+                    .join("/")
+            };
+            parts.push(format!(
+                "{days} {}–{} {}",
+                clock(w.start),
+                clock(w.end),
+                w.offset
+            ));
+        }
+        parts.join(" ")
+    };
+    zone.periods
+        .iter()
+        .map(describe)
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+fn map(world: &WorldArgs, out: &Path, width: u32) -> anyhow::Result<ExitCode> {
+    let world = world.load()?;
+    let svg = super::common::render_world_map(&world, width, None)?;
+    std::fs::write(out, svg).with_context(|| format!("writing {}", out.display()))?;
+    println!("wrote {}", out.display());
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,236 @@
+//! Options shared by several commands: which airspace and zones, and flight parameters.
+
+use std::path::PathBuf;
+
+use anyhow::Context as _;
+use clap::Args;
+use muse_model::{Airspace, Millis, Speed, UtcOffset, Zone};
+
+/// Which airspace and zones to work on.
+#[derive(Debug, Args, Clone)]
+pub struct WorldArgs {
+    /// Airspace GeoJSON (SPEC §2). Default: the embedded Singapore airspace.
+    #[arg(long, value_name = "FILE")]
+    pub airspace: Option<PathBuf>,
+    /// No-fly zone file (ED-318 GeoJSON or ED-269 JSON); repeat for several, or `none`.
+    /// Default: the embedded CBD zone with the embedded airspace, no zones with `--airspace`.
+    #[arg(long, value_name = "FILE|none")]
+    pub zones: Vec<PathBuf>,
+}
+
+/// An airspace with its zones and the day they are planned on.
+pub struct World {
+    /// Where the airspace came from, for messages.
+    pub airspace_source: String,
+    /// The airspace.
+    pub airspace: Airspace,
+    /// The zones.
+    pub zones: Vec<Zone>,
+    /// Whether this is the embedded Singapore default (its land outline applies).
+    pub is_singapore: bool,
+    /// The scenario's date, for local clock times.
+    pub date: jiff::civil::Date,
+    /// The scenario's UTC offset.
+    pub offset: UtcOffset,
+}
+
+impl WorldArgs {
+    /// Loads the airspace and zones these arguments name.
+    pub fn load(&self) -> anyhow::Result<World> {
+        let default = muse_scenario::singapore_77();
+        let no_zones = self.zones.iter().any(|z| z.as_os_str() == "none");
+        if no_zones && self.zones.len() > 1 {
+            anyhow::bail!("`--zones none` cannot be combined with zone files");
+        }
+        let (airspace_source, airspace, is_singapore) = match &self.airspace {
+            Some(path) => (
+                path.display().to_string(),
+                muse_formats::airspace_geojson::read_airspace_file(path)?,
+                false,
+            ),
+            None => (
+                format!("embedded {}", default.name),
+                default.airspace.clone(),
+                true,
+            ),
+        };
+        let zones = if no_zones {
+            Vec::new()
+        } else if self.zones.is_empty() {
+            if is_singapore {
+                default.zones.clone()
+            } else {
+                Vec::new()
+            }
+        } else {
+            let mut all = Vec::new();
+            for path in &self.zones {
+                all.extend(
+                    muse_formats::zones::read_zones_file(path)
+                        .with_context(|| format!("reading zones from {}", path.display()))?,
+                );
+            }
+            all
+        };
+        Ok(World {
+            airspace_source,
+            airspace,
+            zones,
+            is_singapore,
+            date: default.date,
+            offset: default.offset,
+        })
+    }
+}
+
+/// Cruise speed and battery.
+#[derive(Debug, Args, Clone, Copy)]
+pub struct RangeArgs {
+    /// Cruise speed, km/h.
+    #[arg(long, default_value_t = 30.0, value_name = "KMH")]
+    pub speed_kmh: f64,
+    /// Maximum airborne time (battery), minutes.
+    #[arg(long, default_value_t = 20.0, value_name = "MIN")]
+    pub max_flight_min: f64,
+}
+
+impl RangeArgs {
+    /// The cruise speed.
+    pub fn speed(&self) -> anyhow::Result<Speed> {
+        Speed::from_kmh(self.speed_kmh).context("--speed-kmh")
+    }
+
+    /// The battery limit `T_max`.
+    pub fn t_max(&self) -> anyhow::Result<Millis> {
+        Millis::from_secs_f64(self.max_flight_min * 60.0)
+            .ok()
+            .filter(|m| m.0 > 0)
+            .with_context(|| {
+                format!(
+                    "--max-flight-min {} must be a number > 0",
+                    self.max_flight_min
+                )
+            })
+    }
+}
+
+/// Every flight-model parameter of SPEC §3 (defaults: the paper).
+#[derive(Debug, Args, Clone, Copy)]
+pub struct FlightArgs {
+    #[command(flatten)]
+    pub range: RangeArgs,
+    /// Node separation `tau`, seconds.
+    #[arg(long, default_value_t = 5.0, value_name = "S")]
+    pub node_separation_s: f64,
+    /// Edge rule: `exclusive` (one drone per corridor) or `headway` (same-direction drones
+    /// `--headway-s` apart).
+    #[arg(long, value_enum, default_value_t = EdgeRuleArg::Exclusive)]
+    pub edge_rule: EdgeRuleArg,
+    /// Same-direction headway for `--edge-rule headway`, seconds (default: `tau`).
+    #[arg(long, value_name = "S")]
+    pub headway_s: Option<f64>,
+    /// Maximum ground delay `G_max`, seconds.
+    #[arg(long, default_value_t = 0.0, value_name = "S")]
+    pub max_ground_delay_s: f64,
+}
+
+/// The edge rule on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum EdgeRuleArg {
+    /// At most one drone on an edge.
+    Exclusive,
+    /// Opposite directions exclusive, same direction a headway apart.
+    Headway,
+}
+
+impl FlightArgs {
+    /// The parameters, validated.
+    pub fn params(&self) -> anyhow::Result<muse_model::FlightParams> {
+        let secs = |name: &str, v: f64| {
+            Millis::from_secs_f64(v)
+                .map_err(|_| anyhow::anyhow!("{name} {v} must be a number >= 0"))
+        };
+        let tau = secs("--node-separation-s", self.node_separation_s)?;
+        let edge_rule = match (self.edge_rule, self.headway_s) {
+            (EdgeRuleArg::Exclusive, None) => muse_model::EdgeRule::Exclusive,
+            (EdgeRuleArg::Exclusive, Some(_)) => {
+                anyhow::bail!("--headway-s applies only with --edge-rule headway")
+            }
+            (EdgeRuleArg::Headway, h) => {
+                muse_model::EdgeRule::Headway(h.map_or(Ok(tau), |h| secs("--headway-s", h))?)
+            }
+        };
+        Ok(muse_model::FlightParams {
+            speed: self.range.speed()?,
+            max_flight: self.range.t_max()?,
+            node_separation: tau,
+            edge_rule,
+            max_ground_delay: secs("--max-ground-delay-s", self.max_ground_delay_s)?,
+        })
+    }
+}
+
+/// Writes `text` to `path` atomically: to a temporary file beside it, then renamed, so that a
+/// failed run never leaves a partial file that looks complete.
+pub fn write_atomically(path: &std::path::Path, text: &str) -> anyhow::Result<()> {
+    let tmp = path.with_extension("partial");
+    std::fs::write(&tmp, text).with_context(|| format!("writing {}", tmp.display()))?;
+    std::fs::rename(&tmp, path).with_context(|| format!("renaming to {}", path.display()))?;
+    Ok(())
+}
+
+/// Draws a world's airspace, land (for the Singapore default) and zones as an SVG map;
+/// `edge_load` colours corridors by how busy they were.
+pub fn render_world_map(
+    world: &World,
+    width_px: u32,
+    edge_load: Option<(Vec<f64>, String)>,
+) -> anyhow::Result<String> {
+    use muse_render::{MapInput, MapOptions, ZoneLayer, render_map, zone_area_polygons};
+    let land: Vec<geo_types::Polygon<f64>> = if world.is_singapore {
+        muse_scenario::singapore_land().0
+    } else {
+        Vec::new()
+    };
+    let mut zones = Vec::new();
+    for zone in &world.zones {
+        let (closed_nodes, closed_edges) =
+            muse_airspace::closures::closed_elements(&world.airspace, zone)
+                .with_context(|| format!("zone `{}`", zone.id))?;
+        zones.push(ZoneLayer {
+            label: zone.name.clone(),
+            polygons: zone
+                .area
+                .as_ref()
+                .map(zone_area_polygons)
+                .unwrap_or_default(),
+            closed_nodes,
+            closed_edges,
+        });
+    }
+    let mut input = MapInput::new(&world.airspace);
+    input.land = &land;
+    input.zones = zones;
+    let (title, attribution) = if world.is_singapore {
+        (
+            "MUSE airspace: Singapore, 77 HDB car-park stations".to_owned(),
+            muse_scenario::ATTRIBUTION.to_owned(),
+        )
+    } else {
+        (
+            format!("MUSE airspace: {}", world.airspace_source),
+            String::new(),
+        )
+    };
+    let mut opts = MapOptions {
+        width_px,
+        title,
+        attribution,
+        ..MapOptions::default()
+    };
+    if let Some((load, label)) = edge_load {
+        input.edge_load = Some(load);
+        opts.load_label = label;
+    }
+    Ok(render_map(&input, &opts)?)
+}

@@ -1,0 +1,97 @@
+//! `muse plan`: plan a requests file.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context as _;
+use clap::Args;
+use muse_formats::plans::{PlanRecord, write_plan_line};
+use muse_formats::requests::{LocalDay, read_requests_file};
+use muse_sim::day::{DayRun, plan_requests};
+use muse_sim::metrics::{Provenance, RunItem, Summary};
+
+use super::common::{FlightArgs, World, WorldArgs, write_atomically};
+
+/// Arguments of `muse plan`.
+#[derive(Debug, Args)]
+pub struct PlanArgs {
+    /// Requests CSV (`id,origin,destination,departure`).
+    #[arg(long, value_name = "FILE")]
+    requests: PathBuf,
+    #[command(flatten)]
+    world: WorldArgs,
+    #[command(flatten)]
+    flight: FlightArgs,
+    /// Output folder for `plans.jsonl` and `summary.json`.
+    #[arg(long, value_name = "DIR", default_value = "out")]
+    out: PathBuf,
+}
+
+/// Runs `muse plan`.
+pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
+    let params = args.flight.params()?;
+    let world = args.world.load()?;
+    let day = LocalDay {
+        date: world.date,
+        offset: world.offset,
+    };
+    let requests = read_requests_file(&args.requests, &world.airspace, day)?;
+    let run = plan_requests(&world.airspace, &world.zones, params, requests, |_| {})?;
+    let provenance = Provenance {
+        airspace: world.airspace_source.clone(),
+        zones: world.zones.iter().map(|z| z.id.clone()).collect(),
+        requests: args.requests.display().to_string(),
+        seed: None,
+    };
+    let summary = write_outputs(&world, &run, &params, provenance, &args.out)?;
+    println!(
+        "planned {} of {} requests ({:.1}%) in {:.1} ms ({:.1} µs and {:.1} expanded labels per request); wrote {}",
+        summary.planned,
+        summary.requests,
+        100.0 * summary.success_rate,
+        summary.planner_time.total_s * 1e3,
+        summary.planner_time.per_request_us,
+        summary.search.expanded_per_request,
+        args.out.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Writes `plans.jsonl` and `summary.json` for a planned day into `out`; returns the summary.
+pub fn write_outputs(
+    world: &World,
+    run: &DayRun,
+    params: &muse_model::FlightParams,
+    provenance: Provenance,
+    out: &std::path::Path,
+) -> anyhow::Result<Summary> {
+    let a = &world.airspace;
+    let mut text = String::with_capacity(run.requests.len() * 400);
+    for (r, o) in run.requests.iter().zip(&run.outcomes) {
+        let record = PlanRecord {
+            request: r.id.clone(),
+            origin: a.node(r.origin).id.clone(),
+            destination: a.node(r.destination).id.clone(),
+            requested_departure: r.departure,
+            result: o.result.clone(),
+            free_flow: o.free_flow,
+            expanded: o.expanded,
+        };
+        write_plan_line(&mut text, a, world.offset, &record);
+    }
+    let items = run
+        .requests
+        .iter()
+        .zip(&run.outcomes)
+        .map(|(r, o)| RunItem {
+            departure: r.departure,
+            result: &o.result,
+            free_flow: o.free_flow,
+            expanded: o.expanded,
+        });
+    let summary = Summary::compute(items, params, run.planner_wall, provenance);
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    write_atomically(&out.join("plans.jsonl"), &text)?;
+    write_atomically(&out.join("summary.json"), &summary.to_json())?;
+    Ok(summary)
+}
