@@ -97,3 +97,100 @@ fn bad_zone_file_is_named_with_feature_and_field() {
     );
     assert!(err.contains("offset"), "{err}");
 }
+
+/// Two stations one kilometre apart (two minutes at 30 km/h).
+const PAIR: &str = r#"{"type": "FeatureCollection", "features": [
+  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.8, 1.3]}, "properties": {"id": "A", "kind": "station"}},
+  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.81, 1.3]}, "properties": {"id": "B", "kind": "station"}},
+  {"type": "Feature", "geometry": {"type": "LineString", "coordinates": [[103.8, 1.3], [103.81, 1.3]]}, "properties": {"from": "A", "to": "B", "length_m": 1000}}]}"#;
+
+fn plan_line(id: &str, from: &str, to: &str, depart: &str, arrive: &str) -> String {
+    format!(
+        r#"{{"request":"{id}","status":"planned","reason":null,"origin":"{from}","destination":"{to}","requested_departure":"2026-01-05T{depart}+08:00","takeoff":"2026-01-05T{depart}+08:00","landing":"2026-01-05T{arrive}+08:00","airborne_s":120.0,"free_flow_s":120.0,"air_delay_s":0.0,"ground_delay_s":0.0,"distance_m":1000.0,"path":[{{"node":"{from}","arrive":"2026-01-05T{depart}+08:00","depart":"2026-01-05T{depart}+08:00"}},{{"node":"{to}","arrive":"2026-01-05T{arrive}+08:00","depart":"2026-01-05T{arrive}+08:00"}}]}}"#
+    )
+}
+
+#[test]
+fn verify_names_a_hand_made_conflict() {
+    let dir = scratch_dir("verify_conflict");
+    let air = write(&dir, "pair.geojson", PAIR);
+    // Two drones on the corridor in opposite directions at the same time.
+    let plans = format!(
+        "{}\n{}\n",
+        plan_line("r1", "A", "B", "08:00:00.000", "08:02:00.000"),
+        plan_line("r2", "B", "A", "08:00:00.000", "08:02:00.000"),
+    );
+    let p = write(&dir, "plans.jsonl", &plans);
+    let o = muse(&["verify", "--plans", &p, "--airspace", &air]);
+    assert_eq!(o.status.code(), Some(1), "{}", stdout(&o));
+    let out = stdout(&o);
+    assert!(out.contains("FAILED"), "{out}");
+    assert!(
+        out.contains("r1") && out.contains("r2") && out.contains("A-B"),
+        "{out}"
+    );
+    // Once the first has landed and cleared B by tau = 5 s, the second may go.
+    let plans = format!(
+        "{}\n{}\n",
+        plan_line("r1", "A", "B", "08:00:00.000", "08:02:00.000"),
+        plan_line("r2", "B", "A", "08:02:05.000", "08:04:05.000"),
+    );
+    let p = write(&dir, "plans_ok.jsonl", &plans);
+    let o = muse(&["verify", "--plans", &p, "--airspace", &air]);
+    assert!(o.status.success(), "{}", stdout(&o));
+}
+
+#[test]
+fn plan_then_verify_on_the_singapore_default() {
+    let dir = scratch_dir("plan_verify");
+    let req = dir.join("requests.csv").display().to_string();
+    let out = dir.join("out").display().to_string();
+    let o = muse(&["demand", "--count", "5000", "--seed", "7", "--out", &req]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let o = muse(&["plan", "--requests", &req, "--out", &out]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary = std::fs::read_to_string(format!("{out}/summary.json")).unwrap();
+    assert!(summary.contains("\"requests\": 5000"), "{summary}");
+    let o = muse(&["verify", "--plans", &format!("{out}/plans.jsonl")]);
+    assert!(o.status.success(), "{}", stdout(&o));
+}
+
+#[test]
+fn bad_requests_fail_with_line_numbers_and_leave_no_output() {
+    let dir = scratch_dir("bad_requests");
+    for (body, expected) in [
+        (
+            "r1,S001,S002,08:00\nr2,S001,S999,08:05\n",
+            "line 3: field `destination`: unknown node id `S999`",
+        ),
+        (
+            "r1,S001,S001,08:00\n",
+            "line 2: field `destination`: origin and destination are both `S001`",
+        ),
+        (
+            "r1,S001,S002,8am\n",
+            "line 2: field `departure`: `8am` is neither",
+        ),
+    ] {
+        let req = write(
+            &dir,
+            "requests.csv",
+            &format!("id,origin,destination,departure\n{body}"),
+        );
+        let out = dir.join("out");
+        let o = muse(&[
+            "plan",
+            "--requests",
+            &req,
+            "--out",
+            &out.display().to_string(),
+        ]);
+        assert_eq!(o.status.code(), Some(2));
+        let err = stderr(&o);
+        assert!(
+            err.contains("requests.csv: ") && err.contains(expected),
+            "{err}"
+        );
+        assert!(!out.exists(), "no output folder after a failed run");
+    }
+}

@@ -2,7 +2,12 @@
 
 mod airspace;
 mod common;
+mod demand;
 mod plan;
+mod progress;
+mod simulate;
+mod sweep;
+mod verify;
 
 use std::process::ExitCode;
 
@@ -23,8 +28,16 @@ enum Command {
     /// Build, inspect and draw airspaces.
     #[command(subcommand)]
     Airspace(airspace::AirspaceCommand),
+    /// Generate a seeded requests file (uniform departures in a window, random station pairs).
+    Demand(demand::DemandCmd),
     /// Plan a requests file: exact earliest-landing plans, first come first served.
     Plan(plan::PlanArgs),
+    /// Simulate a day: generate demand, plan it, verify it, write files and a summary.
+    Simulate(simulate::SimulateArgs),
+    /// The paper's experiment: request counts × repetitions × scenario variants, with plots.
+    Sweep(sweep::SweepArgs),
+    /// Check a plans file against every rule, independently of the planner (exit 1 on a violation).
+    Verify(verify::VerifyArgs),
 }
 
 /// Parses the command line and runs it. Input errors come back as `Err` (exit 2).
@@ -32,7 +45,11 @@ pub fn run() -> anyhow::Result<ExitCode> {
     let cli = Cli::parse();
     match cli.command {
         Command::Airspace(cmd) => airspace::run(cmd),
+        Command::Demand(args) => demand::run(&args),
         Command::Plan(args) => plan::run(&args),
+        Command::Simulate(args) => simulate::run(&args),
+        Command::Sweep(args) => sweep::run(&args),
+        Command::Verify(args) => verify::run(&args),
     }
 }
 

@@ -7,10 +7,12 @@
 //! - [`airspace_geojson`]: the airspace GeoJSON (nodes as `Point`s, edges as `LineString`s);
 //! - [`zones`]: no-fly zones in the ED-318 GeoJSON profile and ED-269 JSON;
 //! - [`requests`]: the requests CSV;
-//! - [`plans`]: plan output as JSON Lines.
+//! - [`plans`]: plan output as JSON Lines;
+//! - [`flights`]: planned flights as time-stamped GeoJSON lines (QGIS, kepler.gl).
 
 pub mod airspace_geojson;
 pub mod error;
+pub mod flights;
 pub mod plans;
 pub mod requests;
 pub mod zones;

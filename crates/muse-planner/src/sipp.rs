@@ -182,7 +182,7 @@ pub(crate) fn search(
     while t <= latest {
         match schedule.node_slot(origin, t) {
             NodeSlot::Blocked { next_free } => t = next_free,
-            NodeSlot::Safe { lo, hi } => {
+            NodeSlot::Safe { lo, hi, next } => {
                 let label = Label {
                     node: origin.0,
                     lo,
@@ -196,7 +196,7 @@ pub(crate) fn search(
                     dead: false,
                 };
                 scratch.push(label, h_origin);
-                t = hi.saturating_add(1);
+                t = next;
             }
         }
     }
@@ -249,7 +249,7 @@ fn expand(
             }
             match schedule.node_slot(v, first + w) {
                 NodeSlot::Blocked { next_free } => s = next_free - w,
-                NodeSlot::Safe { lo, hi } => {
+                NodeSlot::Safe { lo, hi, next } => {
                     let last = run_end.min(hi - w).min(s_max);
                     let (takeoff, slack) = if first - a < sigma {
                         (t0 + first - a, last.min(a + sigma) - first)
@@ -269,8 +269,12 @@ fn expand(
                         dead: false,
                     };
                     scratch.push(child, hv);
-                    s = if first + slack >= a + sigma {
-                        hi - w + 1
+                    // Later departures into this interval are dominated once the latest
+                    // take-off is reached or the interval is used up: go on with the next one.
+                    // (Progress: either `s` grows, or the next interval starts at `hi` and
+                    // `node_slot` answers with it, a different state.)
+                    s = if first + slack >= a + sigma || last == hi - w {
+                        next - w
                     } else {
                         last + 1
                     };

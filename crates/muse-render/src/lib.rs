@@ -2,7 +2,9 @@
 //!
 //! - [`render_map`]: the airspace map (the paper's Fig. 1): land, no-fly zones, corridors
 //!   (optionally coloured by how busy they are), stations with their ids, a scale bar, a
-//!   north arrow and lon/lat ticks.
+//!   north arrow and lon/lat ticks;
+//! - [`render_line_plot`]: line plots with 95% confidence bands, one line per series (the
+//!   sweep's runtime, success-rate and delay figures).
 //!
 //! All output is deterministic: the same input gives byte-identical SVG. Text is written as
 //! SVG `<text>` in the viewer's sans-serif font; layout that depends on text size uses a
@@ -10,18 +12,20 @@
 
 mod geom;
 mod map;
+mod plot;
 mod style;
 
 pub use map::{MapInput, MapOptions, ZoneLayer, circle_polygon, render_map, zone_area_polygons};
+pub use plot::{PlotOptions, Point, Series, render_line_plot};
 
-/// Why a map could not be drawn.
+/// Why a map or plot could not be drawn.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RenderError {
     /// There is nothing to draw: no nodes, no land and no zone areas.
     #[error("nothing to draw: the airspace has no nodes and there is no land or zone area")]
     Empty,
     /// The input or options are inconsistent (e.g. a load per edge of the wrong length).
-    #[error("invalid map input: {0}")]
+    #[error("invalid input: {0}")]
     Input(String),
     /// The drawing backend failed.
     #[error("drawing failed: {0}")]

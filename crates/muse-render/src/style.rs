@@ -22,6 +22,18 @@ pub(crate) const MUTED: RGBColor = RGBColor(0x55, 0x5F, 0x6B);
 /// Paper.
 pub(crate) const PAPER: RGBColor = RGBColor(0xFF, 0xFF, 0xFF);
 
+/// Line colours for plot series, in order of use: the Okabe–Ito colour-blind-safe palette
+/// without its yellow (too pale on white), with the palette's black swapped for [`INK`].
+pub(crate) const SERIES: [RGBColor; 7] = [
+    RGBColor(0x00, 0x72, 0xB2), // blue
+    RGBColor(0xD5, 0x5E, 0x00), // vermillion
+    RGBColor(0x00, 0x9E, 0x73), // bluish green
+    RGBColor(0xCC, 0x79, 0xA7), // reddish purple
+    RGBColor(0xE6, 0x9F, 0x00), // orange
+    RGBColor(0x56, 0xB4, 0xE9), // sky blue
+    INK,
+];
+
 /// Anchors of the load ramp, light to dark (a yellow-green-blue sequential ramp without its
 /// palest end, so that quiet corridors still show on the land colour).
 const RAMP: [RGBColor; 5] = [
@@ -75,6 +87,17 @@ fn plotters_size(px: f64) -> f64 {
         .unwrap_or(guess)
 }
 
+/// The size nearest to `px`, in quarter pixels (larger first on a tie), that the SVG can say
+/// exactly: for some sizes, such as 13, no float divides by 1.24 to give them.
+pub(crate) fn exact_px(px: f64) -> f64 {
+    let base = (px * 4.0).round() / 4.0;
+    (0..=16)
+        .flat_map(|k| [k, -k])
+        .map(|k| base + f64::from(k) * 0.25)
+        .find(|&c| c > 0.0 && (plotters_size(c) / 1.24).to_bits() == c.to_bits())
+        .unwrap_or(base)
+}
+
 /// Estimated width in pixels of `s` set at `px` (sans-serif; digits and capitals are about
 /// 0.62 em, bold a little wider). Only used to keep labels apart.
 pub(crate) fn text_width(s: &str, px: f64, bold: bool) -> f64 {
@@ -117,6 +140,12 @@ mod tests {
         for px in [11.0, 12.0, 14.0, 16.0, 17.0, 18.0, 28.0, 12.5] {
             assert_eq!(plotters_size(px) / 1.24, px);
         }
+        for px in [13.0, 15.0, 26.0, 52.0, 61.75] {
+            let exact = exact_px(px);
+            assert!((exact - px).abs() <= 0.5, "{px} -> {exact}");
+            assert_eq!(plotters_size(exact) / 1.24, exact);
+        }
+        assert_eq!(exact_px(14.0), 14.0);
     }
 
     #[test]

@@ -62,15 +62,26 @@ pub fn plan_requests(
     let (from, to) = closure_range(&requests, &params);
     let closures = resolve(airspace, zones, from, to)?;
     let planner = Planner::new(airspace, params);
-    let mut schedule = Schedule::new(airspace, &params, &closures);
-    let mut scratch = Scratch::new();
-    let started = std::time::Instant::now();
-    let outcomes = plan_day(&planner, &mut schedule, &requests, &mut scratch, progress);
-    let planner_wall = started.elapsed();
+    let (outcomes, planner_wall) = plan_sorted(&planner, &closures, &requests, progress);
     Ok(DayRun {
         requests,
         outcomes,
         planner_wall,
         closures,
     })
+}
+
+/// Plans requests already in planning order with a prepared planner and resolved closures,
+/// from an empty schedule; returns the outcomes and the wall time of the planning loop.
+pub fn plan_sorted(
+    planner: &Planner<'_>,
+    closures: &Closures,
+    requests: &[Request],
+    progress: impl FnMut(usize),
+) -> (Vec<Outcome>, Duration) {
+    let mut schedule = Schedule::new(planner.airspace(), planner.params(), closures);
+    let mut scratch = Scratch::new();
+    let started = std::time::Instant::now();
+    let outcomes = plan_day(planner, &mut schedule, requests, &mut scratch, progress);
+    (outcomes, started.elapsed())
 }

@@ -1,0 +1,205 @@
+//! Minimal instances on which the planner once disagreed with the oracle or the verifier.
+//! Self-contained: each builds its airspace and traffic by hand and checks the planner's
+//! answer with the independent verifier.
+
+use muse_airspace::closures::{Closures, resolve};
+use muse_model::{
+    Airspace, Edge, EdgeRule, FlightParams, Instant, LonLat, Millis, Node, NodeId, NodeKind,
+    Period, Plan, Request, Speed, Stay, Zone,
+};
+use muse_planner::{Planner, Schedule, Scratch};
+use muse_verify::{Flight, verify};
+
+fn node(id: &str, lon: f64) -> Node {
+    Node {
+        id: id.into(),
+        kind: NodeKind::Station,
+        name: String::new(),
+        pos: LonLat::new(lon, 1.3),
+    }
+}
+
+/// `A - H - B`, 10 s each at 36 km/h.
+fn a_h_b() -> Airspace {
+    let edge = |id: &str, a, b| Edge {
+        id: id.into(),
+        from: NodeId(a),
+        to: NodeId(b),
+        length_m: 100.0,
+    };
+    Airspace::new(
+        vec![node("A", 103.80), node("H", 103.81), node("B", 103.82)],
+        vec![edge("A-H", 0, 1), edge("H-B", 1, 2)],
+    )
+    .unwrap()
+}
+
+fn stay(n: u32, arrive: i64, depart: i64) -> Stay {
+    Stay {
+        node: NodeId(n),
+        arrive: Instant(arrive),
+        depart: Instant(depart),
+    }
+}
+
+/// tau = 0, exclusive edges, no ground delay.
+fn tau_zero() -> FlightParams {
+    FlightParams {
+        speed: Speed::from_kmh(36.0).unwrap(),
+        max_flight: Millis::from_secs(100),
+        node_separation: Millis::ZERO,
+        edge_rule: EdgeRule::Exclusive,
+        max_ground_delay: Millis::ZERO,
+    }
+}
+
+/// `B` closed during `[0, 25 s)`.
+fn b_closed(a: &Airspace) -> Closures {
+    let zone = Zone {
+        id: "Z".into(),
+        name: String::new(),
+        restriction: String::new(),
+        area: None,
+        node_ids: vec!["B".into()],
+        edge_ids: vec![],
+        periods: vec![Period {
+            start: Some(Instant(0)),
+            end: Some(Instant(25_000)),
+            daily: vec![],
+        }],
+    };
+    resolve(a, &[zone], Instant(0), Instant(86_400_000)).unwrap()
+}
+
+/// Plans A → B (departure 0) against `other` (already accepted) and checks the answer.
+fn plan_against(other: &Plan) -> Plan {
+    let a = a_h_b();
+    let params = tau_zero();
+    let closures = b_closed(&a);
+    let planner = Planner::new(&a, params);
+    let mut schedule = Schedule::new(&a, &params, &closures);
+    schedule.insert(&a, 0, other);
+    let other_request = Request {
+        id: "other".into(),
+        origin: other.path[0].node,
+        destination: other.path.last().unwrap().node,
+        departure: other.takeoff(),
+    };
+    let request = Request {
+        id: "r".into(),
+        origin: NodeId(0),
+        destination: NodeId(2),
+        departure: Instant(0),
+    };
+    let plan = planner
+        .plan(&schedule, &request, &mut Scratch::new())
+        .result
+        .expect("a plan exists");
+    let flights = [
+        Flight {
+            id: "other",
+            request: &other_request,
+            plan: other,
+        },
+        Flight {
+            id: "r",
+            request: &request,
+            plan: &plan,
+        },
+    ];
+    let violations = verify(&a, &closures, &params, &flights);
+    assert!(
+        violations.is_empty(),
+        "{plan:?}: {}",
+        violations
+            .iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join("; ")
+    );
+    plan
+}
+
+/// With `tau = 0`, another flight's *instantaneous* stay `[12 s, 12 s]` at `H` must not lie
+/// strictly inside our stay there: `[10 s, 15 s]` breaks the node rule (`12 >= 15 + 0` and
+/// `10 >= 12 + 0` are both false), although no millisecond lies strictly between 12 s - tau and
+/// 12 s + tau. The best plan still lands at 25 s (B is closed until then) with take-off 0: hover
+/// at A until 2 s, reach H at 12 s exactly (touching is fine) and leave it at 15 s.
+///
+/// Found by the oracle: the planner returned `A[0,0] H[10 s,15 s] B[25 s]`.
+#[test]
+fn tau_zero_hover_across_an_instantaneous_stay() {
+    // The other flight takes off at H at 12 s and lands at A at 22 s.
+    let other = Plan {
+        path: vec![stay(1, 12_000, 12_000), stay(0, 22_000, 22_000)],
+    };
+    let plan = plan_against(&other);
+    assert_eq!(
+        (plan.takeoff(), plan.landing()),
+        (Instant(0), Instant(25_000))
+    );
+}
+
+/// The same with a 1 ms stay `[12 s, 12.001 s]`: no millisecond lies strictly inside it either.
+///
+/// Found by the oracle (as `[40.999 s, 41 s]` inside a hover `[36 s, 46 s]`).
+#[test]
+fn tau_zero_hover_across_a_one_millisecond_stay() {
+    let other = Plan {
+        path: vec![stay(1, 12_000, 12_001), stay(0, 22_001, 22_001)],
+    };
+    let plan = plan_against(&other);
+    assert_eq!(
+        (plan.takeoff(), plan.landing()),
+        (Instant(0), Instant(25_000))
+    );
+}
+
+/// Touching is allowed with `tau = 0`: the other flight at H during `[10 s, 10 s]`, ours
+/// arriving at 10 s and hovering to 15 s (`a_ours >= d_other`).
+#[test]
+fn tau_zero_touching_stays_are_fine() {
+    let edge = |id: &str, a, b| Edge {
+        id: id.into(),
+        from: NodeId(a),
+        to: NodeId(b),
+        length_m: 100.0,
+    };
+    // A second way into H, from C, so that the other flight does not use A - H.
+    let a = Airspace::new(
+        vec![
+            node("A", 103.80),
+            node("H", 103.81),
+            node("B", 103.82),
+            node("C", 103.83),
+        ],
+        vec![edge("A-H", 0, 1), edge("H-B", 1, 2), edge("C-H", 3, 1)],
+    )
+    .unwrap();
+    let params = tau_zero();
+    let closures = b_closed(&a);
+    let planner = Planner::new(&a, params);
+    let mut schedule = Schedule::new(&a, &params, &closures);
+    let other = Plan {
+        path: vec![
+            stay(3, 0, 0),
+            stay(1, 10_000, 10_000),
+            stay(3, 20_000, 20_000),
+        ],
+    };
+    schedule.insert(&a, 0, &other);
+    let request = Request {
+        id: "r".into(),
+        origin: NodeId(0),
+        destination: NodeId(2),
+        departure: Instant(0),
+    };
+    let plan = planner
+        .plan(&schedule, &request, &mut Scratch::new())
+        .result
+        .unwrap();
+    assert_eq!(
+        (plan.takeoff(), plan.landing()),
+        (Instant(0), Instant(25_000))
+    );
+}

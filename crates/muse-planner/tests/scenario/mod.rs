@@ -1,0 +1,572 @@
+//! Small random instances with data in whole time units (usually seconds), their proptest
+//! strategies, and a driver that plans them with the planner and checks every answer against
+//! the oracle and the verifier (tests only).
+
+use std::fmt::Write as _;
+
+use muse_airspace::closures::{Closures, resolve};
+use muse_model::request::sort_for_planning;
+use muse_model::{
+    Airspace, Edge, EdgeRule, FlightParams, Instant, LonLat, Millis, Node, NodeId, NodeKind,
+    Period, Plan, RejectReason, Request, Speed, Zone,
+};
+use muse_planner::{Outcome, Planner, Schedule, Scratch};
+use muse_verify::{Flight, verify};
+use proptest::prelude::*;
+use proptest::test_runner::{Config, RngAlgorithm, RngSeed, TestRunner};
+
+use crate::oracle::{self, RawClosures};
+
+/// 36 km/h = 10 m/s = 1 cm/ms: an edge of `k` cm takes exactly `k` ms.
+pub fn speed() -> Speed {
+    Speed::from_kmh(36.0).unwrap()
+}
+
+/// A zone closing explicit elements during `[start, start + len)` units.
+#[derive(Clone, Debug)]
+pub struct ZoneSpec {
+    /// Node selectors (taken modulo the node count).
+    pub nodes: Vec<usize>,
+    /// Edge selectors (taken modulo the edge count).
+    pub edges: Vec<usize>,
+    /// Start, units.
+    pub start: i64,
+    /// Length, units (> 0).
+    pub len: i64,
+}
+
+/// A test instance. Every time is a whole number of units of `unit` ms; selectors are reduced
+/// modulo the number of candidates, so that shrinking never produces an invalid instance.
+#[derive(Clone, Debug)]
+pub struct Instance {
+    /// The time unit, ms (1000: whole seconds).
+    pub unit: i64,
+    /// Node `i` is a waypoint when `waypoint[i]` (the first and the last node are always
+    /// stations).
+    pub waypoint: Vec<bool>,
+    /// For node `i >= 1`: a tree edge to node `parent % i` taking `secs` units, or none
+    /// (then the graph may be disconnected).
+    pub tree: Vec<Option<(usize, u32)>>,
+    /// Extra edges `(a, b, secs)` (self-loops and repeats are dropped).
+    pub extra: Vec<(usize, usize, u32)>,
+    /// Node separation `tau`, units.
+    pub tau: u32,
+    /// `None`: exclusive edges; `Some(h)`: headway `h` units.
+    pub headway: Option<u32>,
+    /// `G_max`, units.
+    pub g_max: u32,
+    /// `T_max`, units.
+    pub t_max: u32,
+    /// Requests `(origin selector, destination selector, departure in units)`; origin and
+    /// destination are stations.
+    pub requests: Vec<(usize, usize, i64)>,
+    /// Zones.
+    pub zones: Vec<ZoneSpec>,
+}
+
+/// An instance turned into model types.
+pub struct Built {
+    /// The airspace.
+    pub airspace: Airspace,
+    /// The parameters.
+    pub params: FlightParams,
+    /// Closures as the planner and the verifier see them (`muse_airspace::closures::resolve`).
+    pub closures: Closures,
+    /// Closures as the oracle sees them (straight from the zone specs).
+    pub raw: RawClosures,
+    /// Requests in planning order.
+    pub requests: Vec<Request>,
+}
+
+impl Instance {
+    /// Builds the model types.
+    pub fn build(&self) -> Built {
+        let n = self.waypoint.len();
+        let nodes: Vec<Node> = (0..n)
+            .map(|i| Node {
+                id: format!("N{i}"),
+                kind: if i > 0 && i + 1 < n && self.waypoint[i] {
+                    NodeKind::Waypoint
+                } else {
+                    NodeKind::Station
+                },
+                name: String::new(),
+                pos: LonLat::new(103.8 + 0.01 * i as f64, 1.3 + 0.003 * (i % 3) as f64),
+            })
+            .collect();
+        let edges = self.edges(n);
+        let airspace = Airspace::new(nodes, edges).expect("valid airspace");
+        let units = |k: u32| Millis(i64::from(k) * self.unit);
+        let params = FlightParams {
+            speed: speed(),
+            max_flight: units(self.t_max),
+            node_separation: units(self.tau),
+            edge_rule: self
+                .headway
+                .map_or(EdgeRule::Exclusive, |h| EdgeRule::Headway(units(h))),
+            max_ground_delay: units(self.g_max),
+        };
+        let (zones, raw) = self.zones(&airspace);
+        let closures =
+            resolve(&airspace, &zones, Instant(0), Instant(86_400_000)).expect("zones resolve");
+        let stations: Vec<NodeId> = airspace.stations().collect();
+        let mut requests: Vec<Request> = self
+            .requests
+            .iter()
+            .enumerate()
+            .map(|(i, &(o, d, dep))| {
+                let origin = stations[o % stations.len()];
+                let mut destination = stations[d % stations.len()];
+                if destination == origin {
+                    destination = stations[(d + 1) % stations.len()];
+                }
+                Request {
+                    id: format!("r{i:02}"),
+                    origin,
+                    destination,
+                    departure: Instant(dep * self.unit),
+                }
+            })
+            .collect();
+        sort_for_planning(&mut requests);
+        Built {
+            airspace,
+            params,
+            closures,
+            raw,
+            requests,
+        }
+    }
+
+    /// Edges: the tree edges, then the extra ones (no self-loops, no repeats).
+    fn edges(&self, n: usize) -> Vec<Edge> {
+        let mut pairs: Vec<(usize, usize, u32)> = Vec::new();
+        let mut add = |a: usize, b: usize, secs: u32| {
+            let (a, b) = (a.min(b), a.max(b));
+            if a != b && !pairs.iter().any(|p| (p.0, p.1) == (a, b)) {
+                pairs.push((a, b, secs));
+            }
+        };
+        for (i, t) in self.tree.iter().enumerate().take(n).skip(1) {
+            if let Some((parent, secs)) = *t {
+                add(parent % i, i, secs);
+            }
+        }
+        for &(a, b, secs) in &self.extra {
+            add(a % n, b % n, secs);
+        }
+        pairs
+            .iter()
+            .map(|&(a, b, secs)| Edge {
+                id: format!("N{a}-N{b}"),
+                from: NodeId(a as u32),
+                to: NodeId(b as u32),
+                length_m: (i64::from(secs) * self.unit) as f64 / 100.0,
+            })
+            .collect()
+    }
+
+    /// Zones as `muse_model` zones, and their windows per element for the oracle.
+    fn zones(&self, airspace: &Airspace) -> (Vec<Zone>, RawClosures) {
+        let n = airspace.node_count();
+        let mut raw = RawClosures {
+            nodes: vec![Vec::new(); airspace.node_count()],
+            edges: vec![Vec::new(); airspace.edge_count()],
+        };
+        let mut zones = Vec::new();
+        for (k, z) in self.zones.iter().enumerate() {
+            let window = (z.start * self.unit, (z.start + z.len) * self.unit);
+            let mut zone = Zone {
+                id: format!("Z{k}"),
+                name: String::new(),
+                restriction: "PROHIBITED".into(),
+                area: None,
+                node_ids: Vec::new(),
+                edge_ids: Vec::new(),
+                periods: vec![Period {
+                    start: Some(Instant(window.0)),
+                    end: Some(Instant(window.1)),
+                    daily: vec![],
+                }],
+            };
+            for &s in &z.nodes {
+                let v = s % n;
+                zone.node_ids.push(format!("N{v}"));
+                raw.nodes[v].push(window);
+            }
+            if airspace.edge_count() > 0 {
+                for &s in &z.edges {
+                    let e = s % airspace.edge_count();
+                    zone.edge_ids.push(airspace.edges()[e].id.clone());
+                    raw.edges[e].push(window);
+                }
+            }
+            zones.push(zone);
+        }
+        (zones, raw)
+    }
+}
+
+/// A deterministic proptest runner: `cases` cases from a fixed `ChaCha` seed, no failure
+/// persistence files.
+///
+/// For soak runs (never in CI), `MUSE_SOAK=k` runs `k` times as many cases and
+/// `MUSE_SOAK_SEED=n` mixes `n` into the seed, e.g.
+/// `MUSE_SOAK=50 MUSE_SOAK_SEED=7 cargo test -p muse-planner --test against_oracle`.
+pub fn runner(cases: u32, seed: u64) -> TestRunner {
+    let env = |name: &str| std::env::var(name).ok().and_then(|v| v.parse::<u64>().ok());
+    let scale = env("MUSE_SOAK").unwrap_or(1).max(1);
+    let seed = seed
+        ^ env("MUSE_SOAK_SEED")
+            .unwrap_or(0)
+            .wrapping_mul(0x9e37_79b9_7f4a_7c15);
+    TestRunner::new(Config {
+        cases: u32::try_from(u64::from(cases) * scale).unwrap_or(u32::MAX),
+        rng_algorithm: RngAlgorithm::ChaCha,
+        rng_seed: RngSeed::Fixed(seed),
+        failure_persistence: None,
+        max_shrink_iters: 4_096,
+        ..Config::default()
+    })
+}
+
+/// Knobs for the instance strategy.
+#[derive(Clone, Copy, Debug)]
+pub struct Shape {
+    /// Node count range (inclusive).
+    pub nodes: (usize, usize),
+    /// Edge traversal range, units (inclusive).
+    pub edge_secs: (u32, u32),
+    /// Request count range (inclusive).
+    pub requests: (usize, usize),
+    /// Latest requested departure, units.
+    pub horizon: i64,
+    /// `T_max` range, units (inclusive).
+    pub t_max: (u32, u32),
+    /// Largest `G_max`, units (`G_max` is zero half of the time).
+    pub g_max: u32,
+    /// `tau` range, units (inclusive).
+    pub tau: (u32, u32),
+    /// Largest number of zones.
+    pub zones: usize,
+}
+
+impl Shape {
+    /// A general mix.
+    pub const MIXED: Shape = Shape {
+        nodes: (3, 7),
+        edge_secs: (1, 25),
+        requests: (5, 25),
+        horizon: 120,
+        t_max: (10, 150),
+        g_max: 40,
+        tau: (1, 6),
+        zones: 3,
+    };
+
+    /// Few nodes, many requests in a short time: heavy conflicts.
+    pub const CROWDED: Shape = Shape {
+        nodes: (3, 5),
+        edge_secs: (1, 12),
+        requests: (12, 25),
+        horizon: 40,
+        t_max: (15, 90),
+        g_max: 30,
+        tau: (1, 4),
+        zones: 2,
+    };
+
+    /// Bigger graphs, long batteries and ground delays, long waits.
+    pub const LONG: Shape = Shape {
+        nodes: (5, 7),
+        edge_secs: (3, 30),
+        requests: (15, 25),
+        horizon: 150,
+        t_max: (60, 300),
+        g_max: 120,
+        tau: (1, 10),
+        zones: 3,
+    };
+
+    /// `tau = 0`: stays of different flights may touch.
+    pub const TAU_ZERO: Shape = Shape {
+        nodes: (3, 6),
+        edge_secs: (1, 15),
+        requests: (8, 25),
+        horizon: 60,
+        t_max: (15, 120),
+        g_max: 30,
+        tau: (0, 0),
+        zones: 2,
+    };
+}
+
+/// Instances of the given shape.
+pub fn instances(shape: Shape) -> impl Strategy<Value = Instance> {
+    let nodes = shape.nodes.0..=shape.nodes.1;
+    let secs = shape.edge_secs.0..=shape.edge_secs.1;
+    nodes
+        .prop_flat_map(move |n| {
+            let secs = secs.clone();
+            let tree_edge = prop_oneof![1 => Just(None), 9 => (0..n, secs.clone()).prop_map(Some)];
+            (
+                proptest::collection::vec(prop::bool::weighted(0.3), n),
+                proptest::collection::vec(tree_edge, n),
+                proptest::collection::vec((0..n, 0..n, secs), 0..=n),
+            )
+        })
+        .prop_flat_map(move |(waypoint, tree, extra)| {
+            // Mostly whole seconds; sometimes other units, down to the millisecond.
+            let unit = prop_oneof![3 => Just(1000i64), 1 => prop::sample::select(vec![1i64, 2, 7, 37, 250])];
+            let tau = shape.tau.0..=shape.tau.1;
+            let headway = prop_oneof![1 => Just(None), 1 => (0..=4u32).prop_map(Some)];
+            let g_max = prop_oneof![1 => Just(0u32), 1 => 1..=shape.g_max];
+            let t_max = shape.t_max.0..=shape.t_max.1;
+            let request = (0..8usize, 0..8usize, 0..=shape.horizon);
+            let requests = proptest::collection::vec(request, shape.requests.0..=shape.requests.1);
+            let zone = (
+                proptest::collection::vec(0..8usize, 0..=2),
+                proptest::collection::vec(0..16usize, 0..=2),
+                0..=shape.horizon + 60,
+                prop_oneof![4 => 1..=60i64, 1 => 60..=400i64],
+            )
+                .prop_map(|(nodes, edges, start, len)| ZoneSpec { nodes, edges, start, len });
+            let zones = proptest::collection::vec(zone, 0..=shape.zones);
+            (unit, Just(waypoint), Just(tree), Just(extra), tau, headway, g_max, t_max, requests, zones)
+        })
+        .prop_map(|(unit, waypoint, tree, extra, tau, headway, g_max, t_max, requests, zones)| Instance {
+            unit,
+            waypoint,
+            tree,
+            extra,
+            tau,
+            headway,
+            g_max,
+            t_max,
+            requests,
+            zones,
+        })
+}
+
+/// Counts of what happened, to check that the generator exercises every case.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Tally {
+    /// Accepted requests.
+    pub planned: usize,
+    /// Accepted with ground delay.
+    pub ground_delayed: usize,
+    /// Accepted with airborne time above free flow.
+    pub air_delayed: usize,
+    /// Accepted with a take-off off whole units.
+    pub off_grid: usize,
+    /// Rejections: out of range, unreachable, no feasible plan.
+    pub rejected: [usize; 3],
+}
+
+impl Tally {
+    /// Adds another tally.
+    pub fn add(&mut self, o: &Tally) {
+        self.planned += o.planned;
+        self.ground_delayed += o.ground_delayed;
+        self.air_delayed += o.air_delayed;
+        self.off_grid += o.off_grid;
+        for (a, b) in self.rejected.iter_mut().zip(o.rejected) {
+            *a += b;
+        }
+    }
+}
+
+fn describe(b: &Built, accepted: &[(usize, Plan)]) -> String {
+    let mut s = String::new();
+    let a = &b.airspace;
+    let _ = writeln!(s, "params: {:?}", b.params);
+    for e in a.edges() {
+        let _ = writeln!(
+            s,
+            "edge {} w = {}",
+            e.id,
+            b.params.speed.traversal_time(e.length_m)
+        );
+    }
+    for n in a.nodes() {
+        let _ = writeln!(s, "node {} {:?}", n.id, n.kind);
+    }
+    let _ = writeln!(s, "closures: {:?}", b.raw);
+    for (i, p) in accepted {
+        let r = &b.requests[*i];
+        let _ = write!(
+            s,
+            "accepted {} ({}→{}, dep {}):",
+            r.id, r.origin.0, r.destination.0, r.departure.0
+        );
+        for st in &p.path {
+            let _ = write!(s, " N{}[{},{}]", st.node.0, st.arrive.0, st.depart.0);
+        }
+        let _ = writeln!(s);
+    }
+    s
+}
+
+/// Plans the instance's requests in order and checks every answer. Returns what happened,
+/// or a description of the first disagreement.
+pub fn run(instance: &Instance) -> Result<Tally, String> {
+    let b = instance.build();
+    let planner = Planner::new(&b.airspace, b.params);
+    let mut schedule = Schedule::new(&b.airspace, &b.params, &b.closures);
+    let mut scratch = Scratch::new();
+    let mut accepted: Vec<(usize, Plan)> = Vec::new();
+    let mut tally = Tally::default();
+    for (i, request) in b.requests.iter().enumerate() {
+        let outcome = planner.plan(&schedule, request, &mut scratch);
+        let others: Vec<&Plan> = accepted.iter().map(|(_, p)| p).collect();
+        let expected = oracle::solve(
+            &b.airspace,
+            &b.params,
+            &b.raw,
+            &others,
+            request,
+            instance.unit,
+        );
+        judge(
+            &b,
+            &accepted,
+            request,
+            &outcome,
+            &expected,
+            instance.unit,
+            &mut tally,
+        )?;
+        if let Ok(plan) = &outcome.result {
+            schedule.insert(&b.airspace, i as u32, plan);
+            accepted.push((i, plan.clone()));
+        }
+    }
+    // The whole accepted set, together.
+    let flights: Vec<Flight<'_>> = accepted
+        .iter()
+        .map(|(i, plan)| Flight {
+            id: &b.requests[*i].id,
+            request: &b.requests[*i],
+            plan,
+        })
+        .collect();
+    let violations = verify(&b.airspace, &b.closures, &b.params, &flights);
+    if !violations.is_empty() {
+        let list: Vec<String> = violations.iter().map(ToString::to_string).collect();
+        return Err(format!(
+            "the accepted set is invalid:\n{}\n{}",
+            list.join("\n"),
+            describe(&b, &accepted)
+        ));
+    }
+    Ok(tally)
+}
+
+/// Compares the planner's answer for one request with the oracle's, checking both plans with
+/// the verifier against the accepted set.
+fn judge(
+    b: &Built,
+    accepted: &[(usize, Plan)],
+    request: &Request,
+    outcome: &Outcome,
+    expected: &oracle::Answer,
+    unit: i64,
+    tally: &mut Tally,
+) -> Result<(), String> {
+    let fail = |what: String| {
+        format!(
+            "{what}\nrequest {} {}→{} dep {}\nplanner: {:?}\noracle: {:?}\n{}",
+            request.id,
+            request.origin.0,
+            request.destination.0,
+            request.departure.0,
+            outcome.result,
+            expected,
+            describe(b, accepted)
+        )
+    };
+    if outcome.free_flow != expected.free_flow {
+        return Err(fail(format!(
+            "free flow: planner {:?}, oracle {:?}",
+            outcome.free_flow, expected.free_flow
+        )));
+    }
+    // The oracle's own plan must be valid and match its answer.
+    if let Some(plan) = &expected.plan {
+        check_valid(b, accepted, request, plan)
+            .map_err(|v| fail(format!("the ORACLE's plan is invalid: {v}")))?;
+        let (takeoff, landing) = expected.result.expect("a plan means success");
+        if (plan.takeoff(), plan.landing()) != (takeoff, landing) {
+            return Err(fail("the ORACLE's plan does not match its answer".into()));
+        }
+    }
+    match (&outcome.result, &expected.result) {
+        (Ok(plan), Ok((takeoff, landing))) => {
+            check_valid(b, accepted, request, plan)
+                .map_err(|v| fail(format!("invalid plan: {v}")))?;
+            if plan.landing() != *landing {
+                return Err(fail(format!(
+                    "landing: planner {}, oracle {}",
+                    plan.landing().0,
+                    landing.0
+                )));
+            }
+            if plan.takeoff() != *takeoff {
+                return Err(fail(format!(
+                    "take-off: planner {}, oracle {}",
+                    plan.takeoff().0,
+                    takeoff.0
+                )));
+            }
+            tally.planned += 1;
+            tally.ground_delayed += usize::from(plan.takeoff() > request.departure);
+            tally.air_delayed += usize::from(Some(plan.airborne()) > expected.free_flow);
+            tally.off_grid += usize::from(plan.takeoff().0 % unit != 0);
+        }
+        (Err(got), Err(want)) if got == want => {
+            let k = RejectReason::ALL.iter().position(|r| r == got).unwrap_or(0);
+            tally.rejected[k] += 1;
+        }
+        (Ok(plan), Err(_)) => {
+            check_valid(b, accepted, request, plan)
+                .map_err(|v| fail(format!("invalid plan: {v}")))?;
+            return Err(fail(
+                "the planner found a valid plan, the oracle none".into(),
+            ));
+        }
+        (Err(_), Ok(_)) => {
+            return Err(fail("the oracle found a plan, the planner none".into()));
+        }
+        (Err(_), Err(_)) => return Err(fail("different rejection reasons".into())),
+    }
+    Ok(())
+}
+
+/// Verifies `plan` for `request` together with the accepted plans.
+pub fn check_valid(
+    b: &Built,
+    accepted: &[(usize, Plan)],
+    request: &Request,
+    plan: &Plan,
+) -> Result<(), String> {
+    let mut flights: Vec<Flight<'_>> = accepted
+        .iter()
+        .map(|(i, p)| Flight {
+            id: &b.requests[*i].id,
+            request: &b.requests[*i],
+            plan: p,
+        })
+        .collect();
+    flights.push(Flight {
+        id: &request.id,
+        request,
+        plan,
+    });
+    let violations = verify(&b.airspace, &b.closures, &b.params, &flights);
+    if violations.is_empty() {
+        Ok(())
+    } else {
+        let list: Vec<String> = violations.iter().map(ToString::to_string).collect();
+        Err(list.join("; "))
+    }
+}

@@ -1,0 +1,1083 @@
+//! An independent checker of planned flights against SPEC §3 (flight model and separation)
+//! and §4 (no-fly zones).
+//!
+//! The verifier is deliberately simple: every rule is written out as the SPEC states it, on
+//! plain integer milliseconds, and it shares no interval or search code with the planner. It
+//! reads zone closures as per-element windows ([`Closures`]) and nothing else from
+//! `muse-airspace`.
+//!
+//! [`verify`] lists **every** violation, all pairs of flights included. Pairwise rules are
+//! checked per element (node or edge): occupations are sorted by start and each one is
+//! compared only with the following ones that could still conflict with it, so the work is
+//! proportional to the number of occupations plus the number of pairs close in time, not to
+//! the square of the number of flights.
+//!
+//! The rules, with `w(e) = params.speed.traversal_time(length_m)`:
+//!
+//! - [`Rule::Path`]: a plan is non-empty, starts at the request's origin and ends at its
+//!   destination, joins consecutive nodes by an edge, has `arrive <= depart` at every stay,
+//!   `arrive_{i+1} = depart_i + w(e)` and `depart = arrive` at the last stay (landing).
+//! - [`Rule::Node`]: stays `[a1, d1]`, `[a2, d2]` of different flights at the same node satisfy
+//!   `a2 >= d1 + tau` or `a1 >= d2 + tau`.
+//! - [`Rule::Edge`]: traversals `[s, s + w(e)]` of the same edge by different flights satisfy,
+//!   under [`EdgeRule::Exclusive`] (and in opposite directions under [`EdgeRule::Headway`]),
+//!   `s2 >= f1` or `s1 >= f2`; in the same direction under `Headway(h)`, `|s2 - s1| >= h`.
+//! - [`Rule::Battery`]: `landing - takeoff <= T_max`.
+//! - [`Rule::GroundDelay`]: `departure <= takeoff <= departure + G_max`.
+//! - [`Rule::Zone`]: a stay `[a, d]` at a closed node, or a traversal `[s, f]` of a closed
+//!   edge, shares no instant with a closure window `[start, end)`: `d < start` or `a >= end`.
+//!   Origin and destination are no exception.
+//!
+//! ```
+//! use muse_airspace::closures::Closures;
+//! use muse_model::{Airspace, Edge, FlightParams, Instant, LonLat, Node, NodeId, NodeKind, Plan, Request, Stay};
+//! use muse_verify::{Flight, Rule, verify};
+//!
+//! let node = |id: &str, lon| Node {
+//!     id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.3),
+//! };
+//! let airspace = Airspace::new(
+//!     vec![node("A", 103.80), node("B", 103.81)],
+//!     vec![Edge { id: "A-B".into(), from: NodeId(0), to: NodeId(1), length_m: 1_000.0 }],
+//! ).unwrap();
+//! let params = FlightParams::default(); // 30 km/h: 1 km takes 120 s
+//! let request = |id: &str, t| Request { id: id.into(), origin: NodeId(0), destination: NodeId(1), departure: Instant(t) };
+//! let plan = |t: i64| Plan { path: vec![
+//!     Stay { node: NodeId(0), arrive: Instant(t), depart: Instant(t) },
+//!     Stay { node: NodeId(1), arrive: Instant(t + 120_000), depart: Instant(t + 120_000) },
+//! ] };
+//! let (r1, r2) = (request("r1", 0), request("r2", 60_000));
+//! let (p1, p2) = (plan(0), plan(60_000));
+//! let flights = [
+//!     Flight { id: "r1", request: &r1, plan: &p1 },
+//!     Flight { id: "r2", request: &r2, plan: &p2 },
+//! ];
+//! let violations = verify(&airspace, &Closures::none(&airspace), &params, &flights);
+//! // Both drones are on A-B between 60 s and 120 s.
+//! assert_eq!(violations.len(), 1);
+//! assert_eq!(violations[0].rule, Rule::Edge);
+//! assert_eq!(violations[0].flights, ["r1", "r2"]);
+//! ```
+
+use std::fmt;
+
+use muse_airspace::closures::{Closures, Window};
+use muse_model::{
+    Airspace, EdgeId, EdgeRule, FlightParams, Instant, Millis, NodeId, Plan, Request,
+};
+
+/// One flight to check: its request and its plan.
+#[derive(Clone, Copy, Debug)]
+pub struct Flight<'a> {
+    /// The name used in violations (usually the request id).
+    pub id: &'a str,
+    /// The request the plan answers (origin, destination, departure).
+    pub request: &'a Request,
+    /// The plan.
+    pub plan: &'a Plan,
+}
+
+/// The rule a [`Violation`] breaks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Rule {
+    /// The plan itself is malformed (SPEC §3: empty, wrong origin or destination, nodes not
+    /// joined by an edge, `arrive > depart`, wrong traversal time, hovering before landing).
+    Path,
+    /// Node separation `tau` between stays of two flights.
+    Node,
+    /// Edge separation (exclusive or headway) between traversals of two flights.
+    Edge,
+    /// Airborne time above `T_max`.
+    Battery,
+    /// Take-off before the requested departure or more than `G_max` after it.
+    GroundDelay,
+    /// A stay or traversal during a no-fly window (SPEC §4).
+    Zone,
+}
+
+impl Rule {
+    /// A short name: `path`, `node`, `edge`, `battery`, `ground_delay` or `zone`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Rule::Path => "path",
+            Rule::Node => "node",
+            Rule::Edge => "edge",
+            Rule::Battery => "battery",
+            Rule::GroundDelay => "ground_delay",
+            Rule::Zone => "zone",
+        }
+    }
+}
+
+impl fmt::Display for Rule {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// One broken rule.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{rule} rule violated by {}{}: {detail}", .flights.join(", "), at(.element))]
+pub struct Violation {
+    /// Which rule.
+    pub rule: Rule,
+    /// The flights involved, by [`Flight::id`]: one, or two for separation rules.
+    pub flights: Vec<String>,
+    /// The node or edge id concerned; empty when the violation concerns a flight as a whole
+    /// (battery, ground delay, empty plan).
+    pub element: String,
+    /// What is wrong, with the times involved (seconds since the epoch, to the millisecond).
+    pub detail: String,
+}
+
+/// Checks `flights` against every rule of SPEC §3–§4 and returns all violations: per-flight
+/// rules first (flight by flight), then node separation (node by node), edge separation
+/// (edge by edge) and zones (flight by flight). An empty result means the flights are valid
+/// together.
+///
+/// Node and edge indices outside the airspace are reported as [`Rule::Path`] violations and
+/// otherwise ignored; stays and traversals of a malformed plan are still checked against the
+/// other rules wherever they are well defined (a traversal is taken to start at the departure
+/// from its first node and to last `w(e)`).
+pub fn verify(
+    airspace: &Airspace,
+    closures: &Closures,
+    params: &FlightParams,
+    flights: &[Flight<'_>],
+) -> Vec<Violation> {
+    let mut out = Vec::new();
+    let mut stays: Vec<Vec<Occupation>> = vec![Vec::new(); airspace.node_count()];
+    let mut traversals: Vec<Vec<Occupation>> = vec![Vec::new(); airspace.edge_count()];
+    for (index, flight) in flights.iter().enumerate() {
+        check_flight(airspace, params, flight, &mut out);
+        collect(
+            airspace,
+            params,
+            index,
+            flight.plan,
+            &mut stays,
+            &mut traversals,
+        );
+    }
+    for (n, list) in stays.iter_mut().enumerate() {
+        node_rule(airspace, params, flights, NodeId(n as u32), list, &mut out);
+    }
+    for (e, list) in traversals.iter_mut().enumerate() {
+        edge_rule(airspace, params, flights, EdgeId(e as u32), list, &mut out);
+    }
+    for flight in flights {
+        zone_rule(airspace, closures, params, flight, &mut out);
+    }
+    out
+}
+
+/// A stay `[start, end]` at a node, or a traversal `[start, end]` of an edge.
+#[derive(Clone, Copy, Debug)]
+struct Occupation {
+    /// Index into the `flights` slice.
+    flight: usize,
+    start: Instant,
+    end: Instant,
+    /// For traversals: whether the edge is flown from `Edge::from` to `Edge::to`.
+    forward: bool,
+}
+
+/// Names the element in a message (nothing for a whole-flight violation).
+fn at(element: &str) -> String {
+    if element.is_empty() {
+        String::new()
+    } else {
+        format!(" at `{element}`")
+    }
+}
+
+/// Formats an instant as seconds with three decimals, exactly.
+fn secs(t: Instant) -> String {
+    let sign = if t.0 < 0 { "-" } else { "" };
+    let ms = t.0.unsigned_abs();
+    format!("{sign}{}.{:03}s", ms / 1000, ms % 1000)
+}
+
+/// Formats a duration as seconds with three decimals, exactly.
+fn dur(d: Millis) -> String {
+    secs(Instant(d.0))
+}
+
+fn span(a: Instant, b: Instant) -> String {
+    format!("[{}, {}]", secs(a), secs(b))
+}
+
+fn node_name(airspace: &Airspace, n: NodeId) -> String {
+    if n.index() < airspace.node_count() {
+        airspace.node(n).id.clone()
+    } else {
+        n.to_string()
+    }
+}
+
+fn traversal_time(airspace: &Airspace, params: &FlightParams, e: EdgeId) -> Millis {
+    params.speed.traversal_time(airspace.edge(e).length_m)
+}
+
+/// The edge joining two nodes of a plan, if both exist and are joined.
+fn edge_of(airspace: &Airspace, a: NodeId, b: NodeId) -> Option<EdgeId> {
+    let n = airspace.node_count();
+    if a.index() >= n || b.index() >= n || a == b {
+        return None;
+    }
+    airspace.edge_between(a, b)
+}
+
+/// Path rules of one flight, then its battery and ground-delay rules.
+fn check_flight(
+    airspace: &Airspace,
+    params: &FlightParams,
+    flight: &Flight<'_>,
+    out: &mut Vec<Violation>,
+) {
+    let one = |rule, element: String, detail: String| Violation {
+        rule,
+        flights: vec![flight.id.to_string()],
+        element,
+        detail,
+    };
+    let path = &flight.plan.path;
+    let (Some(first), Some(last)) = (path.first(), path.last()) else {
+        out.push(one(
+            Rule::Path,
+            String::new(),
+            "the plan has no stays".into(),
+        ));
+        return;
+    };
+    let request = flight.request;
+    if first.node != request.origin {
+        out.push(one(
+            Rule::Path,
+            node_name(airspace, first.node),
+            format!(
+                "the plan starts at `{}`, the request's origin is `{}`",
+                node_name(airspace, first.node),
+                node_name(airspace, request.origin)
+            ),
+        ));
+    }
+    if last.node != request.destination {
+        out.push(one(
+            Rule::Path,
+            node_name(airspace, last.node),
+            format!(
+                "the plan ends at `{}`, the request's destination is `{}`",
+                node_name(airspace, last.node),
+                node_name(airspace, request.destination)
+            ),
+        ));
+    }
+    for (i, stay) in path.iter().enumerate() {
+        if stay.node.index() >= airspace.node_count() {
+            out.push(one(
+                Rule::Path,
+                stay.node.to_string(),
+                format!("stay {i} is at a node that is not in the airspace"),
+            ));
+        }
+        if stay.arrive > stay.depart {
+            out.push(one(
+                Rule::Path,
+                node_name(airspace, stay.node),
+                format!(
+                    "stay {i} arrives at {} after it departs at {}",
+                    secs(stay.arrive),
+                    secs(stay.depart)
+                ),
+            ));
+        }
+    }
+    check_legs(airspace, params, flight, out);
+    if last.depart != last.arrive {
+        out.push(one(
+            Rule::Path,
+            node_name(airspace, last.node),
+            format!(
+                "the last stay must end at landing: it arrives at {} and departs at {}",
+                secs(last.arrive),
+                secs(last.depart)
+            ),
+        ));
+    }
+    check_times(params, flight, first.arrive, last.depart, out);
+}
+
+/// Path rules between consecutive stays: joined by an edge, `arrive_{i+1} = depart_i + w(e)`.
+fn check_legs(
+    airspace: &Airspace,
+    params: &FlightParams,
+    flight: &Flight<'_>,
+    out: &mut Vec<Violation>,
+) {
+    let one = |rule, element: String, detail: String| Violation {
+        rule,
+        flights: vec![flight.id.to_string()],
+        element,
+        detail,
+    };
+    for (i, pair) in flight.plan.path.windows(2).enumerate() {
+        let (x, y) = (pair[0], pair[1]);
+        let Some(e) = edge_of(airspace, x.node, y.node) else {
+            out.push(one(
+                Rule::Path,
+                format!(
+                    "{}-{}",
+                    node_name(airspace, x.node),
+                    node_name(airspace, y.node)
+                ),
+                format!("stays {i} and {} are not joined by an edge", i + 1),
+            ));
+            continue;
+        };
+        let w = traversal_time(airspace, params, e);
+        if y.arrive != x.depart + w {
+            out.push(one(
+                Rule::Path,
+                airspace.edge(e).id.clone(),
+                format!(
+                    "departs `{}` at {} and arrives at `{}` at {}; the traversal takes {}, so the arrival must be {}",
+                    node_name(airspace, x.node),
+                    secs(x.depart),
+                    node_name(airspace, y.node),
+                    secs(y.arrive),
+                    dur(w),
+                    secs(x.depart + w)
+                ),
+            ));
+        }
+    }
+}
+
+/// Battery and ground-delay rules of one flight.
+fn check_times(
+    params: &FlightParams,
+    flight: &Flight<'_>,
+    takeoff: Instant,
+    landing: Instant,
+    out: &mut Vec<Violation>,
+) {
+    let one = |rule, detail: String| Violation {
+        rule,
+        flights: vec![flight.id.to_string()],
+        element: String::new(),
+        detail,
+    };
+    let request = flight.request;
+    if landing - takeoff > params.max_flight {
+        out.push(one(
+            Rule::Battery,
+            format!(
+                "airborne {} (take-off {}, landing {}), more than T_max = {}",
+                dur(landing - takeoff),
+                secs(takeoff),
+                secs(landing),
+                dur(params.max_flight)
+            ),
+        ));
+    }
+    let latest = request.departure + params.max_ground_delay;
+    if takeoff < request.departure || takeoff > latest {
+        out.push(one(
+            Rule::GroundDelay,
+            format!(
+                "take-off at {} is outside [{}, {}] (departure {}, G_max = {})",
+                secs(takeoff),
+                secs(request.departure),
+                secs(latest),
+                secs(request.departure),
+                dur(params.max_ground_delay)
+            ),
+        ));
+    }
+}
+
+/// Stays per node and traversals per edge of one plan.
+fn collect(
+    airspace: &Airspace,
+    params: &FlightParams,
+    flight: usize,
+    plan: &Plan,
+    stays: &mut [Vec<Occupation>],
+    traversals: &mut [Vec<Occupation>],
+) {
+    for stay in &plan.path {
+        if let Some(list) = stays.get_mut(stay.node.index()) {
+            list.push(Occupation {
+                flight,
+                start: stay.arrive,
+                end: stay.depart,
+                forward: true,
+            });
+        }
+    }
+    for pair in plan.path.windows(2) {
+        if let Some(e) = edge_of(airspace, pair[0].node, pair[1].node) {
+            let s = pair[0].depart;
+            let forward = airspace.edge(e).from == pair[0].node;
+            traversals[e.index()].push(Occupation {
+                flight,
+                start: s,
+                end: s + traversal_time(airspace, params, e),
+                forward,
+            });
+        }
+    }
+}
+
+fn sort(list: &mut [Occupation]) {
+    list.sort_by_key(|o| (o.start, o.end, o.flight));
+}
+
+fn pair_names(flights: &[Flight<'_>], x: &Occupation, y: &Occupation) -> Vec<String> {
+    vec![
+        flights[x.flight].id.to_string(),
+        flights[y.flight].id.to_string(),
+    ]
+}
+
+/// Node rule at one node: `a2 >= d1 + tau || a1 >= d2 + tau` for stays of different flights.
+fn node_rule(
+    airspace: &Airspace,
+    params: &FlightParams,
+    flights: &[Flight<'_>],
+    n: NodeId,
+    list: &mut [Occupation],
+    out: &mut Vec<Violation>,
+) {
+    let tau = params.node_separation;
+    sort(list);
+    for (i, x) in list.iter().enumerate() {
+        // Sorted by arrival: once `a_j >= d_i + tau`, no later stay can conflict with `x`.
+        for y in list[i + 1..].iter().take_while(|y| y.start < x.end + tau) {
+            if y.flight == x.flight || x.start >= y.end + tau {
+                continue;
+            }
+            out.push(Violation {
+                rule: Rule::Node,
+                flights: pair_names(flights, x, y),
+                element: node_name(airspace, n),
+                detail: format!(
+                    "stays {} and {} are less than tau = {} apart",
+                    span(x.start, x.end),
+                    span(y.start, y.end),
+                    dur(tau)
+                ),
+            });
+        }
+    }
+}
+
+/// Edge rule on one edge: exclusive, or headway in the same direction.
+fn edge_rule(
+    airspace: &Airspace,
+    params: &FlightParams,
+    flights: &[Flight<'_>],
+    e: EdgeId,
+    list: &mut [Occupation],
+    out: &mut Vec<Violation>,
+) {
+    sort(list);
+    let edge = airspace.edge(e);
+    let direction = |o: &Occupation| {
+        let (a, b) = if o.forward {
+            (edge.from, edge.to)
+        } else {
+            (edge.to, edge.from)
+        };
+        format!("{}->{}", node_name(airspace, a), node_name(airspace, b))
+    };
+    for (i, x) in list.iter().enumerate() {
+        // Sorted by entry: once `s_j >= f_i` (and `s_j >= s_i + h` under headway), no later
+        // traversal can conflict with `x`.
+        let horizon = match params.edge_rule {
+            EdgeRule::Exclusive => x.end,
+            EdgeRule::Headway(h) => x.end.max(x.start + h),
+        };
+        for y in list[i + 1..].iter().take_while(|y| y.start < horizon) {
+            if y.flight == x.flight {
+                continue;
+            }
+            let detail = match params.edge_rule {
+                EdgeRule::Headway(h) if x.forward == y.forward => {
+                    if (y.start - x.start).0.abs() >= h.0 {
+                        continue;
+                    }
+                    format!(
+                        "same-direction traversals ({}) enter at {} and {}, less than the headway {} apart",
+                        direction(x),
+                        secs(x.start),
+                        secs(y.start),
+                        dur(h)
+                    )
+                }
+                _ => {
+                    if y.start >= x.end || x.start >= y.end {
+                        continue;
+                    }
+                    format!(
+                        "traversals {} ({}) and {} ({}) overlap",
+                        span(x.start, x.end),
+                        direction(x),
+                        span(y.start, y.end),
+                        direction(y)
+                    )
+                }
+            };
+            out.push(Violation {
+                rule: Rule::Edge,
+                flights: pair_names(flights, x, y),
+                element: edge.id.clone(),
+                detail,
+            });
+        }
+    }
+}
+
+/// Whether an occupation `[a, d]` shares an instant with the window `[start, end)`:
+/// it is allowed only when `d < start` or `a >= end` (SPEC §4).
+fn shares_instant(w: Window, a: Instant, d: Instant) -> bool {
+    !(d < w.start || a >= w.end)
+}
+
+/// Zone rule for every stay and traversal of one flight.
+fn zone_rule(
+    airspace: &Airspace,
+    closures: &Closures,
+    params: &FlightParams,
+    flight: &Flight<'_>,
+    out: &mut Vec<Violation>,
+) {
+    let mut push = |element: String, what: &str, a: Instant, d: Instant, w: Window| {
+        out.push(Violation {
+            rule: Rule::Zone,
+            flights: vec![flight.id.to_string()],
+            element,
+            detail: format!(
+                "{what} {} shares an instant with the closure [{}, {})",
+                span(a, d),
+                secs(w.start),
+                secs(w.end)
+            ),
+        });
+    };
+    let path = &flight.plan.path;
+    for stay in path {
+        if stay.node.index() >= airspace.node_count() {
+            continue;
+        }
+        for &w in closures.node(stay.node) {
+            if shares_instant(w, stay.arrive, stay.depart) {
+                push(
+                    node_name(airspace, stay.node),
+                    "stay",
+                    stay.arrive,
+                    stay.depart,
+                    w,
+                );
+            }
+        }
+    }
+    for pair in path.windows(2) {
+        let Some(e) = edge_of(airspace, pair[0].node, pair[1].node) else {
+            continue;
+        };
+        let s = pair[0].depart;
+        let f = s + traversal_time(airspace, params, e);
+        for &w in closures.edge(e) {
+            if shares_instant(w, s, f) {
+                push(airspace.edge(e).id.clone(), "traversal", s, f, w);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use muse_airspace::closures::resolve;
+    use muse_model::{Edge, LonLat, Node, NodeKind, Period, Speed, Stay, Zone};
+
+    use super::*;
+
+    /// `A - B - C`, `B - D` and `B - E`, 100 m each: 10 s at 36 km/h.
+    fn airspace() -> Airspace {
+        let node = |id: &str, lon| Node {
+            id: id.into(),
+            kind: NodeKind::Station,
+            name: String::new(),
+            pos: LonLat::new(lon, 1.3),
+        };
+        let edge = |id: &str, a, b| Edge {
+            id: id.into(),
+            from: NodeId(a),
+            to: NodeId(b),
+            length_m: 100.0,
+        };
+        Airspace::new(
+            vec![
+                node("A", 103.80),
+                node("B", 103.81),
+                node("C", 103.82),
+                node("D", 103.83),
+                node("E", 103.84),
+            ],
+            vec![
+                edge("A-B", 0, 1),
+                edge("B-C", 1, 2),
+                edge("B-D", 1, 3),
+                edge("B-E", 1, 4),
+            ],
+        )
+        .unwrap()
+    }
+
+    fn params() -> FlightParams {
+        FlightParams {
+            speed: Speed::from_kmh(36.0).unwrap(),
+            max_flight: Millis::from_secs(100),
+            node_separation: Millis::from_secs(5),
+            edge_rule: EdgeRule::Exclusive,
+            max_ground_delay: Millis::from_secs(30),
+        }
+    }
+
+    const W: i64 = 10_000;
+
+    /// A consistent plan through `nodes` (ids, hover in ms at each), taking off at `t`.
+    fn plan(a: &Airspace, t: i64, nodes: &[(&str, i64)]) -> Plan {
+        let mut path = Vec::new();
+        let mut now = t;
+        for (i, &(id, hover)) in nodes.iter().enumerate() {
+            if i > 0 {
+                now += W;
+            }
+            path.push(Stay {
+                node: a.node_id(id).unwrap(),
+                arrive: Instant(now),
+                depart: Instant(now + hover),
+            });
+            now += hover;
+        }
+        Plan { path }
+    }
+
+    fn request(a: &Airspace, plan: &Plan, departure: i64) -> Request {
+        Request {
+            id: String::new(),
+            origin: plan.path.first().map_or(NodeId(0), |s| s.node),
+            destination: plan.path.last().map_or(a.node_id("C").unwrap(), |s| s.node),
+            departure: Instant(departure),
+        }
+    }
+
+    /// Verifies plans named `f0`, `f1`, … each requested at its own take-off.
+    fn check_with(params: &FlightParams, closures: &Closures, plans: &[Plan]) -> Vec<Violation> {
+        let a = airspace();
+        let requests: Vec<Request> = plans
+            .iter()
+            .map(|p| request(&a, p, p.takeoff().0))
+            .collect();
+        let ids: Vec<String> = (0..plans.len()).map(|i| format!("f{i}")).collect();
+        let flights: Vec<Flight<'_>> = plans
+            .iter()
+            .zip(&requests)
+            .zip(&ids)
+            .map(|((plan, request), id)| Flight { id, request, plan })
+            .collect();
+        verify(&a, closures, params, &flights)
+    }
+
+    fn check(params: &FlightParams, plans: &[Plan]) -> Vec<Violation> {
+        check_with(params, &Closures::none(&airspace()), plans)
+    }
+
+    fn rules(v: &[Violation]) -> Vec<Rule> {
+        v.iter().map(|v| v.rule).collect()
+    }
+
+    #[test]
+    fn a_valid_flight_passes() {
+        let a = airspace();
+        let p = plan(&a, 0, &[("A", 0), ("B", 3_000), ("C", 0)]);
+        assert_eq!(check(&params(), &[p]), []);
+    }
+
+    #[test]
+    fn path_rules() {
+        let a = airspace();
+        let pr = params();
+        let good = plan(&a, 0, &[("A", 0), ("B", 0), ("C", 0)]);
+        let one = |plan: &Plan, request: &Request| {
+            verify(
+                &a,
+                &Closures::none(&a),
+                &pr,
+                &[Flight {
+                    id: "x",
+                    request,
+                    plan,
+                }],
+            )
+        };
+        let req = request(&a, &good, 0);
+        assert_eq!(one(&good, &req), []);
+
+        let empty = Plan::default();
+        let v = one(&empty, &req);
+        assert_eq!(rules(&v), [Rule::Path]);
+        assert!(v[0].detail.contains("no stays"), "{}", v[0]);
+
+        let other = Request {
+            origin: a.node_id("D").unwrap(),
+            ..req.clone()
+        };
+        let v = one(&good, &other);
+        assert_eq!(rules(&v), [Rule::Path]);
+        assert!(v[0].detail.contains("origin is `D`"), "{}", v[0]);
+        let other = Request {
+            destination: a.node_id("D").unwrap(),
+            ..req.clone()
+        };
+        let v = one(&good, &other);
+        assert_eq!(rules(&v), [Rule::Path]);
+        assert!(v[0].detail.contains("destination is `D`"), "{}", v[0]);
+
+        // A and C are not joined.
+        let mut jump = good.clone();
+        jump.path.remove(1);
+        jump.path[1].arrive = Instant(W);
+        jump.path[1].depart = Instant(W);
+        let v = one(&jump, &req);
+        assert_eq!(rules(&v), [Rule::Path]);
+        assert_eq!(v[0].element, "A-C");
+
+        // Arriving after departing.
+        let mut back = good.clone();
+        back.path[1].depart = Instant(W - 1);
+        back.path[2].arrive = Instant(2 * W - 1);
+        back.path[2].depart = Instant(2 * W - 1);
+        let v = one(&back, &req);
+        assert_eq!(rules(&v), [Rule::Path]);
+        assert!(
+            v[0].detail
+                .contains("stay 1 arrives at 10.000s after it departs at 9.999s"),
+            "{}",
+            v[0]
+        );
+
+        // Arriving one millisecond early or late.
+        for delta in [-1, 1] {
+            let mut off = good.clone();
+            off.path[2].arrive = Instant(2 * W + delta);
+            off.path[2].depart = Instant(2 * W + delta);
+            let v = one(&off, &req);
+            assert_eq!(rules(&v), [Rule::Path], "{delta}");
+            assert_eq!(v[0].element, "B-C");
+        }
+
+        // Hovering at the destination before landing.
+        let mut hover = good.clone();
+        hover.path[2].depart = Instant(2 * W + 1);
+        let v = one(&hover, &req);
+        assert_eq!(rules(&v), [Rule::Path]);
+        assert!(v[0].detail.contains("end at landing"), "{}", v[0]);
+
+        // A node that is not in the airspace.
+        let mut bad = good.clone();
+        bad.path[1].node = NodeId(99);
+        let v = one(&bad, &req);
+        assert_eq!(rules(&v), [Rule::Path, Rule::Path, Rule::Path], "{v:?}");
+        assert_eq!(v[0].element, "node#99");
+    }
+
+    #[test]
+    fn node_rule_boundaries() {
+        let a = airspace();
+        let pr = params(); // tau = 5 s
+        // f0 is at B during [10 s, 13 s]; f1 flies D - B - E.
+        let first = plan(&a, 0, &[("A", 0), ("B", 3_000), ("C", 0)]);
+        let at_b =
+            |arrive: i64, hover: i64| plan(&a, arrive - W, &[("D", 0), ("B", hover), ("E", 0)]);
+        // Exactly tau after f0 leaves: fine.
+        assert_eq!(check(&pr, &[first.clone(), at_b(18_000, 0)]), []);
+        let v = check(&pr, &[first.clone(), at_b(17_999, 0)]);
+        assert_eq!(rules(&v), [Rule::Node]);
+        assert_eq!(v[0].flights, ["f0", "f1"]);
+        assert_eq!(v[0].element, "B");
+        assert!(
+            v[0].detail
+                .contains("[10.000s, 13.000s] and [17.999s, 17.999s]"),
+            "{}",
+            v[0]
+        );
+        // Leaving exactly tau before f0 arrives: fine; a millisecond later is not.
+        assert_eq!(check(&pr, &[first.clone(), at_b(1_000, 4_000)]), []);
+        let v = check(&pr, &[first.clone(), at_b(1_000, 4_001)]);
+        assert_eq!(rules(&v), [Rule::Node]);
+        assert_eq!(v[0].flights, ["f1", "f0"], "listed in order of arrival");
+
+        // tau = 0: touching stays are fine, a stay inside another's hover is not, and two
+        // instantaneous stays at the same instant are fine.
+        let zero = FlightParams {
+            node_separation: Millis::ZERO,
+            edge_rule: EdgeRule::Headway(Millis::ZERO),
+            ..pr
+        };
+        assert_eq!(check(&zero, &[first.clone(), at_b(13_000, 0)]), []);
+        assert_eq!(check(&zero, &[first.clone(), at_b(10_000, 0)]), []);
+        assert_eq!(
+            rules(&check(&zero, &[first.clone(), at_b(12_000, 0)])),
+            [Rule::Node]
+        );
+        let through = plan(&a, 0, &[("A", 0), ("B", 0), ("C", 0)]);
+        assert_eq!(check(&zero, &[through.clone(), at_b(10_000, 0)]), []);
+    }
+
+    #[test]
+    fn every_pair_is_reported() {
+        let a = airspace();
+        let pr = params();
+        let plans: Vec<Plan> = (0..4)
+            .map(|i| plan(&a, i * 1_000, &[("B", 0), ("D", 0)]))
+            .collect();
+        let v = check(&pr, &plans);
+        // Six node conflicts at B, six at D, six edge conflicts on B-D.
+        let count = |rule| v.iter().filter(|v| v.rule == rule).count();
+        assert_eq!(
+            (count(Rule::Node), count(Rule::Edge), v.len()),
+            (12, 6, 18),
+            "{v:#?}"
+        );
+        let mut pairs: Vec<Vec<String>> = v
+            .iter()
+            .filter(|v| v.rule == Rule::Node && v.element == "B")
+            .map(|v| v.flights.clone())
+            .collect();
+        pairs.sort();
+        assert_eq!(
+            pairs,
+            [
+                ["f0", "f1"],
+                ["f0", "f2"],
+                ["f0", "f3"],
+                ["f1", "f2"],
+                ["f1", "f3"],
+                ["f2", "f3"]
+            ]
+        );
+        // Far apart in time, nothing.
+        let apart: Vec<Plan> = (0..4)
+            .map(|i| plan(&a, i * 15_000, &[("B", 0), ("D", 0)]))
+            .collect();
+        assert_eq!(check(&pr, &apart), []);
+    }
+
+    #[test]
+    fn exclusive_edges() {
+        let a = airspace();
+        let pr = FlightParams {
+            node_separation: Millis::ZERO,
+            ..params()
+        };
+        let ab = |t| plan(&a, t, &[("A", 0), ("B", 0)]);
+        let ba = |t| plan(&a, t, &[("B", 0), ("A", 0)]);
+        // End-to-start touching is fine, in either direction.
+        assert_eq!(check(&pr, &[ab(0), ab(W)]), []);
+        assert_eq!(check(&pr, &[ab(0), ba(W)]), []);
+        assert_eq!(check(&pr, &[ba(W), ab(0)]), []);
+        let v = check(&pr, &[ab(0), ab(W - 1)]);
+        assert_eq!(rules(&v), [Rule::Edge]);
+        assert_eq!(v[0].element, "A-B");
+        assert!(v[0].detail.contains("A->B"), "{}", v[0]);
+        let v = check(&pr, &[ba(W - 1), ab(0)]);
+        assert_eq!(rules(&v), [Rule::Edge]);
+        assert_eq!(v[0].flights, ["f1", "f0"]);
+        assert!(
+            v[0].detail.contains("A->B") && v[0].detail.contains("B->A"),
+            "{}",
+            v[0]
+        );
+        // Identical traversals (with tau = 0 the instantaneous stays at A and B are fine).
+        assert_eq!(rules(&check(&pr, &[ab(0), ab(0)])), [Rule::Edge]);
+    }
+
+    #[test]
+    fn headway_edges() {
+        let a = airspace();
+        let h = Millis::from_secs(2);
+        let pr = FlightParams {
+            node_separation: Millis::ZERO,
+            edge_rule: EdgeRule::Headway(h),
+            ..params()
+        };
+        let ab = |t| plan(&a, t, &[("A", 0), ("B", 0)]);
+        let ba = |t| plan(&a, t, &[("B", 0), ("A", 0)]);
+        // Same direction: exactly h apart is fine, even though both are on the edge.
+        assert_eq!(check(&pr, &[ab(0), ab(2_000)]), []);
+        let v = check(&pr, &[ab(0), ab(1_999)]);
+        assert_eq!(rules(&v), [Rule::Edge]);
+        assert!(v[0].detail.contains("headway 2.000s"), "{}", v[0]);
+        // Opposite directions: exclusive.
+        assert_eq!(check(&pr, &[ab(0), ba(W)]), []);
+        assert_eq!(rules(&check(&pr, &[ab(0), ba(W - 1)])), [Rule::Edge]);
+        assert_eq!(rules(&check(&pr, &[ab(0), ba(5_000)])), [Rule::Edge]);
+        // A long queue in the same direction: only pairs closer than h.
+        let queue: Vec<Plan> = (0..5).map(|i| ab(i * 1_000)).collect();
+        assert_eq!(check(&pr, &queue).len(), 4);
+        // h = 0: simultaneous entries in the same direction are allowed.
+        let zero = FlightParams {
+            edge_rule: EdgeRule::Headway(Millis::ZERO),
+            ..pr
+        };
+        assert_eq!(check(&zero, &[ab(0), ab(0)]), []);
+    }
+
+    #[test]
+    fn battery_and_ground_delay() {
+        let a = airspace();
+        let pr = FlightParams {
+            max_flight: Millis::from_secs(25),
+            ..params()
+        };
+        let p = |hover| plan(&a, 1_000, &[("A", 0), ("B", hover), ("C", 0)]);
+        assert_eq!(check(&pr, &[p(5_000)]), []);
+        let v = check(&pr, &[p(5_001)]);
+        assert_eq!(rules(&v), [Rule::Battery]);
+        assert!(v[0].detail.contains("airborne 25.001s"), "{}", v[0]);
+
+        let flight = p(0);
+        let one = |departure| {
+            let request = request(&a, &flight, departure);
+            verify(
+                &a,
+                &Closures::none(&a),
+                &pr,
+                &[Flight {
+                    id: "x",
+                    request: &request,
+                    plan: &flight,
+                }],
+            )
+        };
+        assert_eq!(one(1_000), []);
+        assert_eq!(one(-29_000), [], "G_max = 30 s");
+        assert_eq!(rules(&one(-29_001)), [Rule::GroundDelay]);
+        assert_eq!(
+            rules(&one(1_001)),
+            [Rule::GroundDelay],
+            "before the requested departure"
+        );
+        let no_delay = FlightParams {
+            max_ground_delay: Millis::ZERO,
+            ..pr
+        };
+        let request = request(&a, &flight, 999);
+        let v = verify(
+            &a,
+            &Closures::none(&a),
+            &no_delay,
+            &[Flight {
+                id: "x",
+                request: &request,
+                plan: &flight,
+            }],
+        );
+        assert_eq!(rules(&v), [Rule::GroundDelay]);
+    }
+
+    fn closures(nodes: &[&str], edges: &[&str], start: i64, end: i64) -> Closures {
+        let a = airspace();
+        let zone = Zone {
+            id: "Z".into(),
+            name: String::new(),
+            restriction: String::new(),
+            area: None,
+            node_ids: nodes.iter().map(|s| (*s).to_string()).collect(),
+            edge_ids: edges.iter().map(|s| (*s).to_string()).collect(),
+            periods: vec![Period {
+                start: Some(Instant(start)),
+                end: Some(Instant(end)),
+                daily: vec![],
+            }],
+        };
+        resolve(&a, &[zone], Instant(0), Instant(86_400_000)).unwrap()
+    }
+
+    #[test]
+    fn zone_boundaries() {
+        let a = airspace();
+        let pr = params();
+        let z = closures(&["B"], &[], 20_000, 30_000);
+        let at_b = |arrive, hover| plan(&a, arrive - W, &[("A", 0), ("B", hover), ("C", 0)]);
+        // Arriving exactly when the window ends: fine.
+        assert_eq!(check_with(&pr, &z, &[at_b(30_000, 0)]), []);
+        assert_eq!(
+            rules(&check_with(&pr, &z, &[at_b(29_999, 0)])),
+            [Rule::Zone]
+        );
+        // Leaving exactly when the window starts is too late; a millisecond earlier is fine.
+        let v = check_with(&pr, &z, &[at_b(15_000, 5_000)]);
+        assert_eq!(rules(&v), [Rule::Zone]);
+        assert_eq!(
+            (v[0].element.as_str(), v[0].flights.as_slice()),
+            ("B", ["f0".to_string()].as_slice())
+        );
+        assert!(v[0].detail.contains("stay [15.000s, 20.000s]"), "{}", v[0]);
+        assert_eq!(check_with(&pr, &z, &[at_b(15_000, 4_999)]), []);
+        // Hovering across the whole window.
+        assert_eq!(
+            rules(&check_with(&pr, &z, &[at_b(15_000, 20_000)])),
+            [Rule::Zone]
+        );
+
+        // Edges: traversal [s, s + 10 s].
+        let z = closures(&[], &["B-C"], 20_000, 30_000);
+        let bc = |t| plan(&a, t, &[("B", 0), ("C", 0)]);
+        assert_eq!(check_with(&pr, &z, &[bc(30_000)]), []);
+        assert_eq!(check_with(&pr, &z, &[bc(9_999)]), []);
+        assert_eq!(rules(&check_with(&pr, &z, &[bc(10_000)])), [Rule::Zone]);
+        assert_eq!(rules(&check_with(&pr, &z, &[bc(29_999)])), [Rule::Zone]);
+
+        // Origin and destination are no exception, even for an instantaneous stay.
+        let z = closures(&["A", "C"], &[], 0, 5_000);
+        let v = check_with(&pr, &z, &[plan(&a, 4_999, &[("A", 0), ("B", 0)])]);
+        assert_eq!(rules(&v), [Rule::Zone]);
+        assert_eq!(v[0].element, "A");
+        let z = closures(&["C"], &[], 20_000, 20_001);
+        assert_eq!(
+            rules(&check_with(
+                &pr,
+                &z,
+                &[plan(&a, 0, &[("A", 0), ("B", 0), ("C", 0)])]
+            )),
+            [Rule::Zone]
+        );
+    }
+
+    #[test]
+    fn display_names_rule_flights_element_and_times() {
+        let a = airspace();
+        let first = plan(&a, 0, &[("A", 0), ("B", 3_000), ("C", 0)]);
+        let second = plan(&a, 7_000, &[("D", 0), ("B", 0), ("E", 0)]);
+        let v = check(&params(), &[first, second]);
+        assert_eq!(rules(&v), [Rule::Node]);
+        assert_eq!(
+            v[0].to_string(),
+            "node rule violated by f0, f1 at `B`: stays [10.000s, 13.000s] and [17.000s, 17.000s] are less than tau = 5.000s apart"
+        );
+        assert_eq!(secs(Instant(-1_500)), "-1.500s");
+        let a = airspace();
+        let late = plan(&a, 0, &[("A", 0), ("B", 95_000), ("C", 0)]);
+        let v = check(&params(), &[late]);
+        assert_eq!(
+            v[0].to_string(),
+            "battery rule violated by f0: airborne 115.000s (take-off 0.000s, landing 115.000s), \
+             more than T_max = 100.000s"
+        );
+    }
+}

@@ -1,0 +1,216 @@
+//! `muse simulate`: a day of deliveries — generate, plan, verify, report.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context as _;
+use clap::Args;
+use muse_formats::flights::{FlightFeature, write_flights};
+use muse_formats::requests::{LocalDay, read_requests_file, write_requests};
+use muse_model::Request;
+use muse_sim::day::plan_requests;
+use muse_sim::demand::generate;
+use muse_sim::metrics::{Provenance, Summary};
+use muse_verify::{Flight, verify};
+
+use super::common::{FlightArgs, World, WorldArgs, render_world_map, write_atomically};
+use super::demand::DemandArgs;
+use super::plan::write_outputs;
+use super::progress::LazyProgress;
+
+/// Arguments of `muse simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    #[command(flatten)]
+    demand: DemandArgs,
+    /// Plan this requests file instead of generating demand.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["count", "seed", "from", "to", "od"])]
+    requests: Option<PathBuf>,
+    #[command(flatten)]
+    world: WorldArgs,
+    #[command(flatten)]
+    flight: FlightArgs,
+    /// Output folder.
+    #[arg(long, value_name = "DIR", default_value = "out")]
+    out: PathBuf,
+}
+
+/// Runs `muse simulate`; exits 1 if the verifier finds a violation.
+pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
+    let params = args.flight.params()?;
+    let world = args.world.load()?;
+    let (requests, source, seed) = if let Some(path) = &args.requests {
+        let day = LocalDay {
+            date: world.date,
+            offset: world.offset,
+        };
+        (
+            read_requests_file(path, &world.airspace, day)?,
+            path.display().to_string(),
+            None,
+        )
+    } else {
+        let spec = args.demand.spec(&world, args.flight.range)?;
+        let reqs = generate(&world.airspace, &spec)?;
+        let od = match args.demand.od {
+            super::demand::OdArg::Uniform => "uniform",
+            super::demand::OdArg::InRange => "in-range",
+        };
+        let source = format!(
+            "generated: {} requests, {}–{}, {od} pairs, seed {}",
+            spec.count, args.demand.from, args.demand.to, spec.seed
+        );
+        (reqs, source, Some(spec.seed))
+    };
+    let mut progress = LazyProgress::new(requests.len() as u64, "planning");
+    let run = plan_requests(&world.airspace, &world.zones, params, requests, |done| {
+        progress.set(done as u64);
+    })?;
+    progress.finish();
+
+    let flights: Vec<Flight<'_>> = run
+        .requests
+        .iter()
+        .zip(&run.outcomes)
+        .filter_map(|(r, o)| {
+            o.result.as_ref().ok().map(|plan| Flight {
+                id: &r.id,
+                request: r,
+                plan,
+            })
+        })
+        .collect();
+    let violations = verify(&world.airspace, &run.closures, &params, &flights);
+
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    let provenance = Provenance {
+        airspace: world.airspace_source.clone(),
+        zones: world.zones.iter().map(|z| z.id.clone()).collect(),
+        requests: source.clone(),
+        seed,
+    };
+    let mut sorted_by_id: Vec<&Request> = run.requests.iter().collect();
+    sorted_by_id.sort_by(|a, b| a.id.cmp(&b.id));
+    let owned: Vec<Request> = sorted_by_id.into_iter().cloned().collect();
+    write_atomically(
+        &args.out.join("requests.csv"),
+        &write_requests(&owned, &world.airspace, world.offset),
+    )?;
+    let summary = write_outputs(&world, &run, &params, provenance, &args.out)?;
+    let features: Vec<FlightFeature<'_>> = run
+        .requests
+        .iter()
+        .zip(&run.outcomes)
+        .filter_map(|(r, o)| {
+            o.result.as_ref().ok().map(|plan| FlightFeature {
+                request: &r.id,
+                plan,
+                requested_departure: r.departure,
+                free_flow: o.free_flow,
+            })
+        })
+        .collect();
+    write_atomically(
+        &args.out.join("flights.geojson"),
+        &write_flights(&features, &world.airspace, world.offset),
+    )?;
+    let load = edge_load(&world, &flights);
+    let svg = render_world_map(
+        &world,
+        1_800,
+        Some((load, "Flights per corridor".to_owned())),
+    )?;
+    write_atomically(&args.out.join("map.svg"), &svg)?;
+
+    print!(
+        "{}",
+        report(&world, &summary, &source, violations.len(), &args.out)
+    );
+    for v in violations.iter().take(20) {
+        println!("  {v}");
+    }
+    Ok(if violations.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+/// Traversals per edge.
+fn edge_load(world: &World, flights: &[Flight<'_>]) -> Vec<f64> {
+    let a = &world.airspace;
+    let mut load = vec![0.0; a.edge_count()];
+    for f in flights {
+        for w in f.plan.path.windows(2) {
+            if let Some(e) = a.edge_between(w[0].node, w[1].node) {
+                load[e.index()] += 1.0;
+            }
+        }
+    }
+    load
+}
+
+/// The short human summary printed at the end.
+fn report(
+    world: &World,
+    s: &Summary,
+    source: &str,
+    violations: usize,
+    out: &std::path::Path,
+) -> String {
+    let mut o = String::new();
+    let zones = if world.zones.is_empty() {
+        "no zones".to_owned()
+    } else {
+        world
+            .zones
+            .iter()
+            .map(|z| z.id.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let _ = writeln!(o, "MUSE simulate — {} ({zones})", world.airspace_source);
+    let _ = writeln!(o, "  demand        {source}");
+    let _ = writeln!(
+        o,
+        "  planned       {} of {} ({:.1}%)",
+        s.planned,
+        s.requests,
+        100.0 * s.success_rate
+    );
+    let reasons: Vec<String> = s
+        .rejected_by_reason
+        .iter()
+        .map(|(k, v)| format!("{k} {v}"))
+        .collect();
+    let _ = writeln!(o, "  rejected      {} ({})", s.rejected, reasons.join(", "));
+    let d = |x: muse_sim::metrics::Distribution| {
+        format!(
+            "mean {:.1} s, median {:.1} s, p95 {:.1} s, max {:.1} s",
+            x.mean, x.median, x.p95, x.max
+        )
+    };
+    let _ = writeln!(o, "  air delay     {}", d(s.air_delay_s));
+    let _ = writeln!(o, "  ground delay  {}", d(s.ground_delay_s));
+    let _ = writeln!(
+        o,
+        "  planner       {:.1} ms in all, {:.2} µs and {:.2} expanded labels per request",
+        s.planner_time.total_s * 1e3,
+        s.planner_time.per_request_us,
+        s.search.expanded_per_request
+    );
+    let verdict = if violations == 0 {
+        "OK, every rule holds".to_owned()
+    } else {
+        format!("FAILED, {violations} violation(s)")
+    };
+    let _ = writeln!(o, "  verified      {verdict}");
+    let _ = writeln!(
+        o,
+        "  wrote         {}/{{requests.csv, plans.jsonl, summary.json, flights.geojson, map.svg}}",
+        out.display()
+    );
+    o
+}

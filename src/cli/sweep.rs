@@ -1,0 +1,360 @@
+//! `muse sweep`: the paper's experiment — request counts × repetitions × scenario variants.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context as _;
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use muse_model::{EdgeRule, FlightParams, Millis};
+use muse_render::{PlotOptions, Point, Series, render_line_plot};
+use muse_sim::stats::MeanCi;
+use muse_sim::sweep::{
+    SummaryRow, SweepSpec, Variant, run_sweep, runs_csv, summarize, summary_csv,
+};
+
+use super::common::{FlightArgs, World, WorldArgs, write_atomically};
+use super::demand::DemandArgs;
+
+/// A policy to compare.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Vary {
+    /// With and without the no-fly zones.
+    Zones,
+    /// `exclusive` versus `headway` edges (headway = the node separation unless given).
+    EdgeRule,
+    /// No ground delay versus up to 10 minutes.
+    GroundDelay,
+}
+
+/// Arguments of `muse sweep`.
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    /// Request counts: `START:END:STEP` or a comma-separated list.
+    #[arg(long, default_value = "1000:10000:1000")]
+    counts: String,
+    /// Repetitions per count, each with its own seed.
+    #[arg(long, default_value_t = 100)]
+    reps: usize,
+    /// Compare scenarios on the same seeds; repeat to combine.
+    #[arg(long, value_enum)]
+    vary: Vec<Vary>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    #[command(flatten)]
+    demand: DemandArgs,
+    #[command(flatten)]
+    world: WorldArgs,
+    #[command(flatten)]
+    flight: FlightArgs,
+    /// Output folder.
+    #[arg(long, value_name = "DIR", default_value = "out/sweep")]
+    out: PathBuf,
+}
+
+/// Parses `START:END:STEP` or `a,b,c`.
+fn parse_counts(text: &str) -> anyhow::Result<Vec<usize>> {
+    let bad = || {
+        anyhow::anyhow!(
+            "--counts `{text}`: expected START:END:STEP or a comma-separated list of positive numbers"
+        )
+    };
+    let counts: Vec<usize> = if let [a, b, s] = text.split(':').collect::<Vec<_>>()[..] {
+        let (a, b, s): (usize, usize, usize) = (
+            a.trim().parse().map_err(|_| bad())?,
+            b.trim().parse().map_err(|_| bad())?,
+            s.trim().parse().map_err(|_| bad())?,
+        );
+        if s == 0 || a > b {
+            return Err(bad());
+        }
+        (a..=b).step_by(s).collect()
+    } else {
+        text.split(',')
+            .map(|x| x.trim().parse().map_err(|_| bad()))
+            .collect::<anyhow::Result<_>>()?
+    };
+    if counts.is_empty() || counts.contains(&0) {
+        return Err(bad());
+    }
+    Ok(counts)
+}
+
+/// The two settings `vary` compares, applied to `cur`, with their labels.
+fn options(
+    vary: Vary,
+    cur: &Variant,
+    world: &World,
+    base: FlightParams,
+) -> anyhow::Result<[(String, Variant); 2]> {
+    let with_params = |params: FlightParams| Variant {
+        params,
+        ..cur.clone()
+    };
+    Ok(match vary {
+        Vary::Zones => {
+            if world.zones.is_empty() {
+                anyhow::bail!("--vary zones needs zones (the embedded CBD zone, or --zones FILE)");
+            }
+            let names: Vec<&str> = world.zones.iter().map(|z| z.id.as_str()).collect();
+            let with = if world.is_singapore && names == [muse_scenario::CBD_ZONE_ID] {
+                "CBD zone".to_owned()
+            } else {
+                format!("zones {}", names.join("+"))
+            };
+            [
+                (with, cur.clone()),
+                (
+                    "no zone".to_owned(),
+                    Variant {
+                        zones: Vec::new(),
+                        ..cur.clone()
+                    },
+                ),
+            ]
+        }
+        Vary::EdgeRule => {
+            let h = match base.edge_rule {
+                EdgeRule::Headway(h) => h,
+                EdgeRule::Exclusive => base.node_separation,
+            };
+            [
+                (
+                    "exclusive".to_owned(),
+                    with_params(FlightParams {
+                        edge_rule: EdgeRule::Exclusive,
+                        ..cur.params
+                    }),
+                ),
+                (
+                    format!("headway {:.0} s", h.as_secs_f64()),
+                    with_params(FlightParams {
+                        edge_rule: EdgeRule::Headway(h),
+                        ..cur.params
+                    }),
+                ),
+            ]
+        }
+        Vary::GroundDelay => [
+            (
+                "G_max 0".to_owned(),
+                with_params(FlightParams {
+                    max_ground_delay: Millis::ZERO,
+                    ..cur.params
+                }),
+            ),
+            (
+                "G_max 10 min".to_owned(),
+                with_params(FlightParams {
+                    max_ground_delay: Millis::from_mins(10),
+                    ..cur.params
+                }),
+            ),
+        ],
+    })
+}
+
+/// The variants: the cartesian product of the `--vary` choices (one base variant if none).
+fn variants(world: &World, base: FlightParams, vary: &[Vary]) -> anyhow::Result<Vec<Variant>> {
+    let mut out = vec![Variant {
+        name: String::new(),
+        zones: world.zones.clone(),
+        params: base,
+    }];
+    for &v in vary {
+        let mut next = Vec::new();
+        for cur in &out {
+            for (label, mut variant) in options(v, cur, world, base)? {
+                variant.name = if cur.name.is_empty() {
+                    label
+                } else {
+                    format!("{}, {label}", cur.name)
+                };
+                next.push(variant);
+            }
+        }
+        out = next;
+    }
+    if out.len() == 1 && out[0].name.is_empty() {
+        out[0].name = if world.zones.is_empty() {
+            "no zone".to_owned()
+        } else {
+            "default".to_owned()
+        };
+    }
+    Ok(out)
+}
+
+/// Runs `muse sweep`.
+pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
+    if let Some(n) = args.threads {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build_global()
+            .context("--threads")?;
+    }
+    let base = args.flight.params()?;
+    let world = args.world.load()?;
+    let counts = parse_counts(&args.counts)?;
+    if args.reps == 0 {
+        anyhow::bail!("--reps must be at least 1");
+    }
+    let demand = args.demand.spec(&world, args.flight.range)?;
+    let spec = SweepSpec {
+        counts,
+        reps: args.reps,
+        base_seed: demand.seed,
+        start: demand.start,
+        end: demand.end,
+        od: demand.od,
+        variants: variants(&world, base, &args.vary)?,
+    };
+    println!(
+        "sweep: {} variant(s) × {} counts × {} repetitions = {} runs, {} requests, {} threads",
+        spec.variants.len(),
+        spec.counts.len(),
+        spec.reps,
+        spec.runs(),
+        spec.total_requests(),
+        rayon::current_num_threads()
+    );
+    let bar = ProgressBar::new(spec.runs() as u64).with_message("runs");
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} ({elapsed}, ETA {eta})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    let started = std::time::Instant::now();
+    let records = run_sweep(&world.airspace, &spec, || bar.inc(1))?;
+    bar.finish_and_clear();
+    let wall = started.elapsed();
+    let rows = summarize(&records);
+
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    write_atomically(&args.out.join("sweep.csv"), &runs_csv(&records))?;
+    write_atomically(&args.out.join("sweep_summary.csv"), &summary_csv(&rows))?;
+    write_plots(&spec, &rows, &args.out)?;
+    println!(
+        "done in {:.1} s wall; wrote {}/{{sweep.csv, sweep_summary.csv, sweep_runtime.svg, sweep_success.svg, sweep_air_delay.svg}}",
+        wall.as_secs_f64(),
+        args.out.display()
+    );
+    print_table(&rows);
+    Ok(ExitCode::SUCCESS)
+}
+
+fn series(
+    spec: &SweepSpec,
+    rows: &[SummaryRow],
+    metric: impl Fn(&SummaryRow) -> MeanCi,
+) -> Vec<Series> {
+    spec.variants
+        .iter()
+        .map(|v| Series {
+            name: v.name.clone(),
+            points: rows
+                .iter()
+                .filter(|r| r.variant == v.name)
+                .map(|r| {
+                    let m = metric(r);
+                    Point {
+                        x: r.count as f64,
+                        mean: m.mean,
+                        ci_low: m.low(),
+                        ci_high: m.high(),
+                    }
+                })
+                .collect(),
+        })
+        .collect()
+}
+
+fn write_plots(spec: &SweepSpec, rows: &[SummaryRow], out: &std::path::Path) -> anyhow::Result<()> {
+    let foot = format!(
+        "{} runs per point (seeds {}…{}); bands: 95% confidence interval of the mean.",
+        spec.reps,
+        spec.base_seed,
+        spec.base_seed + (spec.counts.len() * spec.reps) as u64 - 1
+    );
+    let plots = [
+        (
+            "sweep_runtime.svg",
+            "Planner runtime for a day of requests",
+            "Planner wall time per day (ms)",
+            false,
+            series(spec, rows, |r| r.planner_ms),
+        ),
+        (
+            "sweep_success.svg",
+            "Share of requests planned",
+            "Success rate",
+            true,
+            series(spec, rows, |r| r.success_rate),
+        ),
+        (
+            "sweep_air_delay.svg",
+            "Mean air delay of planned flights",
+            "Air delay (s)",
+            false,
+            series(spec, rows, |r| r.air_delay_s),
+        ),
+    ];
+    for (file, title, y_label, percent, s) in plots {
+        let opts = PlotOptions {
+            title: title.to_owned(),
+            x_label: "Requests per day".to_owned(),
+            y_label: y_label.to_owned(),
+            y_from_zero: true,
+            y_percent: percent,
+            footnote: foot.clone(),
+            ..PlotOptions::default()
+        };
+        let svg = render_line_plot(&s, &opts).with_context(|| format!("drawing {file}"))?;
+        write_atomically(&out.join(file), &svg)?;
+    }
+    Ok(())
+}
+
+fn print_table(rows: &[SummaryRow]) {
+    println!(
+        "{:<28} {:>7} {:>16} {:>16} {:>16} {:>10}",
+        "variant", "count", "success %", "planner ms", "air delay s", "expanded"
+    );
+    for r in rows {
+        let f = |m: MeanCi, scale: f64, prec: usize| {
+            format!(
+                "{:.prec$} ± {:.prec$}",
+                m.mean * scale,
+                m.half_width * scale
+            )
+        };
+        println!(
+            "{:<28} {:>7} {:>16} {:>16} {:>16} {:>10.2}",
+            r.variant,
+            r.count,
+            f(r.success_rate, 100.0, 1),
+            f(r.planner_ms, 1.0, 2),
+            f(r.air_delay_s, 1.0, 1),
+            r.expanded_per_request.mean
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_counts;
+
+    #[test]
+    fn counts() {
+        assert_eq!(
+            parse_counts("1000:3000:1000").unwrap(),
+            vec![1000, 2000, 3000]
+        );
+        assert_eq!(parse_counts("5, 10").unwrap(), vec![5, 10]);
+        for bad in ["", "1:2", "3:1:1", "1:5:0", "a,b", "0,5"] {
+            assert!(parse_counts(bad).is_err(), "{bad}");
+        }
+    }
+}
