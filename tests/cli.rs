@@ -194,3 +194,174 @@ fn bad_requests_fail_with_line_numbers_and_leave_no_output() {
         assert!(!out.exists(), "no output folder after a failed run");
     }
 }
+
+/// `summary.json` without its wall-clock timing, which is the one part that may differ.
+fn summary_without_timing(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v.as_object_mut().unwrap().remove("planner_time");
+    v.to_string()
+}
+
+#[test]
+fn simulate_is_deterministic() {
+    let dir = scratch_dir("determinism");
+    let (a, b) = (dir.join("a"), dir.join("b"));
+    for out in [&a, &b] {
+        let o = muse(&[
+            "simulate",
+            "--count",
+            "3000",
+            "--seed",
+            "11",
+            "--max-ground-delay-s",
+            "300",
+            "--out",
+            &out.display().to_string(),
+        ]);
+        assert!(o.status.success(), "{}{}", stdout(&o), stderr(&o));
+        assert!(stdout(&o).contains("verified      OK"), "{}", stdout(&o));
+    }
+    for file in ["requests.csv", "plans.jsonl", "flights.geojson", "map.svg"] {
+        let (x, y) = (
+            std::fs::read(a.join(file)).unwrap(),
+            std::fs::read(b.join(file)).unwrap(),
+        );
+        assert!(
+            !x.is_empty() && x == y,
+            "{file} differs between two identical runs"
+        );
+    }
+    assert_eq!(
+        summary_without_timing(&a.join("summary.json")),
+        summary_without_timing(&b.join("summary.json"))
+    );
+    // A different seed gives different demand.
+    let c = dir.join("c");
+    let o = muse(&[
+        "simulate",
+        "--count",
+        "3000",
+        "--seed",
+        "12",
+        "--out",
+        &c.display().to_string(),
+    ]);
+    assert!(o.status.success());
+    assert_ne!(
+        std::fs::read(a.join("requests.csv")).unwrap(),
+        std::fs::read(c.join("requests.csv")).unwrap()
+    );
+}
+
+#[test]
+fn sweep_is_deterministic_and_compares_variants() {
+    let dir = scratch_dir("sweep");
+    let mut tables = Vec::new();
+    for name in ["a", "b"] {
+        let out = dir.join(name);
+        let o = muse(&[
+            "sweep",
+            "--counts",
+            "300,600",
+            "--reps",
+            "3",
+            "--vary",
+            "zones",
+            "--vary",
+            "edge-rule",
+            "--vary",
+            "ground-delay",
+            "--out",
+            &out.display().to_string(),
+        ]);
+        assert!(o.status.success(), "{}{}", stdout(&o), stderr(&o));
+        for file in [
+            "sweep_summary.csv",
+            "sweep_runtime.svg",
+            "sweep_success.svg",
+            "sweep_air_delay.svg",
+        ] {
+            assert!(out.join(file).exists(), "{file}");
+        }
+        // Drop the timing column (planner_ms) before comparing.
+        let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+        let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+        let timing = header.iter().position(|h| *h == "planner_ms").unwrap();
+        let rows: Vec<String> = csv
+            .lines()
+            .map(|l| {
+                let mut cells: Vec<&str> = l.split(',').collect();
+                cells.remove(timing);
+                cells.join(",")
+            })
+            .collect();
+        assert_eq!(
+            rows.len(),
+            1 + 8 * 2 * 3,
+            "8 variants × 2 counts × 3 repetitions"
+        );
+        tables.push(rows);
+    }
+    assert_eq!(tables[0], tables[1]);
+    let variants: std::collections::BTreeSet<&str> = tables[0][1..]
+        .iter()
+        .map(|r| r.split(',').next().unwrap())
+        .collect();
+    assert!(
+        variants.contains("CBD zone / exclusive / G_max 0"),
+        "{variants:?}"
+    );
+    assert!(
+        variants.contains("no zone / headway 5 s / G_max 10 min"),
+        "{variants:?}"
+    );
+}
+
+#[test]
+fn argument_errors_are_clear() {
+    for (args, expected) in [
+        (vec!["sweep", "--counts", "10:5:1"], "--counts `10:5:1`"),
+        (vec!["sweep", "--reps", "0"], "--reps must be at least 1"),
+        (
+            vec!["sweep", "--vary", "zones", "--zones", "none"],
+            "--vary zones needs zones",
+        ),
+        (
+            vec!["simulate", "--from", "20:00", "--to", "08:00"],
+            "--to 08:00 must be after --from 20:00",
+        ),
+        (
+            vec!["simulate", "--from", "25:00"],
+            "--from `25:00` is not a local time",
+        ),
+        (
+            vec!["simulate", "--max-flight-min=-1"],
+            "--max-flight-min -1 must be a number > 0",
+        ),
+        (
+            vec!["simulate", "--speed-kmh", "0"],
+            "speed 0 km/h must be a finite number > 0",
+        ),
+        (
+            vec!["plan", "--requests", "x.csv", "--headway-s", "3"],
+            "--headway-s applies only with --edge-rule headway",
+        ),
+        (
+            vec!["demand", "--zones", "none", "--zones", "z.json"],
+            "`--zones none` cannot be combined",
+        ),
+    ] {
+        let o = muse(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&o).contains(expected), "{args:?}: {}", stderr(&o));
+    }
+    // Usage errors come from clap, also with exit code 2.
+    let o = muse(&["simulate", "--edge-rule", "sometimes"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("invalid value 'sometimes'"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -81,6 +81,19 @@ fn parse_counts(text: &str) -> anyhow::Result<Vec<usize>> {
     Ok(counts)
 }
 
+/// How a world's zones are named in legends: `CBD zone` for the embedded default, `no zone`,
+/// or the zone ids.
+fn zone_label(world: &World) -> String {
+    let names: Vec<&str> = world.zones.iter().map(|z| z.id.as_str()).collect();
+    if names.is_empty() {
+        "no zone".to_owned()
+    } else if world.is_singapore && names == [muse_scenario::CBD_ZONE_ID] {
+        "CBD zone".to_owned()
+    } else {
+        format!("zones {}", names.join("+"))
+    }
+}
+
 /// The two settings `vary` compares, applied to `cur`, with their labels.
 fn options(
     vary: Vary,
@@ -97,12 +110,7 @@ fn options(
             if world.zones.is_empty() {
                 anyhow::bail!("--vary zones needs zones (the embedded CBD zone, or --zones FILE)");
             }
-            let names: Vec<&str> = world.zones.iter().map(|z| z.id.as_str()).collect();
-            let with = if world.is_singapore && names == [muse_scenario::CBD_ZONE_ID] {
-                "CBD zone".to_owned()
-            } else {
-                format!("zones {}", names.join("+"))
-            };
+            let with = zone_label(world);
             [
                 (with, cur.clone()),
                 (
@@ -169,7 +177,7 @@ fn variants(world: &World, base: FlightParams, vary: &[Vary]) -> anyhow::Result<
                 variant.name = if cur.name.is_empty() {
                     label
                 } else {
-                    format!("{}, {label}", cur.name)
+                    format!("{} / {label}", cur.name)
                 };
                 next.push(variant);
             }
@@ -177,11 +185,7 @@ fn variants(world: &World, base: FlightParams, vary: &[Vary]) -> anyhow::Result<
         out = next;
     }
     if out.len() == 1 && out[0].name.is_empty() {
-        out[0].name = if world.zones.is_empty() {
-            "no zone".to_owned()
-        } else {
-            "default".to_owned()
-        };
+        out[0].name = zone_label(world);
     }
     Ok(out)
 }

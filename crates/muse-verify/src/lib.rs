@@ -228,6 +228,16 @@ fn edge_of(airspace: &Airspace, a: NodeId, b: NodeId) -> Option<EdgeId> {
     airspace.edge_between(a, b)
 }
 
+/// A violation of one flight's own rules.
+fn single(rule: Rule, flight: &Flight<'_>, element: String, detail: String) -> Violation {
+    Violation {
+        rule,
+        flights: vec![flight.id.to_string()],
+        element,
+        detail,
+    }
+}
+
 /// Path rules of one flight, then its battery and ground-delay rules.
 fn check_flight(
     airspace: &Airspace,
@@ -235,12 +245,7 @@ fn check_flight(
     flight: &Flight<'_>,
     out: &mut Vec<Violation>,
 ) {
-    let one = |rule, element: String, detail: String| Violation {
-        rule,
-        flights: vec![flight.id.to_string()],
-        element,
-        detail,
-    };
+    let one = |rule, element: String, detail: String| single(rule, flight, element, detail);
     let path = &flight.plan.path;
     let (Some(first), Some(last)) = (path.first(), path.last()) else {
         out.push(one(
@@ -315,12 +320,7 @@ fn check_legs(
     flight: &Flight<'_>,
     out: &mut Vec<Violation>,
 ) {
-    let one = |rule, element: String, detail: String| Violation {
-        rule,
-        flights: vec![flight.id.to_string()],
-        element,
-        detail,
-    };
+    let one = |rule, element: String, detail: String| single(rule, flight, element, detail);
     for (i, pair) in flight.plan.path.windows(2).enumerate() {
         let (x, y) = (pair[0], pair[1]);
         let Some(e) = edge_of(airspace, x.node, y.node) else {
