@@ -365,3 +365,338 @@ fn argument_errors_are_clear() {
         stderr(&o)
     );
 }
+
+#[test]
+fn bench_writes_a_table_a_csv_and_plots() {
+    let dir = scratch_dir("bench");
+    let out = dir.display().to_string();
+    let o = muse(&[
+        "bench",
+        "--requests",
+        "200,400",
+        "--graphs",
+        "singapore-77",
+        "--out",
+        &out,
+    ]);
+    assert!(o.status.success(), "{}{}", stdout(&o), stderr(&o));
+    let text = stdout(&o);
+    for expected in [
+        "1 graph(s) × 2 demand level(s) = 2 cases",
+        "OD rule   in-range",
+        "[1/2] singapore-77, 200 requests: running",
+        "[2/2] singapore-77, 400 requests: done in",
+        "growth exponent of total planner time vs requests",
+        "bench.csv",
+    ] {
+        assert!(text.contains(expected), "`{expected}` in\n{text}");
+    }
+    let csv = std::fs::read_to_string(dir.join("bench.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 3, "{csv}");
+    let col = |name: &str| rows[0].iter().position(|c| *c == name).expect(name);
+    for (row, requests) in rows[1..].iter().zip(["200", "400"]) {
+        assert_eq!(row.len(), rows[0].len(), "{csv}");
+        assert_eq!(row[col("graph")], "singapore-77");
+        assert_eq!(row[col("nodes")], "77");
+        assert_eq!(row[col("requests")], requests);
+        assert_eq!(row[col("od")], "in-range");
+        assert!(row[col("planned")].parse::<usize>().unwrap() > 0, "{csv}");
+        assert!(row[col("planner_s")].parse::<f64>().unwrap() > 0.0, "{csv}");
+        assert!(
+            row[col("expanded_per_request")].parse::<f64>().unwrap() >= 1.0,
+            "{csv}"
+        );
+        // Two demand levels give an exponent against requests; one graph none against nodes.
+        assert!(
+            row[col("graph_time_exponent_vs_requests")]
+                .parse::<f64>()
+                .is_ok(),
+            "{csv}"
+        );
+        assert_eq!(row[col("level_time_per_request_exponent_vs_nodes")], "n/a");
+        if cfg!(target_os = "linux") {
+            assert!(
+                row[col("peak_rss_mib")].parse::<f64>().unwrap() > 1.0,
+                "{csv}"
+            );
+        }
+    }
+    let mut plots = vec!["bench_time_per_request.svg", "bench_expanded.svg"];
+    if cfg!(target_os = "linux") {
+        plots.push("bench_peak_memory.svg");
+    }
+    for plot in plots {
+        let svg = std::fs::read_to_string(dir.join(plot)).expect(plot);
+        assert!(
+            svg.starts_with("<svg") && svg.contains("log scale"),
+            "{plot}"
+        );
+    }
+}
+
+#[test]
+fn bench_argument_errors_are_clear() {
+    let dir = scratch_dir("bench_errors");
+    let out = dir.join("never").display().to_string();
+    for (args, expected) in [
+        (
+            vec!["--requests", "0"],
+            "--requests `0`: `0` is not a positive count",
+        ),
+        (vec!["--requests", "10k,10000"], "10000 is named twice"),
+        (vec!["--graphs", "atlantis"], "--graphs: `atlantis`"),
+        (
+            vec!["--graphs", "synthetic-5"],
+            "a synthetic graph has 20 to",
+        ),
+        (vec!["--graphs", "singapore-77,singapore-77"], "named twice"),
+        (
+            vec!["--max-flight-min=-1"],
+            "--max-flight-min -1 must be a number > 0",
+        ),
+    ] {
+        let all: Vec<&str> = ["bench", "--out", &out]
+            .into_iter()
+            .chain(args.clone())
+            .collect();
+        let o = muse(&all);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(expected), "{args:?}: {}", stderr(&o));
+    }
+    assert!(
+        !dir.join("never").exists(),
+        "no output folder for bad arguments"
+    );
+    let o = muse(&["bench", "--od", "sometimes"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("invalid value 'sometimes'"));
+    // The per-case subcommand is there but not advertised.
+    let help = stdout(&muse(&["--help"]));
+    assert!(
+        help.contains("bench") && !help.contains("bench-case"),
+        "{help}"
+    );
+}
+
+#[test]
+fn scenario_singapore_all_info_map_and_simulate() {
+    let o = muse(&["airspace", "info", "--scenario", "singapore-all"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(out.contains("embedded singapore-all"), "{out}");
+    assert!(out.contains("1115 (1115 stations, 0 waypoints)"), "{out}");
+    assert!(out.contains("edges         3302"), "{out}");
+    assert!(out.contains("SG-CBD-DOWNTOWN-CORE"), "{out}");
+    // Naming the default explicitly is the same as not naming it.
+    let named = muse(&["airspace", "info", "--scenario", "singapore-77"]);
+    assert_eq!(stdout(&named), stdout(&muse(&["airspace", "info"])));
+
+    let dir = scratch_dir("singapore_all");
+    let map = dir.join("map.svg").display().to_string();
+    let o = muse(&[
+        "airspace",
+        "map",
+        "--scenario",
+        "singapore-all",
+        "--out",
+        &map,
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg = std::fs::read_to_string(&map).unwrap();
+    assert!(svg.contains("1115 HDB multi-storey car parks") && svg.contains("Downtown Core"));
+    assert!(
+        !svg.contains(">ACM<"),
+        "no station labels with 1,115 stations"
+    );
+
+    let out = dir.join("sim").display().to_string();
+    let o = muse(&[
+        "simulate",
+        "--scenario",
+        "singapore-all",
+        "--count",
+        "500",
+        "--out",
+        &out,
+    ]);
+    assert!(o.status.success(), "{}{}", stdout(&o), stderr(&o));
+    let text = stdout(&o);
+    assert!(
+        text.contains("embedded singapore-all (SG-CBD-DOWNTOWN-CORE)"),
+        "{text}"
+    );
+    assert!(text.contains("verified      OK"), "{text}");
+    // Request files name the car parks by number.
+    let requests = std::fs::read_to_string(dir.join("sim/requests.csv")).unwrap();
+    let plan = muse(&[
+        "plan",
+        "--scenario",
+        "singapore-all",
+        "--requests",
+        &dir.join("sim/requests.csv").display().to_string(),
+        "--out",
+        &dir.join("plan").display().to_string(),
+    ]);
+    assert!(plan.status.success(), "{}", stderr(&plan));
+    let on_default = muse(&[
+        "plan",
+        "--requests",
+        &dir.join("sim/requests.csv").display().to_string(),
+        "--out",
+        &dir.join("plan77").display().to_string(),
+    ]);
+    assert_eq!(on_default.status.code(), Some(2), "{requests}");
+}
+
+#[test]
+fn unknown_scenario_and_conflicting_sources_are_usage_errors() {
+    let o = muse(&["airspace", "info", "--scenario", "atlantis"]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = stderr(&o);
+    assert!(
+        err.contains("invalid value 'atlantis' for '--scenario <NAME>'")
+            && err.contains("singapore-77")
+            && err.contains("singapore-all"),
+        "{err}"
+    );
+    let dir = scratch_dir("scenario_conflicts");
+    let air = write(&dir, "air.geojson", "{}");
+    for (args, expected) in [
+        (
+            vec!["--scenario", "singapore-all", "--airspace", &air],
+            "'--scenario <NAME>' cannot be used with '--airspace <FILE>'",
+        ),
+        (
+            vec![
+                "--scenario",
+                "singapore-77",
+                "--synthetic",
+                "grid",
+                "--nodes",
+                "9",
+            ],
+            "cannot be used with",
+        ),
+        (
+            vec!["--airspace", &air, "--synthetic", "grid", "--nodes", "9"],
+            "cannot be used with",
+        ),
+        (vec!["--synthetic", "grid"], "--nodes <N>"),
+        (vec!["--nodes", "9"], "--synthetic <LAYOUT>"),
+        (
+            vec!["--synthetic", "hexagons", "--nodes", "9"],
+            "invalid value 'hexagons'",
+        ),
+        (
+            vec!["--synthetic", "grid", "--nodes", "1"],
+            "--synthetic grid: invalid synthetic airspace: nodes = 1 must be between 2",
+        ),
+        (
+            vec![
+                "--synthetic",
+                "geometric",
+                "--nodes",
+                "50",
+                "--spacing-m",
+                "0",
+            ],
+            "spacing = 0 m must be a number of at least 1 m",
+        ),
+        (
+            vec![
+                "--synthetic",
+                "grid",
+                "--nodes",
+                "50",
+                "--station-share",
+                "1.5",
+            ],
+            "station share = 1.5 must be greater than 0 and at most 1",
+        ),
+    ] {
+        let all: Vec<&str> = ["airspace", "info"].into_iter().chain(args).collect();
+        let o = muse(&all);
+        assert_eq!(o.status.code(), Some(2), "{all:?}");
+        assert!(stderr(&o).contains(expected), "{all:?}: {}", stderr(&o));
+    }
+}
+
+#[test]
+fn synthetic_airspaces_work_with_every_command() {
+    let o = muse(&["airspace", "info", "--synthetic", "grid", "--nodes", "100"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(
+        out.contains("synthetic grid, 100 nodes, spacing 1500 m, 10 stations, seed 1"),
+        "{out}"
+    );
+    assert!(out.contains("100 (10 stations, 90 waypoints)"), "{out}");
+    assert!(out.contains("edges         180\n"), "{out}");
+    assert!(
+        out.contains("min 1.50 km, median 1.50 km, max 1.50 km"),
+        "{out}"
+    );
+    assert!(out.contains("zones         none"), "{out}");
+
+    let args = [
+        "--synthetic",
+        "geometric",
+        "--nodes",
+        "300",
+        "--spacing-m",
+        "800",
+        "--station-share",
+        "0.2",
+        "--synthetic-seed",
+        "7",
+    ];
+    let run = |cmd: &[&str]| {
+        let all: Vec<&str> = cmd.iter().copied().chain(args).collect();
+        let o = muse(&all);
+        assert!(o.status.success(), "{all:?}: {}{}", stdout(&o), stderr(&o));
+        stdout(&o)
+    };
+    let info = run(&["airspace", "info"]);
+    assert!(info.contains("300 (60 stations, 240 waypoints)"), "{info}");
+    assert_eq!(info, run(&["airspace", "info"]), "deterministic");
+
+    let dir = scratch_dir("synthetic");
+    let path = |name: &str| dir.join(name).display().to_string();
+    run(&["airspace", "map", "--out", &path("map.svg")]);
+    let svg = std::fs::read_to_string(dir.join("map.svg")).unwrap();
+    assert!(svg.contains("synthetic geometric, 300 nodes (60 stations)"));
+    run(&["demand", "--count", "400", "--out", &path("requests.csv")]);
+    run(&[
+        "plan",
+        "--requests",
+        &path("requests.csv"),
+        "--out",
+        &path("plan"),
+    ]);
+    run(&["verify", "--plans", &path("plan/plans.jsonl")]);
+    let sim = run(&["simulate", "--count", "400", "--out", &path("sim")]);
+    assert!(
+        sim.contains("(no zones)") && sim.contains("verified      OK"),
+        "{sim}"
+    );
+    run(&[
+        "sweep",
+        "--counts",
+        "100,200",
+        "--reps",
+        "2",
+        "--out",
+        &path("sweep"),
+    ]);
+    // A zone file still applies to a synthetic airspace.
+    let zones = write(
+        &dir,
+        "zone.geojson",
+        r#"{"type": "FeatureCollection", "features": [{"type": "Feature",
+  "geometry": {"type": "Polygon", "coordinates": [[[103.80, 1.33], [103.84, 1.33], [103.84, 1.37], [103.80, 1.37], [103.80, 1.33]]]},
+  "properties": {"identifier": "BOX", "type": "PROHIBITED"}}]}"#,
+    );
+    let info = run(&["airspace", "info", "--zones", &zones]);
+    assert!(info.contains("zone          BOX"), "{info}");
+}

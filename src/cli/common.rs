@@ -4,18 +4,64 @@ use std::path::PathBuf;
 
 use anyhow::Context as _;
 use clap::Args;
+use clap::builder::PossibleValuesParser;
 use muse_model::{Airspace, Millis, Speed, UtcOffset, Zone};
 
 /// Which airspace and zones to work on.
 #[derive(Debug, Args, Clone)]
 pub struct WorldArgs {
-    /// Airspace GeoJSON (SPEC §2). Default: the embedded Singapore airspace.
-    #[arg(long, value_name = "FILE")]
+    /// Built-in scenario: `singapore-77` (the default: 77 k-means-chosen car parks) or
+    /// `singapore-all` (all 1,115 HDB multi-storey car parks); both with the CBD zone.
+    #[arg(
+        long,
+        value_name = "NAME",
+        value_parser = PossibleValuesParser::new(muse_scenario::SCENARIOS),
+        conflicts_with_all = ["airspace", "synthetic"]
+    )]
+    pub scenario: Option<String>,
+    /// Airspace GeoJSON (SPEC §2) instead of a built-in scenario.
+    #[arg(long, value_name = "FILE", conflicts_with = "synthetic")]
     pub airspace: Option<PathBuf>,
+    /// A synthetic airspace instead of a built-in scenario: a `grid` (4-neighbour corridors)
+    /// or `geometric` (uniform random points, Delaunay); needs `--nodes`.
+    #[arg(long, value_enum, value_name = "LAYOUT", requires = "nodes")]
+    pub synthetic: Option<LayoutArg>,
+    /// Synthetic airspace: number of nodes.
+    #[arg(long, value_name = "N", requires = "synthetic")]
+    pub nodes: Option<usize>,
+    /// Synthetic airspace: grid spacing, or mean nearest-neighbour distance, metres.
+    #[arg(
+        long,
+        value_name = "M",
+        default_value_t = 1_500.0,
+        requires = "synthetic"
+    )]
+    pub spacing_m: f64,
+    /// Synthetic airspace: the fraction of nodes that are stations (at least 2 stations).
+    #[arg(
+        long,
+        value_name = "SHARE",
+        default_value_t = 0.1,
+        requires = "synthetic"
+    )]
+    pub station_share: f64,
+    /// Synthetic airspace: seed of the points and of the choice of stations.
+    #[arg(long, value_name = "SEED", default_value_t = 1, requires = "synthetic")]
+    pub synthetic_seed: u64,
     /// No-fly zone file (ED-318 GeoJSON or ED-269 JSON); repeat for several, or `none`.
-    /// Default: the embedded CBD zone with the embedded airspace, no zones with `--airspace`.
+    /// Default: the scenario's zones (the CBD zone) with a built-in scenario, no zones with
+    /// `--airspace` or `--synthetic`.
     #[arg(long, value_name = "FILE|none")]
     pub zones: Vec<PathBuf>,
+}
+
+/// The layout of a synthetic airspace on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum LayoutArg {
+    /// A square grid, 4-neighbour corridors.
+    Grid,
+    /// Uniform random points joined by Delaunay triangulation and collinear joining.
+    Geometric,
 }
 
 /// An airspace with its zones and the day they are planned on.
@@ -26,8 +72,12 @@ pub struct World {
     pub airspace: Airspace,
     /// The zones.
     pub zones: Vec<Zone>,
-    /// Whether this is the embedded Singapore default (its land outline applies).
-    pub is_singapore: bool,
+    /// The built-in scenario, if the airspace is one (not a file or a synthetic airspace).
+    pub scenario: Option<&'static muse_scenario::Scenario>,
+    /// Whether Singapore's land outline applies (drawn on maps, with the data attribution).
+    pub land: bool,
+    /// A one-line description for map titles.
+    pub title: String,
     /// The scenario's date, for local clock times.
     pub date: jiff::civil::Date,
     /// The scenario's UTC offset.
@@ -35,33 +85,67 @@ pub struct World {
 }
 
 impl WorldArgs {
+    /// The synthetic airspace spec these arguments describe, if any.
+    fn synthetic_spec(&self) -> Option<muse_scenario::SyntheticSpec> {
+        let layout = match self.synthetic? {
+            LayoutArg::Grid => muse_scenario::Layout::Grid,
+            LayoutArg::Geometric => muse_scenario::Layout::Geometric,
+        };
+        Some(muse_scenario::SyntheticSpec {
+            layout,
+            nodes: self.nodes.unwrap_or(0),
+            spacing_m: self.spacing_m,
+            station_share: self.station_share,
+            seed: self.synthetic_seed,
+        })
+    }
+
     /// Loads the airspace and zones these arguments name.
     pub fn load(&self) -> anyhow::Result<World> {
-        let default = muse_scenario::singapore_77();
         let no_zones = self.zones.iter().any(|z| z.as_os_str() == "none");
         if no_zones && self.zones.len() > 1 {
             anyhow::bail!("`--zones none` cannot be combined with zone files");
         }
-        let (airspace_source, airspace, is_singapore) = match &self.airspace {
-            Some(path) => (
+        // Date and offset: the scenario's; files and synthetic airspaces use the default's.
+        let default = muse_scenario::by_name(muse_scenario::SINGAPORE_77)?;
+        let (airspace_source, airspace, scenario, title) = if let Some(path) = &self.airspace {
+            (
                 path.display().to_string(),
                 muse_formats::airspace_geojson::read_airspace_file(path)?,
-                false,
-            ),
-            None => (
-                format!("embedded {}", default.name),
-                default.airspace.clone(),
-                true,
-            ),
+                None,
+                format!("MUSE airspace: {}", path.display()),
+            )
+        } else if let Some(spec) = self.synthetic_spec() {
+            let airspace = muse_scenario::synthetic(&spec)
+                .with_context(|| format!("--synthetic {}", spec.layout))?;
+            (
+                spec.to_string(),
+                airspace,
+                None,
+                format!(
+                    "MUSE airspace: synthetic {}, {} nodes ({} stations)",
+                    spec.layout,
+                    spec.nodes,
+                    spec.station_count()
+                ),
+            )
+        } else {
+            let name = self
+                .scenario
+                .as_deref()
+                .unwrap_or(muse_scenario::SINGAPORE_77);
+            let s = muse_scenario::by_name(name)?;
+            (
+                format!("embedded {}", s.name),
+                s.airspace.clone(),
+                Some(s),
+                format!("MUSE airspace: {}", s.title),
+            )
         };
         let zones = if no_zones {
             Vec::new()
         } else if self.zones.is_empty() {
-            if is_singapore {
-                default.zones.clone()
-            } else {
-                Vec::new()
-            }
+            scenario.map(|s| s.zones.clone()).unwrap_or_default()
         } else {
             let mut all = Vec::new();
             for path in &self.zones {
@@ -72,13 +156,16 @@ impl WorldArgs {
             }
             all
         };
+        let day = scenario.unwrap_or(default);
         Ok(World {
             airspace_source,
             airspace,
             zones,
-            is_singapore,
-            date: default.date,
-            offset: default.offset,
+            scenario,
+            land: scenario.is_some_and(|s| s.land),
+            title,
+            date: day.date,
+            offset: day.offset,
         })
     }
 }
@@ -179,7 +266,10 @@ pub fn write_atomically(path: &std::path::Path, text: &str) -> anyhow::Result<()
     Ok(())
 }
 
-/// Draws a world's airspace, land (for the Singapore default) and zones as an SVG map;
+/// Stations are labelled on maps with at most this many stations (more would be illegible).
+const MAX_LABELLED_STATIONS: usize = 150;
+
+/// Draws a world's airspace, land (for the Singapore scenarios) and zones as an SVG map;
 /// `edge_load` colours corridors by how busy they were.
 pub fn render_world_map(
     world: &World,
@@ -187,7 +277,7 @@ pub fn render_world_map(
     edge_load: Option<(Vec<f64>, String)>,
 ) -> anyhow::Result<String> {
     use muse_render::{MapInput, MapOptions, ZoneLayer, render_map, zone_area_polygons};
-    let land: Vec<geo_types::Polygon<f64>> = if world.is_singapore {
+    let land: Vec<geo_types::Polygon<f64>> = if world.land {
         muse_scenario::singapore_land().0
     } else {
         Vec::new()
@@ -211,21 +301,16 @@ pub fn render_world_map(
     let mut input = MapInput::new(&world.airspace);
     input.land = &land;
     input.zones = zones;
-    let (title, attribution) = if world.is_singapore {
-        (
-            "MUSE airspace: Singapore, 77 HDB car-park stations".to_owned(),
-            muse_scenario::ATTRIBUTION.to_owned(),
-        )
+    let attribution = if world.scenario.is_some() {
+        muse_scenario::ATTRIBUTION.to_owned()
     } else {
-        (
-            format!("MUSE airspace: {}", world.airspace_source),
-            String::new(),
-        )
+        String::new()
     };
     let mut opts = MapOptions {
         width_px,
-        title,
+        title: world.title.clone(),
         attribution,
+        label_stations: world.airspace.stations().count() <= MAX_LABELLED_STATIONS,
         ..MapOptions::default()
     };
     if let Some((load, label)) = edge_load {

@@ -1,6 +1,7 @@
 //! Argument parsing and dispatch.
 
 mod airspace;
+mod bench;
 mod common;
 mod demand;
 mod plan;
@@ -28,6 +29,12 @@ enum Command {
     /// Build, inspect and draw airspaces.
     #[command(subcommand)]
     Airspace(airspace::AirspaceCommand),
+    /// How planning scales: planner time, search effort and peak memory per request for
+    /// growing demand and graph size, with fitted growth exponents, a table and plots.
+    Bench(bench::BenchArgs),
+    /// One case of `muse bench`, measured in its own process (prints one JSON line).
+    #[command(hide = true)]
+    BenchCase(bench::CaseArgs),
     /// Generate a seeded requests file (uniform departures in a window, random station pairs).
     Demand(demand::DemandCmd),
     /// Plan a requests file: exact earliest-landing plans, first come first served.
@@ -45,6 +52,8 @@ pub fn run() -> anyhow::Result<ExitCode> {
     let cli = Cli::parse();
     match cli.command {
         Command::Airspace(cmd) => airspace::run(cmd),
+        Command::Bench(args) => bench::run(&args),
+        Command::BenchCase(args) => bench::run_case(&args),
         Command::Demand(args) => demand::run(&args),
         Command::Plan(args) => plan::run(&args),
         Command::Simulate(args) => simulate::run(&args),

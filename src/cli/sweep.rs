@@ -81,13 +81,13 @@ fn parse_counts(text: &str) -> anyhow::Result<Vec<usize>> {
     Ok(counts)
 }
 
-/// How a world's zones are named in legends: `CBD zone` for the embedded default, `no zone`,
+/// How a world's zones are named in legends: `CBD zone` for a built-in scenario's, `no zone`,
 /// or the zone ids.
 fn zone_label(world: &World) -> String {
     let names: Vec<&str> = world.zones.iter().map(|z| z.id.as_str()).collect();
     if names.is_empty() {
         "no zone".to_owned()
-    } else if world.is_singapore && names == [muse_scenario::CBD_ZONE_ID] {
+    } else if world.scenario.is_some() && names == [muse_scenario::CBD_ZONE_ID] {
         "CBD zone".to_owned()
     } else {
         format!("zones {}", names.join("+"))

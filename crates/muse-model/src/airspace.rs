@@ -71,6 +71,8 @@ pub struct Adjacent {
     pub node: NodeId,
     /// The edge leading to it.
     pub edge: EdgeId,
+    /// Whether the edge is flown from its `from` end to its `to` end in this direction.
+    pub forward: bool,
 }
 
 /// Why a set of nodes and edges is not a valid airspace. Indices refer to the input vectors,
@@ -248,14 +250,19 @@ impl Airspace {
         let mut adjacent = vec![
             Adjacent {
                 node: NodeId(0),
-                edge: EdgeId(0)
+                edge: EdgeId(0),
+                forward: true
             };
             offsets[nodes.len()] as usize
         ];
         for (i, e) in edges.iter().enumerate() {
             let eid = EdgeId(i as u32);
-            for (x, y) in [(e.from, e.to), (e.to, e.from)] {
-                adjacent[fill[x.index()] as usize] = Adjacent { node: y, edge: eid };
+            for (x, y, forward) in [(e.from, e.to, true), (e.to, e.from, false)] {
+                adjacent[fill[x.index()] as usize] = Adjacent {
+                    node: y,
+                    edge: eid,
+                    forward,
+                };
                 fill[x.index()] += 1;
             }
         }

@@ -73,7 +73,9 @@ impl<'a> Planner<'a> {
 
 /// Plans `requests` in the given order (callers sort them by `(departure, id)` first), adding
 /// each accepted plan to `schedule` before the next (first come, first served). The flight
-/// id of request `i` is `i`. Calls `progress` after each request.
+/// id of request `i` is `i`. Each request's departure becomes the schedule's horizon
+/// ([`Schedule::set_horizon`]), so in departure order the searches only look at current
+/// traffic. Calls `progress` after each request.
 pub fn plan_day(
     planner: &Planner<'_>,
     schedule: &mut Schedule,
@@ -83,6 +85,7 @@ pub fn plan_day(
 ) -> Vec<Outcome> {
     let mut out = Vec::with_capacity(requests.len());
     for (i, request) in requests.iter().enumerate() {
+        schedule.set_horizon(request.departure.0);
         let outcome = planner.plan(schedule, request, scratch);
         if let Ok(plan) = &outcome.result {
             schedule.insert(planner.airspace(), i as FlightId, plan);

@@ -65,10 +65,15 @@ struct Occ {
 }
 
 /// A read-only view of a sorted list whose barriers are `(start − grow, end + grow)`.
+///
+/// `occ` may be a suffix of the list (see [`Book`]); `before` is then the last entry left
+/// out, whose `R` is all the left-out entries can still answer (read only when needed: it is
+/// usually a cache miss).
 #[derive(Clone, Copy)]
 struct View<'a> {
     occ: &'a [Occ],
     grow: i64,
+    before: Option<&'a Occ>,
 }
 
 impl View<'_> {
@@ -82,28 +87,72 @@ impl View<'_> {
         o.end + self.grow
     }
 
-    /// If `t` is blocked (`L < t < R`), the largest such `R`.
+    /// The index of the first entry with `R > t`: every entry before it ends by `t`, and it
+    /// has the smallest `L` of those after (both `L` and `R` are sorted).
     #[inline]
-    fn blocking_end(self, t: i64) -> Option<i64> {
-        let i = self.occ.partition_point(|o| self.l(o) < t);
-        let r = self.r(self.occ.get(i.checked_sub(1)?)?);
-        (r > t).then_some(r)
+    fn first_after(self, t: i64) -> usize {
+        self.occ.partition_point(|o| self.r(o) <= t)
     }
 
-    /// The largest `R ≤ t` (`NEG_INF` if none): where a safe interval around `t` starts.
+    /// Moves `i` (a `first_after` of an earlier, smaller `t`) to `first_after(t)`: a few
+    /// linear steps, then a binary search for long jumps.
     #[inline]
-    fn lo_bound(self, t: i64) -> i64 {
-        let i = self.occ.partition_point(|o| self.r(o) <= t);
-        i.checked_sub(1).map_or(NEG_INF, |i| self.r(&self.occ[i]))
+    fn advance(self, mut i: usize, t: i64) -> usize {
+        for _ in 0..8 {
+            match self.occ.get(i) {
+                Some(o) if self.r(o) <= t => i += 1,
+                _ => return i,
+            }
+        }
+        i + self.occ[i..].partition_point(|o| self.r(o) <= t)
     }
 
-    /// The barrier with the smallest `L` among those with `R > t`, as `(L, R)`.
+    /// `R` of the last entry before index `i` (`NEG_INF` if none).
     #[inline]
-    fn hi_bound(self, t: i64) -> (i64, i64) {
-        let i = self.occ.partition_point(|o| self.r(o) <= t);
-        self.occ
-            .get(i)
-            .map_or((INF, INF), |o| (self.l(o), self.r(o)))
+    fn r_before(self, i: usize) -> i64 {
+        match i.checked_sub(1) {
+            Some(j) => self.r(&self.occ[j]),
+            None => self.before.map_or(NEG_INF, |o| self.r(o)),
+        }
+    }
+}
+
+/// One reservation list with its *floor*: entries below `floor` have `R ≤ horizon` for every
+/// view of the list, so no query at or after the schedule's horizon can be blocked or bounded
+/// by them except through the last one's `R`. Searches skip them, which keeps every binary
+/// search inside the short, cache-hot window of current traffic when requests are planned in
+/// departure order; the entries stay, for removal and for memory accounting.
+#[derive(Clone, Debug, Default)]
+struct Book {
+    occ: Vec<Occ>,
+    floor: usize,
+}
+
+impl Book {
+    /// The view with widening `grow`, skipping the floor when `t` is at or after `horizon`.
+    #[inline]
+    fn view(&self, grow: i64, t: i64, horizon: i64) -> View<'_> {
+        if t >= horizon && self.floor > 0 {
+            let (left_out, rest) = self.occ.split_at(self.floor);
+            View {
+                occ: rest,
+                grow,
+                before: left_out.last(),
+            }
+        } else {
+            View {
+                occ: &self.occ,
+                grow,
+                before: None,
+            }
+        }
+    }
+
+    /// Moves the floor past every entry whose widest barrier (`grow_max`) ends by `horizon`.
+    fn advance(&mut self, horizon: i64, grow_max: i64) {
+        while self.floor < self.occ.len() && self.occ[self.floor].end + grow_max <= horizon {
+            self.floor += 1;
+        }
     }
 }
 
@@ -132,37 +181,41 @@ pub enum NodeSlot {
 #[derive(Clone, Debug)]
 pub struct Schedule {
     tau: i64,
-    /// Per edge: traversal time (ms).
-    w: Vec<i64>,
-    /// Per edge: the half-width of same-direction blocking (`w` or the headway).
-    same_grow: Vec<i64>,
-    /// Per node: accepted stays `[arrive, depart]`, sorted.
-    nodes: Vec<Vec<Occ>>,
-    /// Per edge and direction (0: `from → to`, 1: `to → from`): entry instants.
-    edges: Vec<[Vec<Occ>; 2]>,
-    /// Per node: merged zone barriers.
-    node_zones: Vec<Vec<Occ>>,
-    /// Per edge: merged zone barriers of entry instants.
-    edge_zones: Vec<Vec<Occ>>,
+    /// Per node: its stays and zone barriers.
+    nodes: Vec<NodeBook>,
+    /// Per edge: its entries per direction, timing and zone barriers.
+    edges: Vec<EdgeBook>,
+    /// No query before this instant is expected (see [`Schedule::set_horizon`]).
+    horizon: i64,
     flights: usize,
     reservations: usize,
+}
+
+/// Everything a query about one node reads, kept together.
+#[derive(Clone, Debug, Default)]
+struct NodeBook {
+    /// Accepted stays `[arrive, depart]`, sorted.
+    stays: Book,
+    /// Merged zone barriers.
+    zones: Vec<Occ>,
+}
+
+/// Everything a query about one edge reads, kept together (one or two cache lines).
+#[derive(Clone, Debug)]
+struct EdgeBook {
+    /// Entry instants per direction (0: `from → to`, 1: `to → from`), sorted.
+    dirs: [Book; 2],
+    /// Traversal time, ms.
+    w: i64,
+    /// Half-width of same-direction blocking (`w` or the headway).
+    same_grow: i64,
+    /// Merged zone barriers of entry instants.
+    zones: Vec<Occ>,
 }
 
 impl Schedule {
     /// An empty schedule (no flights) with the zone closures as permanent blocks.
     pub fn new(airspace: &Airspace, params: &FlightParams, closures: &Closures) -> Self {
-        let w: Vec<i64> = airspace
-            .traversal_times(params.speed)
-            .iter()
-            .map(|m| m.0)
-            .collect();
-        let same_grow = w
-            .iter()
-            .map(|&w| match params.edge_rule {
-                EdgeRule::Exclusive => w,
-                EdgeRule::Headway(h) => h.0,
-            })
-            .collect();
         // A window [start, end) becomes the barrier (start − 1 − before, end).
         let barriers = |windows: &[muse_airspace::closures::Window], before: i64| -> Vec<Occ> {
             let mut v: Vec<(i64, i64)> = windows
@@ -187,20 +240,31 @@ impl Schedule {
                 })
                 .collect()
         };
-        let node_zones = (0..airspace.node_count())
-            .map(|i| barriers(closures.node(NodeId(i as u32)), 0))
+        let nodes = (0..airspace.node_count())
+            .map(|i| NodeBook {
+                stays: Book::default(),
+                zones: barriers(closures.node(NodeId(i as u32)), 0),
+            })
             .collect();
-        let edge_zones = (0..airspace.edge_count())
-            .map(|i| barriers(closures.edge(EdgeId(i as u32)), w[i]))
+        let edges = airspace
+            .traversal_times(params.speed)
+            .iter()
+            .enumerate()
+            .map(|(i, w)| EdgeBook {
+                dirs: [Book::default(), Book::default()],
+                w: w.0,
+                same_grow: match params.edge_rule {
+                    EdgeRule::Exclusive => w.0,
+                    EdgeRule::Headway(h) => h.0,
+                },
+                zones: barriers(closures.edge(EdgeId(i as u32)), w.0),
+            })
             .collect();
         Schedule {
             tau: params.node_separation.0,
-            same_grow,
-            nodes: vec![Vec::new(); airspace.node_count()],
-            edges: vec![[Vec::new(), Vec::new()]; airspace.edge_count()],
-            node_zones,
-            edge_zones,
-            w,
+            nodes,
+            edges,
+            horizon: NEG_INF,
             flights: 0,
             reservations: 0,
         }
@@ -209,7 +273,7 @@ impl Schedule {
     /// The traversal time of edge `e`, ms.
     #[inline]
     pub fn traversal_ms(&self, e: EdgeId) -> i64 {
-        self.w[e.index()]
+        self.edges[e.index()].w
     }
 
     /// Number of flights held.
@@ -225,14 +289,13 @@ impl Schedule {
     /// Whether instant `t` is free at node `v`, and the safe interval around it.
     #[inline]
     pub fn node_slot(&self, v: NodeId, t: i64) -> NodeSlot {
+        let book = &self.nodes[v.index()];
         let views = [
+            book.stays.view(self.tau, t, self.horizon),
             View {
-                occ: &self.nodes[v.index()],
-                grow: self.tau,
-            },
-            View {
-                occ: &self.node_zones[v.index()],
+                occ: &book.zones,
                 grow: 0,
+                before: None,
             },
         ];
         slot(&views, t)
@@ -243,21 +306,24 @@ impl Schedule {
     /// that every entry in `[p, q]` is allowed.
     #[inline]
     pub fn edge_free_run(&self, e: EdgeId, dir: usize, t: i64) -> (i64, i64) {
-        let i = e.index();
-        let same = &self.edges[i][dir];
+        let book = &self.edges[e.index()];
+        let h = self.horizon;
         let views = [
             // A headway of 0 blocks nothing.
-            View {
-                occ: if self.same_grow[i] > 0 { same } else { &[] },
-                grow: self.same_grow[i],
+            if book.same_grow > 0 {
+                book.dirs[dir].view(book.same_grow, t, h)
+            } else {
+                View {
+                    occ: &[],
+                    grow: 0,
+                    before: None,
+                }
             },
+            book.dirs[1 - dir].view(book.w, t, h),
             View {
-                occ: &self.edges[i][1 - dir],
-                grow: self.w[i],
-            },
-            View {
-                occ: &self.edge_zones[i],
+                occ: &book.zones,
                 grow: 0,
+                before: None,
             },
         ];
         let mut p = t;
@@ -269,14 +335,48 @@ impl Schedule {
         }
     }
 
+    /// Declares that queries from now on are about instants `≥ t` (for first-come,
+    /// first-served planning: the next request's departure). Searches then skip every
+    /// reservation that can no longer matter, so they stay fast however long the day grows.
+    /// Queries before the horizon remain correct, only slower; moving the horizon back resets
+    /// the skipping.
+    pub fn set_horizon(&mut self, t: i64) {
+        if t < self.horizon {
+            for b in &mut self.nodes {
+                b.stays.floor = 0;
+            }
+            for e in &mut self.edges {
+                for b in &mut e.dirs {
+                    b.floor = 0;
+                }
+            }
+        }
+        self.horizon = t;
+    }
+
+    /// The widest widening any view applies to a list.
+    fn grow_max(&self, target: Target) -> i64 {
+        match target {
+            Target::Node(_) => self.tau,
+            Target::Edge(i, _) => self.edges[i].same_grow.max(self.edges[i].w),
+        }
+    }
+
     /// Adds an accepted plan. The plan must be valid against the schedule (the planner's
     /// plans are); the schedule does not re-check it (the verifier does).
     pub fn insert(&mut self, airspace: &Airspace, flight: FlightId, plan: &Plan) {
+        let horizon = self.horizon;
         for_each_reservation(airspace, flight, plan, |target, occ| {
-            let list = self.list_mut(target);
-            let i = list
+            let grow_max = self.grow_max(target);
+            let book = self.book_mut(target);
+            let i = book
+                .occ
                 .partition_point(|o| (o.start, o.end, o.flight) < (occ.start, occ.end, occ.flight));
-            list.insert(i, occ);
+            book.occ.insert(i, occ);
+            if i < book.floor {
+                book.floor += 1;
+            }
+            book.advance(horizon, grow_max);
             self.reservations += 1;
         });
         self.flights += 1;
@@ -292,15 +392,18 @@ impl Schedule {
         };
         let mut all_held = true;
         for_each_reservation(airspace, flight, plan, |target, occ| {
-            all_held &= position(self.list(target), occ).is_some();
+            all_held &= position(&self.book(target).occ, occ).is_some();
         });
         if !all_held {
             return false;
         }
         for_each_reservation(airspace, flight, plan, |target, occ| {
-            let list = self.list_mut(target);
-            if let Some(i) = position(list, occ) {
-                list.remove(i);
+            let book = self.book_mut(target);
+            if let Some(i) = position(&book.occ, occ) {
+                book.occ.remove(i);
+                if i < book.floor {
+                    book.floor -= 1;
+                }
                 self.reservations -= 1;
             }
         });
@@ -308,17 +411,17 @@ impl Schedule {
         true
     }
 
-    fn list(&self, target: Target) -> &[Occ] {
+    fn book(&self, target: Target) -> &Book {
         match target {
-            Target::Node(i) => &self.nodes[i],
-            Target::Edge(i, d) => &self.edges[i][d],
+            Target::Node(i) => &self.nodes[i].stays,
+            Target::Edge(i, d) => &self.edges[i].dirs[d],
         }
     }
 
-    fn list_mut(&mut self, target: Target) -> &mut Vec<Occ> {
+    fn book_mut(&mut self, target: Target) -> &mut Book {
         match target {
-            Target::Node(i) => &mut self.nodes[i],
-            Target::Edge(i, d) => &mut self.edges[i][d],
+            Target::Node(i) => &mut self.nodes[i].stays,
+            Target::Edge(i, d) => &mut self.edges[i].dirs[d],
         }
     }
 }
@@ -365,14 +468,27 @@ fn for_each_reservation(
     }
 }
 
-/// The slot of instant `t` over several views.
+/// The slot of instant `t` over several views: one binary search per view, then cursors
+/// that only move forward while blocked stretches are skipped.
 #[inline]
-fn slot(views: &[View<'_>], t: i64) -> NodeSlot {
+fn slot<const N: usize>(views: &[View<'_>; N], t: i64) -> NodeSlot {
     let mut t = t;
+    let mut idx = [0usize; N];
+    for (i, v) in idx.iter_mut().zip(views) {
+        *i = v.first_after(t);
+    }
     let mut blocked = false;
-    // Skip forward over barriers until none blocks `t`.
     loop {
-        let end = views.iter().filter_map(|v| v.blocking_end(t)).max();
+        // `t` is blocked by a view exactly when its first entry with `R > t` has `L < t`.
+        let mut end: Option<i64> = None;
+        for (i, v) in idx.iter_mut().zip(views) {
+            *i = v.advance(*i, t);
+            if let Some(o) = v.occ.get(*i) {
+                if v.l(o) < t {
+                    end = Some(end.map_or(v.r(o), |e| e.max(v.r(o))));
+                }
+            }
+        }
         match end {
             Some(r) => {
                 blocked = true;
@@ -384,14 +500,17 @@ fn slot(views: &[View<'_>], t: i64) -> NodeSlot {
     if blocked {
         return NodeSlot::Blocked { next_free: t };
     }
-    let lo = views.iter().map(|v| v.lo_bound(t)).max().unwrap_or(NEG_INF);
+    let mut lo = NEG_INF;
     let (mut hi, mut next) = (INF, INF);
-    for v in views {
-        let (l, r) = v.hi_bound(t);
-        if l < hi {
-            (hi, next) = (l, r);
-        } else if l == hi {
-            next = next.max(r);
+    for (&i, v) in idx.iter().zip(views) {
+        lo = lo.max(v.r_before(i));
+        if let Some(o) = v.occ.get(i) {
+            let (l, r) = (v.l(o), v.r(o));
+            if l < hi {
+                (hi, next) = (l, r);
+            } else if l == hi {
+                next = next.max(r);
+            }
         }
     }
     NodeSlot::Safe { lo, hi, next }

@@ -239,7 +239,7 @@ fn expand(
         if airborne + w + hv > t_max {
             continue;
         }
-        let dir = usize::from(problem.airspace.edge(adj.edge).from != u);
+        let dir = usize::from(!adj.forward);
         let s_max = label.hi.min(t0 + sigma + t_max - w - hv);
         let mut s = a;
         while s <= s_max {

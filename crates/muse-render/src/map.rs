@@ -141,6 +141,8 @@ const ZONE_LABEL_PX: f64 = 17.0;
 const SMALL_PX: f64 = 12.0;
 const STATION_R: u32 = 5;
 const WAYPOINT_R: u32 = 3;
+/// With more nodes than this, nodes are drawn smaller so that dense clusters stay readable.
+const DENSE_NODES: usize = 600;
 
 type Area<'b> = DrawingArea<SVGBackend<'b>, Shift>;
 
@@ -426,20 +428,25 @@ impl MapCtx<'_, '_, '_> {
     }
 
     /// Waypoints small and grey, stations dark with a white rim, closed nodes ringed.
+    /// Smaller dots (and rims) when there are more than [`DENSE_NODES`] nodes.
     fn draw_nodes(&self) -> Result<(), RenderError> {
         let root = self.root;
         let airspace = self.input.airspace;
+        let dense = airspace.node_count() > DENSE_NODES;
         for kind in [NodeKind::Waypoint, NodeKind::Station] {
             for (i, n) in airspace.nodes().iter().enumerate() {
                 if n.kind != kind {
                     continue;
                 }
                 let p = self.pos(NodeId(i as u32));
-                let (r, colour) = match kind {
-                    NodeKind::Station => (STATION_R, INK),
-                    NodeKind::Waypoint => (WAYPOINT_R, WAYPOINT),
+                let (r, colour) = match (kind, dense) {
+                    (NodeKind::Station, false) => (STATION_R, INK),
+                    (NodeKind::Station, true) => (STATION_R - 2, INK),
+                    (NodeKind::Waypoint, false) => (WAYPOINT_R, WAYPOINT),
+                    (NodeKind::Waypoint, true) => (WAYPOINT_R - 1, WAYPOINT),
                 };
-                root.draw(&Circle::new(p, r + 2, PAPER.filled()))
+                let rim = if dense { 1 } else { 2 };
+                root.draw(&Circle::new(p, r + rim, PAPER.filled()))
                     .map_err(drawing_err)?;
                 root.draw(&Circle::new(p, r, colour.filled()))
                     .map_err(drawing_err)?;

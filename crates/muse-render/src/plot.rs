@@ -58,13 +58,19 @@ pub struct PlotOptions {
     pub y_from_zero: bool,
     /// Whether y values are fractions to be labelled as percentages (`0.85` → `85%`).
     pub y_percent: bool,
+    /// Whether the x axis is logarithmic, for x values spanning orders of magnitude (e.g.
+    /// 10,000 to 1,000,000 requests). Labelled ticks are then at the powers of ten (at 1, 2
+    /// and 5 × 10ⁿ when the data span less than a decade or two, or at the data's x values if
+    /// even those are too few), with short unlabelled ticks at the other whole multiples.
+    /// Every x must be positive.
+    pub x_log: bool,
     /// Small print under the plot, e.g. `100 runs per point; 95% CI` (none if empty; `\n`
     /// starts a new line).
     pub footnote: String,
 }
 
 impl Default for PlotOptions {
-    /// No text, 900 × 540 px, y axis fitted to the data, plain numbers.
+    /// No text, 900 × 540 px, linear axes, y axis fitted to the data, plain numbers.
     fn default() -> Self {
         PlotOptions {
             title: String::new(),
@@ -74,6 +80,7 @@ impl Default for PlotOptions {
             height_px: 540,
             y_from_zero: false,
             y_percent: false,
+            x_log: false,
             footnote: String::new(),
         }
     }
@@ -120,7 +127,8 @@ fn drawing_err<E: std::fmt::Display>(e: E) -> RenderError {
 /// a translucent band spanning its confidence intervals (a series with a single point gets
 /// an error bar instead). The y ticks are round numbers (1, 2 or 5 × 10ⁿ apart); the x ticks
 /// are the data's x values when there are at most 12 distinct ones, round numbers
-/// otherwise. The legend, above the plot, names the series; it is left out for a single
+/// otherwise; a logarithmic x axis ([`PlotOptions::x_log`]) has them at the powers of ten.
+/// The legend, above the plot, names the series; it is left out for a single
 /// series.
 ///
 /// Text is SVG `<text>` in the viewer's sans-serif font; no font files are read. The output
@@ -213,7 +221,7 @@ pub fn render_line_plot(series: &[Series], opts: &PlotOptions) -> Result<String,
     if frame_x1 - frame_x0 < MIN_PLOT_PX {
         return Err(too_small(opts));
     }
-    let x_axis = x_axis(series, frame_x1 - frame_x0, s)?;
+    let x_axis = if opts.x_log { log_x_axis } else { x_axis }(series, frame_x1 - frame_x0, s)?;
 
     let plot = Plot {
         frame: Rect {
@@ -300,6 +308,12 @@ fn validate(series: &[Series], opts: &PlotOptions) -> Result<(), RenderError> {
                     "series `{name}`, point {i}: {what} = {v} is not finite"
                 ));
             }
+            if opts.x_log && p.x <= 0.0 {
+                return input(format!(
+                    "series `{name}`, point {i}: x = {} cannot be shown on a logarithmic x axis (it must be > 0)",
+                    p.x
+                ));
+            }
             if p.ci_low > p.mean || p.mean > p.ci_high {
                 return input(format!(
                     "series `{name}`, point {i}: the interval [{}, {}] does not contain the mean {}",
@@ -337,6 +351,10 @@ struct Axis {
     lo: f64,
     hi: f64,
     ticks: Vec<Tick>,
+    /// Unlabelled short ticks (the log axis's intermediate multiples).
+    minor: Vec<f64>,
+    /// Whether positions are proportional to the logarithm of the value.
+    log: bool,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -348,7 +366,11 @@ struct Tick {
 impl Axis {
     /// Where `v` falls between `lo` (0) and `hi` (1).
     fn frac(&self, v: f64) -> f64 {
-        (v - self.lo) / (self.hi - self.lo)
+        if self.log {
+            (v.log10() - self.lo.log10()) / (self.hi.log10() - self.lo.log10())
+        } else {
+            (v - self.lo) / (self.hi - self.lo)
+        }
     }
 }
 
@@ -502,7 +524,13 @@ fn y_axis(series: &[Series], opts: &PlotOptions, plot_h: f64, s: f64) -> Result<
             label: format!("{}{unit}", fmt_tick(value * scale, decimals)),
         })
         .collect();
-    Ok(Axis { lo, hi, ticks })
+    Ok(Axis {
+        lo,
+        hi,
+        ticks,
+        minor: Vec::new(),
+        log: false,
+    })
 }
 
 /// The x axis: ticks at the data's x values when there are few, else 1-2-5 ticks about
@@ -540,6 +568,84 @@ fn x_axis(series: &[Series], plot_w: f64, s: f64) -> Result<Axis, RenderError> {
         lo: lo - margin,
         hi: hi + margin,
         ticks,
+        minor: Vec::new(),
+        log: false,
+    })
+}
+
+/// A logarithmic x axis (all x positive): labelled ticks at the powers of ten inside the
+/// data's range; at 1, 2 and 5 × 10ⁿ when that gives fewer than three; at the data's x
+/// values when that still gives fewer than two. Short unlabelled ticks mark the other whole
+/// multiples of each power of ten when a decade is wide enough for them. A margin of 4% of
+/// the logarithmic span on both sides keeps the end markers off the frame.
+fn log_x_axis(series: &[Series], plot_w: f64, s: f64) -> Result<Axis, RenderError> {
+    let mut xs: Vec<f64> = series
+        .iter()
+        .flat_map(|l| l.points.iter().map(|p| p.x))
+        .collect();
+    xs.sort_by(f64::total_cmp);
+    xs.dedup();
+    let (min, max) = (xs[0], xs[xs.len() - 1]);
+    // One value: half a decade either side.
+    let (lo, hi) = if max / min > 1.0 + 1e-9 {
+        (min.log10(), max.log10())
+    } else {
+        (min.log10() - 0.5, max.log10() + 0.5)
+    };
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Err(RenderError::Input(format!(
+            "the x values span {min} to {max}, too wide to plot"
+        )));
+    }
+    let inside = |v: f64| {
+        let l = v.log10();
+        l >= lo - 1e-9 && l <= hi + 1e-9
+    };
+    let (first, last) = ((lo - 1e-9).floor() as i32, (hi + 1e-9).ceil() as i32);
+    let decades: Vec<i32> = (first..=last).take(400).collect();
+    let candidates = |mantissas: &[f64]| -> Vec<f64> {
+        decades
+            .iter()
+            .flat_map(|&e| mantissas.iter().map(move |&m| m * 10f64.powi(e)))
+            .filter(|&v| inside(v))
+            .collect()
+    };
+    let decade_px = plot_w / (hi - lo).max(1e-9);
+    let mut values = candidates(&[1.0]);
+    if values.len() >= 3 {
+        // Every `every`th power of ten, so that labels keep about `X_TICK_SPACING` apart.
+        let every = (X_TICK_SPACING * s / decade_px).ceil().max(1.0) as i64;
+        values.retain(|v| (v.log10().round() as i64).rem_euclid(every) == 0);
+    } else {
+        values = candidates(&[1.0, 2.0, 5.0]);
+        if values.len() < 2 {
+            values.clone_from(&xs);
+        }
+    }
+    // Each label with its own decimals: 0.01, 0.1, 1, 10.
+    let ticks = values
+        .iter()
+        .map(|&value| Tick {
+            value,
+            label: fmt_tick(value, value_decimals(&[value])),
+        })
+        .collect();
+    // Minor ticks at 2..9 × 10ⁿ when a decade is at least ~60 px wide.
+    let minor = if decade_px >= 60.0 * s {
+        candidates(&[2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0])
+            .into_iter()
+            .filter(|v| !values.iter().any(|t| (t / v - 1.0).abs() < 1e-9))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let margin = (hi - lo) * 0.04;
+    Ok(Axis {
+        lo: 10f64.powf(lo - margin),
+        hi: 10f64.powf(hi + margin),
+        ticks,
+        minor,
+        log: true,
     })
 }
 
@@ -713,6 +819,14 @@ impl Plot {
         }
         let below = text(self.fonts.tick, false, MUTED, HPos::Center, VPos::Top);
         let ty = f.y1 + tick_len;
+        for &v in &self.x.minor {
+            let (x, _) = self.px(v, self.y.lo);
+            root.draw(&PathElement::new(
+                [(x, y1), (x, px(0.0, f.y1 + tick_len * 0.6).1)],
+                axis,
+            ))
+            .map_err(drawing_err)?;
+        }
         let mut free_from = f64::NEG_INFINITY;
         for t in &self.x.ticks {
             let (x, _) = self.px(t.value, self.y.lo);
@@ -1124,6 +1238,119 @@ mod tests {
             "{axis:?}"
         );
         assert!(render_line_plot(&series, &PlotOptions::default()).is_ok());
+    }
+
+    /// Time per request over three demand levels a decade apart, for three graphs.
+    fn scaling() -> Vec<Series> {
+        ["singapore-77", "singapore-all", "synthetic-10000"]
+            .iter()
+            .enumerate()
+            .map(|(i, name)| Series {
+                name: (*name).into(),
+                points: [1e4, 1e5, 1e6]
+                    .iter()
+                    .map(|&x: &f64| point(x, (1.0 + i as f64) * x.powf(0.1), 0.0))
+                    .collect(),
+            })
+            .collect()
+    }
+
+    #[test]
+    fn log_x_axis_has_decade_ticks() {
+        let series = scaling();
+        let axis = log_x_axis(&series, 700.0, 1.0).unwrap();
+        let labels: Vec<&str> = axis.ticks.iter().map(|t| t.label.as_str()).collect();
+        assert_eq!(labels, ["10,000", "100,000", "1,000,000"]);
+        // Decades are evenly spaced, with the same margin at both ends.
+        let fracs: Vec<f64> = axis.ticks.iter().map(|t| axis.frac(t.value)).collect();
+        assert!((fracs[1] - 0.5).abs() < 1e-12, "{fracs:?}");
+        assert!((fracs[0] - (1.0 - fracs[2])).abs() < 1e-12, "{fracs:?}");
+        assert!(fracs[0] > 0.0 && fracs[0] < 0.05, "{fracs:?}");
+        // 2…9 × 10⁴ and 2…9 × 10⁵ as short unlabelled ticks.
+        assert_eq!(axis.minor.len(), 16, "{:?}", axis.minor);
+        assert!(
+            (axis.frac(2e4) - axis.frac(1e4) - (axis.frac(2e5) - axis.frac(1e5))).abs() < 1e-12
+        );
+
+        let opts = PlotOptions {
+            x_log: true,
+            x_label: "Requests per day".into(),
+            ..options()
+        };
+        let svg = render_line_plot(&series, &opts).unwrap();
+        let texts = text_nodes(&svg);
+        for label in ["10,000", "100,000", "1,000,000", "singapore-all"] {
+            assert_eq!(
+                texts.iter().filter(|t| **t == label).count(),
+                1,
+                "{label} in {texts:?}"
+            );
+        }
+        // The same data on a linear axis is drawn differently.
+        let linear = render_line_plot(
+            &series,
+            &PlotOptions {
+                x_log: false,
+                ..opts.clone()
+            },
+        );
+        assert_ne!(svg, linear.unwrap());
+        // Deterministic, whatever the order of the points.
+        let mut shuffled = series.clone();
+        shuffled[1].points.reverse();
+        assert_eq!(svg, render_line_plot(&shuffled, &opts).unwrap());
+    }
+
+    #[test]
+    fn log_x_axis_on_narrow_and_wide_ranges() {
+        let at = |xs: &[f64]| {
+            vec![Series {
+                name: "s".into(),
+                points: xs.iter().map(|&x| point(x, 1.0, 0.1)).collect(),
+            }]
+        };
+        let labels = |xs: &[f64], w: f64| -> Vec<String> {
+            let axis = log_x_axis(&at(xs), w, 1.0).unwrap();
+            assert!(axis.lo < xs[0] && axis.hi > xs[xs.len() - 1], "{axis:?}");
+            axis.ticks.into_iter().map(|t| t.label).collect()
+        };
+        // Less than a decade: 1-2-5 ticks, or the data's values when those are too few.
+        assert_eq!(labels(&[150.0, 900.0], 700.0), ["200", "500"]);
+        assert_eq!(labels(&[200.0, 400.0], 700.0), ["200", "400"]);
+        assert_eq!(labels(&[1_000.0], 700.0), ["500", "1000", "2000"]);
+        assert_eq!(
+            labels(&[0.01, 1.0, 100.0], 700.0),
+            ["0.01", "0.1", "1", "10", "100"]
+        );
+        // Fifteen decades on a narrow plot: every other or third power of ten.
+        let wide = labels(&[1e-3, 1e12], 400.0);
+        assert!((2..=6).contains(&wide.len()), "{wide:?}");
+        let svg = render_line_plot(
+            &at(&[1e-3, 1.0, 1e12]),
+            &PlotOptions {
+                x_log: true,
+                ..PlotOptions::default()
+            },
+        );
+        assert!(svg.is_ok());
+        // Zero or negative x cannot be placed.
+        for bad in [0.0, -5.0] {
+            let opts = PlotOptions {
+                x_log: true,
+                ..PlotOptions::default()
+            };
+            match render_line_plot(&at(&[bad, 10.0]), &opts) {
+                Err(RenderError::Input(msg)) => {
+                    assert!(
+                        msg.contains("logarithmic") && msg.contains("point 0"),
+                        "{msg}"
+                    );
+                }
+                other => panic!("expected an input error, got {other:?}"),
+            }
+            // Fine on a linear axis.
+            assert!(render_line_plot(&at(&[bad, 10.0]), &PlotOptions::default()).is_ok());
+        }
     }
 
     #[test]

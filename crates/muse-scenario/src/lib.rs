@@ -1,5 +1,14 @@
-//! Built-in scenarios of MUSE: the Singapore default `singapore-77` (SPEC §8), built from
-//! open data embedded in the crate.
+//! Built-in scenarios of MUSE, built from open data embedded in the crate, and synthetic
+//! airspaces:
+//!
+//! - `singapore-77`, the default (SPEC §8): 77 HDB car parks chosen by seeded k-means, the
+//!   CBD no-fly zone; parsed from committed files ([`singapore_77`]);
+//! - `singapore-all`: all 1,115 HDB multi-storey car parks, the same zone; built at run time
+//!   ([`singapore_all()`]);
+//! - [`synthetic`](mod@synthetic): grid or random geometric airspaces of any size, for
+//!   scaling studies.
+//!
+//! [`SCENARIOS`] lists the built-in names and [`by_name`] returns one.
 //!
 //! # Source data
 //!
@@ -58,6 +67,22 @@
 //! [`planning_areas`] / [`singapore_land`]: the 55 planning areas; a point is on land when
 //! some planning area contains it (boundary included). The union is not computed.
 //!
+//! # `singapore-all`
+//!
+//! Every one of the 1,115 multi-storey car parks is a station (the rule is in
+//! [`singapore_all`](mod@singapore_all)): id the car-park number (`ACM`), name the address,
+//! position as for `singapore-77` (SVY21 → WGS84, 7 decimals); nodes sorted by car-park
+//! number. If several car parks shared a position, the one with the lowest car-park number
+//! would be kept and the others dropped and listed; in the embedded data none share one
+//! (the closest two, `BJ15` and `BJ16`, are 18 m apart), so **0 are dropped**
+//! ([`SINGAPORE_ALL_DROPPED`], checked by a test). Edges: [`build_airspace`] with the default
+//! options, as above: 3,302 corridors from 18 m to 9.50 km, median 0.33 km. Zone, date and
+//! offset: those of `singapore-77`; the CBD zone closes no station and 7 corridors. It is
+//! built from the embedded data on first use (about 6 ms in release) and cached, rather
+//! than committed.
+//!
+//! [`build_airspace`]: muse_airspace::builder::build_airspace
+//!
 //! # Files
 //!
 //! [`build_singapore_77`] produces `scenarios/singapore-77/airspace.geojson` and
@@ -71,13 +96,20 @@
 pub mod carparks;
 pub mod land;
 pub mod singapore;
+pub mod singapore_all;
 pub mod stations;
+pub mod synthetic;
 
 pub use land::{PlanningArea, planning_areas, singapore_land};
 pub use singapore::{
     BuiltFiles, CBD_ZONE_ID, CBD_ZONE_NAME, KMEANS_SEED, SINGAPORE_77, STATION_COUNT, Scenario,
     build_singapore_77, build_singapore_77_airspace, cbd_zone, singapore_77, station_nodes,
 };
+pub use singapore_all::{
+    AllStations, DroppedCarPark, SINGAPORE_ALL, SINGAPORE_ALL_DROPPED, all_stations,
+    build_singapore_all, build_singapore_all_airspace, singapore_all,
+};
+pub use synthetic::{Layout, SyntheticSpec, synthetic};
 
 use muse_airspace::builder::BuildError;
 use muse_formats::InputError;
@@ -110,6 +142,32 @@ pub mod data {
         include_str!("../../../data/ura_mp2019_downtown_core.geojson");
     /// The name used for [`DOWNTOWN_CORE_GEOJSON`] in messages.
     pub const DOWNTOWN_CORE_GEOJSON_NAME: &str = "data/ura_mp2019_downtown_core.geojson";
+}
+
+/// The names of the built-in scenarios, the default first.
+pub const SCENARIOS: [&str; 2] = [SINGAPORE_77, SINGAPORE_ALL];
+
+/// The built-in scenario called `name` (one of [`SCENARIOS`]). `singapore-77` is parsed
+/// from the embedded files, `singapore-all` built from the embedded data, each once per
+/// process.
+///
+/// ```
+/// let s = muse_scenario::by_name("singapore-all").unwrap();
+/// assert_eq!(s.airspace.stations().count(), 1_115);
+/// let err = muse_scenario::by_name("paris").unwrap_err();
+/// assert_eq!(
+///     err.to_string(),
+///     "unknown scenario `paris`; the built-in scenarios are singapore-77, singapore-all"
+/// );
+/// ```
+pub fn by_name(name: &str) -> Result<&'static Scenario, ScenarioError> {
+    match name {
+        SINGAPORE_77 => Ok(&singapore::SINGAPORE_77_SCENARIO),
+        SINGAPORE_ALL => singapore_all(),
+        _ => Err(ScenarioError::UnknownScenario {
+            name: name.to_owned(),
+        }),
+    }
 }
 
 /// Why a scenario could not be built.
@@ -150,4 +208,16 @@ pub enum ScenarioError {
     /// A generated file could not be read back.
     #[error(transparent)]
     Input(#[from] InputError),
+    /// No built-in scenario has this name.
+    #[error(
+        "unknown scenario `{name}`; the built-in scenarios are {}",
+        SCENARIOS.join(", ")
+    )]
+    UnknownScenario {
+        /// The name asked for.
+        name: String,
+    },
+    /// A synthetic airspace spec is out of range.
+    #[error("invalid synthetic airspace: {0}")]
+    BadSpec(String),
 }

@@ -52,6 +52,8 @@ pub struct BuiltFiles {
 pub struct Scenario {
     /// Name, e.g. `singapore-77`.
     pub name: String,
+    /// A one-line description, e.g. for map titles: `Singapore, 77 HDB car-park stations`.
+    pub title: String,
     /// The airspace.
     pub airspace: Airspace,
     /// The no-fly zones.
@@ -60,9 +62,14 @@ pub struct Scenario {
     pub date: jiff::civil::Date,
     /// The local UTC offset.
     pub offset: UtcOffset,
+    /// Whether the scenario is on Singapore's land, so that its outline
+    /// ([`singapore_land`](crate::singapore_land)) belongs on maps, with the data
+    /// [`ATTRIBUTION`](crate::ATTRIBUTION).
+    pub land: bool,
 }
 
-fn round_to_decimals(v: f64) -> f64 {
+/// `v` rounded to [`COORDINATE_DECIMALS`] decimals.
+pub(crate) fn round_to_decimals(v: f64) -> f64 {
     let scale = 10_f64.powi(COORDINATE_DECIMALS);
     (v * scale).round() / scale
 }
@@ -145,7 +152,7 @@ pub fn build_singapore_77() -> Result<BuiltFiles, ScenarioError> {
     })
 }
 
-static SINGAPORE_77_SCENARIO: LazyLock<Scenario> = LazyLock::new(|| {
+pub(crate) static SINGAPORE_77_SCENARIO: LazyLock<Scenario> = LazyLock::new(|| {
     let path = |file: &str| format!("scenarios/{SINGAPORE_77}/{file}");
     let airspace =
         muse_formats::airspace_geojson::read_airspace(AIRSPACE_GEOJSON, &path(AIRSPACE_FILE))
@@ -154,10 +161,12 @@ static SINGAPORE_77_SCENARIO: LazyLock<Scenario> = LazyLock::new(|| {
         .expect("the embedded singapore-77 zones are valid (checked by the tests)");
     Scenario {
         name: SINGAPORE_77.to_owned(),
+        title: format!("Singapore, {STATION_COUNT} HDB car-park stations"),
         airspace,
         zones,
         date: jiff::civil::date(2026, 1, 5),
         offset: UtcOffset::SINGAPORE,
+        land: true,
     }
 });
 

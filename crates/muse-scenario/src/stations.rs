@@ -43,7 +43,7 @@ pub struct KMeans {
 }
 
 /// A uniform number in `[0, 1)` from the raw 64-bit output of `rng`.
-fn uniform(rng: &mut ChaCha8Rng) -> f64 {
+pub(crate) fn uniform(rng: &mut ChaCha8Rng) -> f64 {
     (rng.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
 }
 

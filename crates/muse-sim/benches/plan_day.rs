@@ -59,3 +59,37 @@ fn singapore_77_cbd(bencher: Bencher, count: usize) {
             plan_requests(&s.airspace, &s.zones, params, reqs, |_| {}).unwrap()
         });
 }
+
+/// Every multi-storey car park a station (`singapore-all`, about 1,100 stations), with the
+/// CBD zone; demand restricted to pairs within battery range so that the search works.
+#[divan::bench(args = [10_000, 100_000], sample_count = 3)]
+fn singapore_all_in_range(bencher: Bencher, count: usize) {
+    let s = muse_scenario::singapore_all().expect("singapore-all builds");
+    let params = FlightParams::default();
+    let eight = Instant::at_local(s.date, Millis::from_mins(8 * 60), s.offset);
+    let twenty = Instant::at_local(s.date, Millis::from_mins(20 * 60), s.offset);
+    let od = OdRule::InRange {
+        speed: params.speed,
+        max_flight: params.max_flight,
+    };
+    let spec = DemandSpec {
+        count,
+        start: eight,
+        end: twenty,
+        seed: 1,
+        od,
+    };
+    let requests = generate(&s.airspace, &spec).expect("demand");
+    let run = plan_requests(&s.airspace, &s.zones, params, requests.clone(), |_| {}).unwrap();
+    let expanded: u64 = run.outcomes.iter().map(|o| o.expanded).sum();
+    let planned = run.outcomes.iter().filter(|o| o.result.is_ok()).count();
+    eprintln!(
+        "\nsingapore-all, {count} in-range requests: {planned} planned, {:.2} labels expanded per request",
+        expanded as f64 / count as f64
+    );
+    bencher
+        .with_inputs(|| requests.clone())
+        .bench_local_values(|reqs| {
+            plan_requests(&s.airspace, &s.zones, params, reqs, |_| {}).unwrap()
+        });
+}

@@ -3,10 +3,13 @@
 //! - [`demand`]: seeded, reproducible request generation (SPEC §8);
 //! - [`day`]: planning a day of requests first come, first served;
 //! - [`sweep`]: the paper's experiment, counts × repetitions × variants in parallel;
+//! - [`bench`]: scaling benchmarks (`muse bench`): case measurements, peak memory, growth
+//!   exponents, table and CSV;
 //! - [`stats`]: means and 95% confidence intervals;
 //! - [`metrics`]: the run summary (`summary.json`, SPEC §7): success rate, rejections by
 //!   reason, air and ground delay statistics, planner time and search effort, parameters.
 
+pub mod bench;
 pub mod day;
 pub mod demand;
 pub mod metrics;
