@@ -9,6 +9,7 @@
 //! graph, total planner time against requests (1 means linear in demand); per demand level,
 //! time per request against the number of nodes.
 
+use crate::sweep::csv_text;
 use std::fmt::Write as _;
 
 use serde::{Deserialize, Serialize};
@@ -395,14 +396,6 @@ pub fn bench_table(cases: &[Measured], exponents: &Exponents) -> String {
         );
     }
     out
-}
-
-fn csv_text(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_owned()
-    }
 }
 
 #[cfg(test)]

@@ -328,7 +328,8 @@ pub fn summary_csv(rows: &[SummaryRow]) -> String {
     out
 }
 
-fn csv_text(s: &str) -> String {
+/// A CSV field, quoted when it needs to be.
+pub(crate) fn csv_text(s: &str) -> String {
     if s.contains([',', '"', '\n']) {
         format!("\"{}\"", s.replace('"', "\"\""))
     } else {

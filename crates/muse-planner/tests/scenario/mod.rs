@@ -417,6 +417,9 @@ pub fn run(instance: &Instance) -> Result<Tally, String> {
     let mut accepted: Vec<(usize, Plan)> = Vec::new();
     let mut tally = Tally::default();
     for (i, request) in b.requests.iter().enumerate() {
+        // As `plan_day` does: the request's departure is the horizon (exercises the skipping
+        // of past reservations, and its reset when an instance is not in departure order).
+        schedule.set_horizon(request.departure.0);
         let outcome = planner.plan(&schedule, request, &mut scratch);
         let others: Vec<&Plan> = accepted.iter().map(|(_, p)| p).collect();
         let expected = oracle::solve(
