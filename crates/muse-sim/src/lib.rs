@@ -3,7 +3,7 @@
 //! - [`demand`]: seeded, reproducible request generation (SPEC §8);
 //! - [`day`]: planning a day of requests first come, first served;
 //! - [`sweep`]: the paper's experiment, counts × repetitions × variants in parallel;
-//! - [`bench`]: scaling benchmarks (`muse bench`): case measurements, peak memory, growth
+//! - [`bench`](mod@bench): scaling benchmarks (`muse bench`): case measurements, peak memory, growth
 //!   exponents, table and CSV;
 //! - [`stats`]: means and 95% confidence intervals;
 //! - [`metrics`]: the run summary (`summary.json`, SPEC §7): success rate, rejections by
