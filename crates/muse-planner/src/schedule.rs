@@ -43,7 +43,7 @@
 //! 24 bytes per stay and per traversal.
 
 use muse_airspace::closures::Closures;
-use muse_model::{Airspace, EdgeId, EdgeRule, FlightParams, Millis, NodeId, Plan};
+use muse_model::{Airspace, EdgeId, EdgeRule, FlightParams, NodeId, Plan};
 
 /// "Never": later than any instant MUSE handles (±1.4 × 10¹⁵ years in ms, with headroom so
 /// that adding durations cannot overflow).
@@ -516,17 +516,11 @@ fn slot<const N: usize>(views: &[View<'_>; N], t: i64) -> NodeSlot {
     NodeSlot::Safe { lo, hi, next }
 }
 
-/// Milliseconds as a plain integer (the planner works in raw `i64` ms internally).
-#[inline]
-pub fn ms(m: Millis) -> i64 {
-    m.0
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use muse_airspace::closures::resolve;
-    use muse_model::{Edge, Instant, LonLat, Node, NodeKind, Period, Stay, Zone};
+    use muse_model::{Edge, Instant, LonLat, Millis, Node, NodeKind, Period, Stay, Zone};
 
     /// A — B, 1 km (120 s at 30 km/h).
     fn line() -> Airspace {
