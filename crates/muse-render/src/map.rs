@@ -408,14 +408,7 @@ impl MapCtx<'_, '_, '_> {
                     .map_err(drawing_err)?;
             }
         }
-        let mut closed_edges: Vec<EdgeId> = self
-            .input
-            .zones
-            .iter()
-            .flat_map(|z| z.closed_edges.iter().copied())
-            .collect();
-        closed_edges.sort_unstable();
-        closed_edges.dedup();
+        let closed_edges = union_sorted(self.input.zones.iter().map(|z| z.closed_edges.as_slice()));
         for &e in &closed_edges {
             let [a, b] = self.ends(airspace.edge(e));
             // A white underlay keeps the dashes readable over a busy corridor.
@@ -452,14 +445,7 @@ impl MapCtx<'_, '_, '_> {
                     .map_err(drawing_err)?;
             }
         }
-        let mut closed_nodes: Vec<NodeId> = self
-            .input
-            .zones
-            .iter()
-            .flat_map(|z| z.closed_nodes.iter().copied())
-            .collect();
-        closed_nodes.sort_unstable();
-        closed_nodes.dedup();
+        let closed_nodes = union_sorted(self.input.zones.iter().map(|z| z.closed_nodes.as_slice()));
         for &n in &closed_nodes {
             root.draw(&Circle::new(
                 self.pos(n),
@@ -1047,6 +1033,14 @@ impl Legend {
         }
         Ok(())
     }
+}
+
+/// The sorted union of several lists of ids (each zone's closed nodes or edges).
+fn union_sorted<'a, T: Copy + Ord + 'a>(lists: impl Iterator<Item = &'a [T]>) -> Vec<T> {
+    let mut all: Vec<T> = lists.flatten().copied().collect();
+    all.sort_unstable();
+    all.dedup();
+    all
 }
 
 #[cfg(test)]

@@ -533,15 +533,21 @@ fn y_axis(series: &[Series], opts: &PlotOptions, plot_h: f64, s: f64) -> Result<
     })
 }
 
-/// The x axis: ticks at the data's x values when there are few, else 1-2-5 ticks about
-/// [`X_TICK_SPACING`] apart; a margin on both sides keeps the end markers off the frame.
-fn x_axis(series: &[Series], plot_w: f64, s: f64) -> Result<Axis, RenderError> {
+/// The distinct x values of all series, ascending.
+fn distinct_xs(series: &[Series]) -> Vec<f64> {
     let mut xs: Vec<f64> = series
         .iter()
         .flat_map(|l| l.points.iter().map(|p| p.x))
         .collect();
     xs.sort_by(f64::total_cmp);
     xs.dedup();
+    xs
+}
+
+/// The x axis: ticks at the data's x values when there are few, else 1-2-5 ticks about
+/// [`X_TICK_SPACING`] apart; a margin on both sides keeps the end markers off the frame.
+fn x_axis(series: &[Series], plot_w: f64, s: f64) -> Result<Axis, RenderError> {
+    let xs = distinct_xs(series);
     let (lo, hi) = widen(xs[0], xs[xs.len() - 1])?;
     let margin = (hi - lo) * 0.04;
     let ticks: Vec<Tick> = if xs.len() <= MAX_DATA_TICKS {
@@ -579,12 +585,7 @@ fn x_axis(series: &[Series], plot_w: f64, s: f64) -> Result<Axis, RenderError> {
 /// multiples of each power of ten when a decade is wide enough for them. A margin of 4% of
 /// the logarithmic span on both sides keeps the end markers off the frame.
 fn log_x_axis(series: &[Series], plot_w: f64, s: f64) -> Result<Axis, RenderError> {
-    let mut xs: Vec<f64> = series
-        .iter()
-        .flat_map(|l| l.points.iter().map(|p| p.x))
-        .collect();
-    xs.sort_by(f64::total_cmp);
-    xs.dedup();
+    let xs = distinct_xs(series);
     let (min, max) = (xs[0], xs[xs.len() - 1]);
     // One value: half a decade either side.
     let (lo, hi) = if max / min > 1.0 + 1e-9 {
