@@ -228,6 +228,17 @@ fn airspace_error(
             e.to_string(),
         )
     };
+    let at_node = |index: usize, id: &str, field: &str| {
+        InputError::new(
+            file,
+            Location::Feature {
+                index: node_feature[index],
+                id: Some(id.to_owned()),
+            },
+            Some(field),
+            e.to_string(),
+        )
+    };
     match e {
         AirspaceError::SelfLoop { index, id, .. } => at_edge(*index, id, "to"),
         AirspaceError::BadLength { index, id, .. } => at_edge(*index, id, "length_m"),
@@ -236,24 +247,8 @@ fn airspace_error(
             at_edge(*second, &format!("{a}-{b}"), "to")
         }
         AirspaceError::NodeOutOfRange { index, id } => at_edge(*index, id, "from"),
-        AirspaceError::DuplicateNodeId { id, second, .. } => InputError::new(
-            file,
-            Location::Feature {
-                index: node_feature[*second],
-                id: Some(id.clone()),
-            },
-            Some("id"),
-            e.to_string(),
-        ),
-        AirspaceError::BadPosition { index, id } => InputError::new(
-            file,
-            Location::Feature {
-                index: node_feature[*index],
-                id: Some(id.clone()),
-            },
-            Some("geometry.coordinates"),
-            e.to_string(),
-        ),
+        AirspaceError::DuplicateNodeId { id, second, .. } => at_node(*second, id, "id"),
+        AirspaceError::BadPosition { index, id } => at_node(*index, id, "geometry.coordinates"),
         AirspaceError::TooLarge => InputError::new(file, Location::Whole, None, e.to_string()),
     }
 }
