@@ -36,32 +36,53 @@ pub struct PlanRecord {
     pub expanded: u64,
 }
 
-#[derive(Serialize, Deserialize)]
-struct StayLine {
-    node: String,
-    arrive: String,
-    depart: String,
+/// One stay of a [`PlanLine`], as written.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StayLine {
+    /// Node id.
+    pub node: String,
+    /// Arrival, RFC 3339.
+    pub arrive: String,
+    /// Departure, RFC 3339.
+    pub depart: String,
 }
 
-#[derive(Serialize, Deserialize)]
-struct Line {
-    request: String,
-    status: String,
-    reason: Option<String>,
-    origin: String,
-    destination: String,
-    requested_departure: String,
-    takeoff: Option<String>,
-    landing: Option<String>,
-    airborne_s: Option<f64>,
-    free_flow_s: Option<f64>,
-    air_delay_s: Option<f64>,
-    ground_delay_s: Option<f64>,
-    distance_m: Option<f64>,
+/// The SPEC §7 object as written: one line of a plans file, or the body of the service's
+/// answer about a flight.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PlanLine {
+    /// Request id.
+    pub request: String,
+    /// `planned` or `rejected` (the service also says `cancelled`).
+    pub status: String,
+    /// Rejection (or cancellation) reason; `null` when planned.
+    pub reason: Option<String>,
+    /// Origin station id.
+    pub origin: String,
+    /// Destination station id.
+    pub destination: String,
+    /// Requested departure, RFC 3339.
+    pub requested_departure: String,
+    /// Take-off, RFC 3339.
+    pub takeoff: Option<String>,
+    /// Landing, RFC 3339.
+    pub landing: Option<String>,
+    /// Landing minus take-off, s.
+    pub airborne_s: Option<f64>,
+    /// Free-flow airborne time, s.
+    pub free_flow_s: Option<f64>,
+    /// Airborne minus free flow, s.
+    pub air_delay_s: Option<f64>,
+    /// Take-off minus requested departure, s.
+    pub ground_delay_s: Option<f64>,
+    /// Length of the path, m.
+    pub distance_m: Option<f64>,
+    /// Search labels expanded.
     #[serde(default)]
-    expanded: u64,
+    pub expanded: u64,
+    /// The stays, when planned.
     #[serde(skip_serializing_if = "Option::is_none", default)]
-    path: Option<Vec<StayLine>>,
+    pub path: Option<Vec<StayLine>>,
 }
 
 /// Total length of a plan's path, metres (rounded to the millimetre).
@@ -96,12 +117,19 @@ pub fn write_plan_line(
     offset: UtcOffset,
     record: &PlanRecord,
 ) {
+    let line = plan_line(airspace, offset, record);
+    // Serialising plain strings and numbers cannot fail.
+    let _ = writeln!(out, "{}", serde_json::to_string(&line).unwrap_or_default());
+}
+
+/// The SPEC §7 object for `record`, times in `offset`.
+pub fn plan_line(airspace: &Airspace, offset: UtcOffset, record: &PlanRecord) -> PlanLine {
     let secs = |m: Millis| m.as_secs_f64();
     let (status, reason, plan) = match &record.result {
         Ok(plan) => ("planned", None, Some(plan)),
         Err(r) => ("rejected", Some(r.as_str().to_owned()), None),
     };
-    let line = Line {
+    PlanLine {
         request: record.request.clone(),
         status: status.to_owned(),
         reason,
@@ -126,9 +154,7 @@ pub fn write_plan_line(
                 })
                 .collect()
         }),
-    };
-    // Serialising plain strings and numbers cannot fail.
-    let _ = writeln!(out, "{}", serde_json::to_string(&line).unwrap_or_default());
+    }
 }
 
 /// Reads a plans JSON Lines file's text. Node ids are resolved against `airspace`; every
@@ -147,7 +173,7 @@ pub fn read_plans(
         let err = |field: Option<&str>, msg: String| {
             InputError::new(file, Location::Line(line_no), field, msg)
         };
-        let line: Line =
+        let line: PlanLine =
             serde_json::from_str(raw).map_err(|e| err(None, format!("not a plan record: {e}")))?;
         let time = |field: &str, text: &str| {
             Instant::parse_rfc3339(text).map_err(|e| err(Some(field), e.to_string()))

@@ -50,11 +50,23 @@ pub enum RejectReason {
     Unreachable,
     /// Traffic and/or zones make every path infeasible.
     NoFeasiblePlan,
+    /// The requested departure is earlier than the service clock's now (SPEC §10; only the
+    /// online planner gives it).
+    DepartureInPast,
 }
 
 impl RejectReason {
     /// All reasons, in report order.
-    pub const ALL: [RejectReason; 3] = [
+    pub const ALL: [RejectReason; 4] = [
+        RejectReason::OutOfRange,
+        RejectReason::Unreachable,
+        RejectReason::NoFeasiblePlan,
+        RejectReason::DepartureInPast,
+    ];
+
+    /// The reasons a plan of SPEC §6 can be refused for, whatever the clock: the ones a batch
+    /// run (a day planned in advance) reports.
+    pub const PLANNING: [RejectReason; 3] = [
         RejectReason::OutOfRange,
         RejectReason::Unreachable,
         RejectReason::NoFeasiblePlan,
@@ -66,6 +78,7 @@ impl RejectReason {
             RejectReason::OutOfRange => "out_of_range",
             RejectReason::Unreachable => "unreachable",
             RejectReason::NoFeasiblePlan => "no_feasible_plan",
+            RejectReason::DepartureInPast => "departure_in_past",
         }
     }
 

@@ -6,7 +6,9 @@
 //! - [`heuristic`]: exact free-flow times to each destination, computed once and shared;
 //! - [`sipp`]: the safe-interval A* search (hovering, battery, ground delay);
 //! - [`planner`]: [`Planner`], prepared once per airspace and parameters, and [`plan_day`],
-//!   which plans a list of requests first come, first served.
+//!   which plans a list of requests first come, first served;
+//! - [`online`]: [`Live`], the same planner and schedule driven by a clock, for requests that
+//!   arrive one at a time in any order of departure, with cancellation (SPEC §10).
 //!
 //! ```
 //! use muse_airspace::closures::Closures;
@@ -38,10 +40,12 @@
 //! ```
 
 pub mod heuristic;
+pub mod online;
 pub mod planner;
 pub mod schedule;
 pub mod sipp;
 
-pub use planner::{Outcome, Planner, plan_day};
+pub use online::Live;
+pub use planner::{Outcome, Planner, plan_and_book, plan_day};
 pub use schedule::{FlightId, Schedule};
 pub use sipp::Scratch;

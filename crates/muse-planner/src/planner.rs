@@ -71,6 +71,23 @@ impl<'a> Planner<'a> {
     }
 }
 
+/// Plans `request` against `schedule` and, if a plan exists, adds it as `flight`: the one
+/// step of first-come-first-served planning that the batch day ([`plan_day`]) and the online
+/// service ([`Live`](crate::Live)) share.
+pub fn plan_and_book(
+    planner: &Planner<'_>,
+    schedule: &mut Schedule,
+    flight: FlightId,
+    request: &Request,
+    scratch: &mut Scratch,
+) -> Outcome {
+    let outcome = planner.plan(schedule, request, scratch);
+    if let Ok(plan) = &outcome.result {
+        schedule.insert(planner.airspace(), flight, plan);
+    }
+    outcome
+}
+
 /// Plans `requests` in the given order (callers sort them by `(departure, id)` first), adding
 /// each accepted plan to `schedule` before the next (first come, first served). The flight
 /// id of request `i` is `i`. Each request's departure becomes the schedule's horizon
@@ -86,11 +103,13 @@ pub fn plan_day(
     let mut out = Vec::with_capacity(requests.len());
     for (i, request) in requests.iter().enumerate() {
         schedule.set_horizon(request.departure.0);
-        let outcome = planner.plan(schedule, request, scratch);
-        if let Ok(plan) = &outcome.result {
-            schedule.insert(planner.airspace(), i as FlightId, plan);
-        }
-        out.push(outcome);
+        out.push(plan_and_book(
+            planner,
+            schedule,
+            i as FlightId,
+            request,
+            scratch,
+        ));
         progress(i + 1);
     }
     out

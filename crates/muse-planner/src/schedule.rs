@@ -53,7 +53,7 @@ pub const NEG_INF: i64 = i64::MIN / 4;
 
 /// An identifier of an accepted flight in a schedule (the caller's choice, e.g. the request's
 /// position in the day).
-pub type FlightId = u32;
+pub type FlightId = u64;
 
 /// One reservation: a stay `[start, end]`, an entry instant (`start == end`), or a zone
 /// barrier already in `(L, R)` form.
@@ -352,6 +352,48 @@ impl Schedule {
             }
         }
         self.horizon = t;
+    }
+
+    /// The current horizon (see [`Schedule::set_horizon`]).
+    pub fn horizon(&self) -> i64 {
+        self.horizon
+    }
+
+    /// Drops from memory every reservation that can no longer matter to a query at or after
+    /// the horizon (those the searches already skip), keeping in each list only the last of
+    /// them, whose end still bounds the safe interval that follows it. Returns how many were
+    /// dropped. After this, queries before the horizon may miss reservations and the flights
+    /// they belonged to can no longer be [removed](Schedule::remove): call it only once the
+    /// horizon is a clock that never goes back (the online planner's now).
+    pub fn forget_past(&mut self) -> usize {
+        let mut dropped = 0;
+        let books = self
+            .nodes
+            .iter_mut()
+            .map(|n| &mut n.stays)
+            .chain(self.edges.iter_mut().flat_map(|e| e.dirs.iter_mut()));
+        for book in books {
+            if book.floor > 1 {
+                let n = book.floor - 1;
+                book.occ.drain(..n);
+                book.floor = 1;
+                dropped += n;
+            }
+        }
+        self.reservations -= dropped;
+        dropped
+    }
+
+    /// Bytes of reservation memory in use (the lists' capacities), for monitoring.
+    pub fn reservation_bytes(&self) -> usize {
+        let books = self
+            .nodes
+            .iter()
+            .map(|n| &n.stays)
+            .chain(self.edges.iter().flat_map(|e| e.dirs.iter()));
+        books
+            .map(|b| b.occ.capacity() * std::mem::size_of::<Occ>())
+            .sum()
     }
 
     /// The widest widening any view applies to a list.

@@ -78,6 +78,43 @@ fn planner_matches_oracle_tau_zero() {
     );
 }
 
+/// Runs `cases` random instances of `shape` through the online path (`scenario::run_online`).
+fn property_online(shape: Shape, cases: u32, seed: u64) -> Tally {
+    let total = std::cell::Cell::new(Tally::default());
+    let result = runner(cases, seed).run(&scenario::instances(shape), |instance| {
+        let tally =
+            scenario::run_online(&instance).map_err(proptest::test_runner::TestCaseError::fail)?;
+        let mut t = total.get();
+        t.add(&tally);
+        total.set(t);
+        Ok(())
+    });
+    if let Err(e) = result {
+        panic!("seed {seed}: {e}");
+    }
+    let t = total.get();
+    println!("online {shape:?}: {t:?}");
+    t
+}
+
+#[test]
+fn online_matches_oracle_mixed() {
+    let t = property_online(Shape::MIXED, 2_000, 0x5eed_0011);
+    assert!(
+        t.planned > 2_000 && t.in_past > 500 && t.cancelled > 500 && t.cancel_refused > 50,
+        "{t:?}"
+    );
+}
+
+#[test]
+fn online_matches_oracle_crowded() {
+    let t = property_online(Shape::CROWDED, 2_000, 0x5eed_0012);
+    assert!(
+        t.planned > 2_000 && t.in_past > 500 && t.cancelled > 500 && t.rejected[2] > 100,
+        "{t:?}"
+    );
+}
+
 /// The oracle's grid argument, checked: on data in units of 7 or 37 ms, searching the grid of
 /// whole units plus offsets gives the same answers as searching every millisecond.
 #[test]
@@ -105,7 +142,7 @@ fn oracle_grid_equals_every_millisecond() {
             let fine = oracle::solve(&b.airspace, &b.params, &b.raw, &others, request, 1);
             prop_assert_eq!(coarse.result, fine.result, "request {}", request.id);
             if let Ok(plan) = planner.plan(&schedule, request, &mut scratch).result {
-                schedule.insert(&b.airspace, i as u32, &plan);
+                schedule.insert(&b.airspace, i as u64, &plan);
                 accepted.push(plan);
             }
         }

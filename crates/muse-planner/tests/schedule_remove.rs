@@ -32,16 +32,16 @@ fn check(instance: &Instance, pick: usize) -> Result<(), String> {
         return Ok(());
     }
     let (k, removed) = &accepted[pick % accepted.len()];
-    if !schedule.remove(&b.airspace, *k as u32, removed) {
+    if !schedule.remove(&b.airspace, *k as u64, removed) {
         return Err(format!("remove of flight {k} returned false"));
     }
-    if schedule.remove(&b.airspace, *k as u32, removed) {
+    if schedule.remove(&b.airspace, *k as u64, removed) {
         return Err(format!("a second remove of flight {k} returned true"));
     }
     let mut fresh = Schedule::new(&b.airspace, &b.params, &b.closures);
     let rest: Vec<(usize, Plan)> = accepted.iter().filter(|(i, _)| i != k).cloned().collect();
     for (i, p) in &rest {
-        fresh.insert(&b.airspace, *i as u32, p);
+        fresh.insert(&b.airspace, *i as u64, p);
     }
     let others: Vec<&Plan> = rest.iter().map(|(_, p)| p).collect();
     for request in &b.requests {
@@ -74,7 +74,7 @@ fn check(instance: &Instance, pick: usize) -> Result<(), String> {
         }
     }
     // Re-inserting restores the day's schedule: replanning the removed request gives its plan.
-    schedule.insert(&b.airspace, *k as u32, removed);
+    schedule.insert(&b.airspace, *k as u64, removed);
     let mut again = Schedule::new(&b.airspace, &b.params, &b.closures);
     let replay = plan_day(&planner, &mut again, &b.requests, &mut scratch, |_| {});
     if results(&replay) != results(&day) {

@@ -167,8 +167,10 @@ impl Summary {
         planner_wall: std::time::Duration,
         provenance: Provenance,
     ) -> Summary {
-        let mut rejected_by_reason: BTreeMap<&'static str, usize> =
-            RejectReason::ALL.iter().map(|r| (r.as_str(), 0)).collect();
+        let mut rejected_by_reason: BTreeMap<&'static str, usize> = RejectReason::PLANNING
+            .iter()
+            .map(|r| (r.as_str(), 0))
+            .collect();
         let (mut air, mut ground) = (Vec::new(), Vec::new());
         let mut requests = 0;
         let mut effort = Effort::default();

@@ -199,7 +199,11 @@ fn run_one(
             }
             Err(muse_model::RejectReason::OutOfRange) => rec.out_of_range += 1,
             Err(muse_model::RejectReason::Unreachable) => rec.unreachable += 1,
-            Err(muse_model::RejectReason::NoFeasiblePlan) => rec.no_feasible_plan += 1,
+            // A day planned in advance has no clock, so it never answers `departure_in_past`.
+            Err(
+                muse_model::RejectReason::NoFeasiblePlan
+                | muse_model::RejectReason::DepartureInPast,
+            ) => rec.no_feasible_plan += 1,
         }
     }
     let n = requests.len().max(1) as f64;

@@ -10,7 +10,8 @@ use muse_model::{
     Airspace, Edge, EdgeRule, FlightParams, Instant, LonLat, Millis, Node, NodeId, NodeKind,
     Period, Plan, RejectReason, Request, Speed, Zone,
 };
-use muse_planner::{Outcome, Planner, Schedule, Scratch};
+use muse_planner::online::CancelError;
+use muse_planner::{Live, Outcome, Planner, Schedule, Scratch};
 use muse_verify::{Flight, verify};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, RngSeed, TestRunner};
@@ -361,6 +362,12 @@ pub struct Tally {
     pub off_grid: usize,
     /// Rejections: out of range, unreachable, no feasible plan.
     pub rejected: [usize; 3],
+    /// Online runs: requests whose departure was before the clock's now.
+    pub in_past: usize,
+    /// Online runs: flights cancelled before take-off.
+    pub cancelled: usize,
+    /// Online runs: cancellations refused after take-off.
+    pub cancel_refused: usize,
 }
 
 impl Tally {
@@ -373,6 +380,9 @@ impl Tally {
         for (a, b) in self.rejected.iter_mut().zip(o.rejected) {
             *a += b;
         }
+        self.in_past += o.in_past;
+        self.cancelled += o.cancelled;
+        self.cancel_refused += o.cancel_refused;
     }
 }
 
@@ -440,11 +450,100 @@ pub fn run(instance: &Instance) -> Result<Tally, String> {
             &mut tally,
         )?;
         if let Ok(plan) = &outcome.result {
-            schedule.insert(&b.airspace, i as u32, plan);
+            schedule.insert(&b.airspace, i as u64, plan);
             accepted.push((i, plan.clone()));
         }
     }
     // The whole accepted set, together.
+    check_all(&b, &accepted)?;
+    Ok(tally)
+}
+
+/// The online path (SPEC §10) against the oracle: the instance's requests arrive in their
+/// generated order, not by departure, while the clock moves evenly over three quarters of the
+/// instance's departures (forgetting the past at every step), so some departures are already past and must be rejected as such;
+/// after every third booking, an older booked flight is cancelled (refused once it has taken
+/// off). Every answer is compared with the oracle's against the flights still booked, and the
+/// final booked set must pass the verifier.
+pub fn run_online(instance: &Instance) -> Result<Tally, String> {
+    let mut b = instance.build();
+    // Arrival order: the generated order (ids are `r` + the generated index).
+    b.requests
+        .sort_by_key(|r| r.id[1..].parse::<usize>().expect("numeric ids"));
+    let last = b.requests.iter().map(|r| r.departure.0).max().unwrap_or(0);
+    let n = b.requests.len().max(1) as i64;
+    let planner = Planner::new(&b.airspace, b.params);
+    let mut live =
+        Live::new(planner, &b.closures, Instant(0)).with_forget_every(Millis(instance.unit));
+    let mut accepted: Vec<(usize, Plan)> = Vec::new();
+    let mut tally = Tally::default();
+    let mut booked = 0usize;
+    for (i, request) in b.requests.iter().enumerate() {
+        live.advance(Instant(last * 3 * i as i64 / (4 * n)));
+        let outcome = live.book(i as u64, request);
+        if request.departure < live.now() {
+            if outcome.result != Err(RejectReason::DepartureInPast) {
+                return Err(format!(
+                    "request {} departs at {} before now {}: got {:?}",
+                    request.id,
+                    request.departure.0,
+                    live.now().0,
+                    outcome.result
+                ));
+            }
+            tally.in_past += 1;
+            continue;
+        }
+        let others: Vec<&Plan> = accepted.iter().map(|(_, p)| p).collect();
+        let expected = oracle::solve(
+            &b.airspace,
+            &b.params,
+            &b.raw,
+            &others,
+            request,
+            instance.unit,
+        );
+        judge(
+            &b,
+            &accepted,
+            request,
+            &outcome,
+            &expected,
+            instance.unit,
+            &mut tally,
+        )?;
+        let Ok(plan) = outcome.result else { continue };
+        accepted.push((i, plan));
+        booked += 1;
+        if booked % 3 != 0 {
+            continue;
+        }
+        // Cancel an older booking: the one halfway down the list of those still booked.
+        let k = accepted.len() / 2;
+        let (j, plan) = accepted[k].clone();
+        let took_off = plan.takeoff() <= live.now();
+        match (live.cancel(j as u64, &plan), took_off) {
+            (Ok(()), false) => {
+                accepted.remove(k);
+                tally.cancelled += 1;
+            }
+            (Err(CancelError::TookOff), true) => tally.cancel_refused += 1,
+            (other, _) => {
+                return Err(format!(
+                    "cancel of {} (take-off {}, now {}): {other:?}",
+                    b.requests[j].id,
+                    plan.takeoff().0,
+                    live.now().0
+                ));
+            }
+        }
+    }
+    check_all(&b, &accepted)?;
+    Ok(tally)
+}
+
+/// Verifies the whole accepted set together.
+fn check_all(b: &Built, accepted: &[(usize, Plan)]) -> Result<(), String> {
     let flights: Vec<Flight<'_>> = accepted
         .iter()
         .map(|(i, plan)| Flight {
@@ -454,15 +553,15 @@ pub fn run(instance: &Instance) -> Result<Tally, String> {
         })
         .collect();
     let violations = verify(&b.airspace, &b.closures, &b.params, &flights);
-    if !violations.is_empty() {
-        let list: Vec<String> = violations.iter().map(ToString::to_string).collect();
-        return Err(format!(
-            "the accepted set is invalid:\n{}\n{}",
-            list.join("\n"),
-            describe(&b, &accepted)
-        ));
+    if violations.is_empty() {
+        return Ok(());
     }
-    Ok(tally)
+    let list: Vec<String> = violations.iter().map(ToString::to_string).collect();
+    Err(format!(
+        "the accepted set is invalid:\n{}\n{}",
+        list.join("\n"),
+        describe(b, accepted)
+    ))
 }
 
 /// Compares the planner's answer for one request with the oracle's, checking both plans with

@@ -1,0 +1,253 @@
+//! Online planning (SPEC §10): requests arrive one at a time, in any order of departure, and
+//! are planned against one live schedule that moves forward with a clock.
+//!
+//! [`Live`] is the same [`Planner`] and the same [`Schedule`] as a batch day
+//! ([`plan_day`](crate::plan_day)), with three differences:
+//!
+//! - the schedule's horizon is the clock's *now*, not the next departure, so requests may
+//!   come in any order of departure; a request whose departure is before now is rejected with
+//!   [`RejectReason::DepartureInPast`];
+//! - reservations that ended before now are dropped from memory as the clock moves
+//!   ([`Schedule::forget_past`]): memory stays bounded by the traffic still ahead, however
+//!   many days the service runs (the store, not the planner, keeps history);
+//! - a flight can be cancelled before take-off, which frees its reservations.
+//!
+//! The clock never goes back: an earlier `now` than one already seen is ignored, so a clock
+//! step backwards cannot resurrect forgotten instants.
+//!
+//! ```
+//! use muse_airspace::closures::Closures;
+//! use muse_model::{Airspace, Edge, FlightParams, Instant, LonLat, Node, NodeId, NodeKind, RejectReason, Request};
+//! use muse_planner::{Live, Planner};
+//! use muse_planner::online::CancelError;
+//!
+//! let node = |id: &str, lon| Node {
+//!     id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.3),
+//! };
+//! let airspace = Airspace::new(
+//!     vec![node("A", 103.80), node("B", 103.81)],
+//!     vec![Edge { id: "A-B".into(), from: NodeId(0), to: NodeId(1), length_m: 1_000.0 }],
+//! ).unwrap();
+//! let planner = Planner::new(&airspace, FlightParams::default());
+//! let mut live = Live::new(planner, &Closures::none(&airspace), Instant(0));
+//! let r = |id: &str, t| Request { id: id.into(), origin: NodeId(0), destination: NodeId(1), departure: Instant(t) };
+//!
+//! // A later departure first, then an earlier one: both fit, in arrival order.
+//! let late = live.book(1, &r("late", 600_000)).result.unwrap();
+//! let early = live.book(2, &r("early", 0)).result.unwrap();
+//! assert_eq!((early.takeoff(), late.takeoff()), (Instant(0), Instant(600_000)));
+//!
+//! // At 300 s the early flight is in the air: it can no longer be cancelled; the late one can.
+//! live.advance(Instant(300_000));
+//! assert_eq!(live.cancel(2, &early), Err(CancelError::TookOff));
+//! assert_eq!(live.cancel(1, &late), Ok(()));
+//! // And the past is closed.
+//! assert_eq!(live.book(3, &r("old", 0)).result, Err(RejectReason::DepartureInPast));
+//! ```
+
+use muse_airspace::closures::Closures;
+use muse_model::{Instant, Millis, Plan, RejectReason, Request};
+
+use crate::planner::{Outcome, Planner, plan_and_book};
+use crate::schedule::{FlightId, Schedule};
+use crate::sipp::Scratch;
+
+/// How far the clock moves, by default, between two sweeps of forgotten reservations.
+/// Sweeping visits every node and edge once, so it is done now and then, not on every request.
+pub const FORGET_EVERY: Millis = Millis::from_secs(60);
+
+/// Why a cancellation was refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum CancelError {
+    /// The flight has taken off (take-off at or before now): it is committed.
+    #[error("the flight has taken off; it is committed and cannot be cancelled")]
+    TookOff,
+    /// The schedule does not hold this flight with this plan.
+    #[error("the schedule holds no such flight")]
+    NotHeld,
+}
+
+/// A live schedule with its planner and clock (see the module docs).
+#[derive(Debug)]
+pub struct Live<'a> {
+    planner: Planner<'a>,
+    schedule: Schedule,
+    scratch: Scratch,
+    now: Instant,
+    last_forget: Instant,
+    forget_every: Millis,
+}
+
+impl<'a> Live<'a> {
+    /// An empty live schedule over `closures`, with the clock at `now`.
+    pub fn new(planner: Planner<'a>, closures: &Closures, now: Instant) -> Self {
+        let mut schedule = Schedule::new(planner.airspace(), planner.params(), closures);
+        schedule.set_horizon(now.0);
+        Live {
+            planner,
+            schedule,
+            scratch: Scratch::new(),
+            now,
+            last_forget: now,
+            forget_every: FORGET_EVERY,
+        }
+    }
+
+    /// Sweeps forgotten reservations whenever the clock has moved by `every` (default
+    /// [`FORGET_EVERY`]; `Millis::ZERO` sweeps on every move, as tests do).
+    #[must_use]
+    pub fn with_forget_every(mut self, every: Millis) -> Self {
+        self.forget_every = every;
+        self
+    }
+
+    /// The planner.
+    pub fn planner(&self) -> &Planner<'a> {
+        &self.planner
+    }
+
+    /// The schedule (for monitoring; change it only through `Live`).
+    pub fn schedule(&self) -> &Schedule {
+        &self.schedule
+    }
+
+    /// The clock's now.
+    pub fn now(&self) -> Instant {
+        self.now
+    }
+
+    /// Moves the clock to `now` (ignored if earlier than the current now) and, every [`FORGET_EVERY`]
+    /// of clock time, drops the reservations that ended before it.
+    pub fn advance(&mut self, now: Instant) {
+        if now <= self.now {
+            return;
+        }
+        self.now = now;
+        self.schedule.set_horizon(now.0);
+        if now - self.last_forget >= self.forget_every {
+            self.schedule.forget_past();
+            self.last_forget = now;
+        }
+    }
+
+    /// Plans `request` against everything booked so far and, if a plan exists, books it as
+    /// `flight` (an id unique among the flights booked). A departure before now is rejected
+    /// with [`RejectReason::DepartureInPast`] without searching.
+    pub fn book(&mut self, flight: FlightId, request: &Request) -> Outcome {
+        if request.departure < self.now {
+            return Outcome {
+                result: Err(RejectReason::DepartureInPast),
+                free_flow: self.planner.free_flow(request),
+                expanded: 0,
+            };
+        }
+        plan_and_book(
+            &self.planner,
+            &mut self.schedule,
+            flight,
+            request,
+            &mut self.scratch,
+        )
+    }
+
+    /// Books a plan accepted earlier (when a service restarts from its store) without
+    /// planning it again. Plans that ended before now are skipped: they can no longer matter.
+    pub fn restore(&mut self, flight: FlightId, plan: &Plan) {
+        if plan.landing() < self.now {
+            return;
+        }
+        self.schedule.insert(self.planner.airspace(), flight, plan);
+    }
+
+    /// Cancels a booked flight, freeing its reservations; only before take-off.
+    pub fn cancel(&mut self, flight: FlightId, plan: &Plan) -> Result<(), CancelError> {
+        if plan.takeoff() <= self.now {
+            return Err(CancelError::TookOff);
+        }
+        if self.schedule.remove(self.planner.airspace(), flight, plan) {
+            Ok(())
+        } else {
+            Err(CancelError::NotHeld)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use muse_model::{Airspace, Edge, FlightParams, LonLat, Node, NodeId, NodeKind};
+
+    /// A line of `n` stations 1 km apart.
+    fn line(n: u32) -> Airspace {
+        let nodes = (0..n)
+            .map(|i| Node {
+                id: format!("S{i}"),
+                kind: NodeKind::Station,
+                name: String::new(),
+                pos: LonLat::new(103.8 + 0.01 * f64::from(i), 1.3),
+            })
+            .collect();
+        let edges = (1..n)
+            .map(|i| Edge {
+                id: format!("e{i}"),
+                from: NodeId(i - 1),
+                to: NodeId(i),
+                length_m: 1_000.0,
+            })
+            .collect();
+        Airspace::new(nodes, edges).unwrap()
+    }
+
+    fn request(id: &str, from: u32, to: u32, t: i64) -> Request {
+        Request {
+            id: id.into(),
+            origin: NodeId(from),
+            destination: NodeId(to),
+            departure: Instant(t),
+        }
+    }
+
+    #[test]
+    fn memory_stays_bounded_as_the_clock_moves() {
+        let a = line(4);
+        let planner = Planner::new(&a, FlightParams::default());
+        let mut live = Live::new(planner, &Closures::none(&a), Instant(0));
+        // One flight every 3 minutes, booked an hour ahead, for a simulated week.
+        let mut peak = 0;
+        for k in 0..(7 * 24 * 20_i64) {
+            let now = Instant(k * 180_000);
+            live.advance(now);
+            let r = request(&format!("r{k}"), 0, 3, now.0 + 3_600_000);
+            assert!(live.book(k as FlightId, &r).result.is_ok());
+            peak = peak.max(live.schedule().reservations());
+        }
+        // About 20 flights ahead and a minute's worth behind, 7 reservations each, plus one
+        // kept per list: far below the week's 23,520.
+        assert!(peak < 1_000, "peak reservations {peak}");
+    }
+
+    #[test]
+    fn cancelled_slots_are_free_again_and_the_clock_never_goes_back() {
+        let a = line(2);
+        let params = FlightParams {
+            max_ground_delay: Millis::from_mins(10),
+            ..FlightParams::default()
+        };
+        let planner = Planner::new(&a, params);
+        let mut live = Live::new(planner, &Closures::none(&a), Instant(0));
+        let first = live.book(1, &request("a", 0, 1, 60_000)).result.unwrap();
+        let second = live.book(2, &request("b", 0, 1, 60_000)).result.unwrap();
+        assert_eq!(second.takeoff(), Instant(180_000));
+        assert_eq!(live.cancel(1, &first), Ok(()));
+        assert_eq!(live.cancel(1, &first), Err(CancelError::NotHeld));
+        let third = live.book(3, &request("c", 0, 1, 60_000)).result.unwrap();
+        assert_eq!(third, first);
+        live.advance(Instant(100_000));
+        live.advance(Instant(10_000));
+        assert_eq!(live.now(), Instant(100_000));
+        assert_eq!(
+            live.book(4, &request("d", 0, 1, 99_999)).result,
+            Err(RejectReason::DepartureInPast)
+        );
+    }
+}
