@@ -1,4 +1,4 @@
-//! `muse airspace build | info | map`.
+//! `muse airspace build | info | export | map`.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -31,6 +31,18 @@ pub enum AirspaceCommand {
         #[command(flatten)]
         range: RangeArgs,
     },
+    /// Write the airspace as a SPEC §2 GeoJSON file (any scenario, e.g. `singapore-all`, for
+    /// use by other tools), and optionally its zones as ED-318 GeoJSON.
+    Export {
+        #[command(flatten)]
+        world: WorldArgs,
+        /// Output airspace GeoJSON file.
+        #[arg(long, value_name = "FILE")]
+        out: PathBuf,
+        /// Also write the zones (ED-318 GeoJSON) to this file.
+        #[arg(long, value_name = "FILE")]
+        zones_out: Option<PathBuf>,
+    },
     /// Draw the airspace, the land and the zones as an SVG map (the paper's Fig. 1).
     Map {
         #[command(flatten)]
@@ -49,6 +61,11 @@ pub fn run(cmd: AirspaceCommand) -> anyhow::Result<ExitCode> {
     match cmd {
         AirspaceCommand::Build { out, check } => build(&out, check),
         AirspaceCommand::Info { world, range } => info(&world, range),
+        AirspaceCommand::Export {
+            world,
+            out,
+            zones_out,
+        } => export(&world, &out, zones_out.as_deref()),
         AirspaceCommand::Map { world, out, width } => map(&world, &out, width),
     }
 }
@@ -219,6 +236,25 @@ fn describe_periods(zone: &Zone) -> String {
         .map(describe)
         .collect::<Vec<_>>()
         .join("; ")
+}
+
+fn export(world: &WorldArgs, out: &Path, zones_out: Option<&Path>) -> anyhow::Result<ExitCode> {
+    let world = world.load()?;
+    let text = muse_formats::airspace_geojson::write_airspace(&world.airspace);
+    super::common::write_atomically(out, &text)?;
+    println!(
+        "wrote {} ({} nodes, {} edges, {} bytes)",
+        out.display(),
+        world.airspace.node_count(),
+        world.airspace.edge_count(),
+        text.len()
+    );
+    if let Some(path) = zones_out {
+        let zones = muse_formats::zones::write_ed318(&world.zones);
+        super::common::write_atomically(path, &zones)?;
+        println!("wrote {} ({} zone(s))", path.display(), world.zones.len());
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 fn map(world: &WorldArgs, out: &Path, width: u32) -> anyhow::Result<ExitCode> {

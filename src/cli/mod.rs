@@ -6,6 +6,7 @@ mod common;
 mod demand;
 mod plan;
 mod progress;
+mod serve;
 mod simulate;
 mod sweep;
 mod verify;
@@ -39,6 +40,9 @@ enum Command {
     Demand(demand::DemandCmd),
     /// Plan a requests file: exact earliest-landing plans, first come first served.
     Plan(plan::PlanArgs),
+    /// The planning service: a live schedule behind a JSON API (SPEC §10), durable across
+    /// crashes.
+    Serve(serve::ServeArgs),
     /// Simulate a day: generate demand, plan it, verify it, write files and a summary.
     Simulate(simulate::SimulateArgs),
     /// The paper's experiment: request counts × repetitions × scenario variants, with plots.
@@ -56,6 +60,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::BenchCase(args) => bench::run_case(&args),
         Command::Demand(args) => demand::run(&args),
         Command::Plan(args) => plan::run(&args),
+        Command::Serve(args) => serve::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Sweep(args) => sweep::run(&args),
         Command::Verify(args) => verify::run(&args),

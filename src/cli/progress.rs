@@ -27,7 +27,7 @@ impl LazyProgress {
     pub fn set(&mut self, done: u64) {
         if let Some(bar) = &self.bar {
             bar.set_position(done);
-        } else if done % 256 == 0 && self.started.elapsed() > Duration::from_secs(1) {
+        } else if done.is_multiple_of(256) && self.started.elapsed() > Duration::from_secs(1) {
             let bar = ProgressBar::new(self.total).with_message(self.message);
             bar.set_style(
                 ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} ({elapsed}, ETA {eta})")

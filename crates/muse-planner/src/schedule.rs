@@ -525,10 +525,10 @@ fn slot<const N: usize>(views: &[View<'_>; N], t: i64) -> NodeSlot {
         let mut end: Option<i64> = None;
         for (i, v) in idx.iter_mut().zip(views) {
             *i = v.advance(*i, t);
-            if let Some(o) = v.occ.get(*i) {
-                if v.l(o) < t {
-                    end = Some(end.map_or(v.r(o), |e| e.max(v.r(o))));
-                }
+            if let Some(o) = v.occ.get(*i)
+                && v.l(o) < t
+            {
+                end = Some(end.map_or(v.r(o), |e| e.max(v.r(o))));
             }
         }
         match end {

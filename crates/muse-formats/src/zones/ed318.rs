@@ -15,10 +15,10 @@ use crate::InputError;
 pub(super) fn read_feature(file: &str, index: usize, v: &Value) -> Result<Vec<Zone>, InputError> {
     let mut ctx = Ctx::new(file, index);
     let feature = expect_object(&ctx, v, "", "a feature")?;
-    if let Some(kind) = member(feature, "type") {
-        if kind.as_str() != Some("Feature") {
-            return Err(ctx.err("type", format!("expected \"Feature\", got {}", show(kind))));
-        }
+    if let Some(kind) = member(feature, "type")
+        && kind.as_str() != Some("Feature")
+    {
+        return Err(ctx.err("type", format!("expected \"Feature\", got {}", show(kind))));
     }
     let Some(props_v) = member(feature, "properties") else {
         return Err(ctx.err(

@@ -520,13 +520,13 @@ fn parse_period(ctx: &Ctx<'_>, v: &Value, field: &str) -> Result<Period, InputEr
     }
     let start = parse_date_time(ctx, obj, "startDateTime", field)?;
     let end = parse_date_time(ctx, obj, "endDateTime", field)?;
-    if let (Some(s), Some(e)) = (start, end) {
-        if e <= s {
-            return Err(ctx.err(
-                &join(field, "endDateTime"),
-                "endDateTime must be after startDateTime",
-            ));
-        }
+    if let (Some(s), Some(e)) = (start, end)
+        && e <= s
+    {
+        return Err(ctx.err(
+            &join(field, "endDateTime"),
+            "endDateTime must be after startDateTime",
+        ));
     }
     let mut daily = Vec::new();
     if let Some((key, v)) = one_of(ctx, obj, &["schedule", "dailyPeriod"], field)? {

@@ -515,7 +515,7 @@ pub fn run_online(instance: &Instance) -> Result<Tally, String> {
         let Ok(plan) = outcome.result else { continue };
         accepted.push((i, plan));
         booked += 1;
-        if booked % 3 != 0 {
+        if !booked.is_multiple_of(3) {
             continue;
         }
         // Cancel an older booking: the one halfway down the list of those still booked.

@@ -1,0 +1,272 @@
+//! The service's flights: what was asked, what was answered, and what became of it — and the
+//! in-memory index that reads are served from.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use muse_formats::plans::{PlanLine, PlanRecord, plan_line};
+use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Request, Stay, UtcOffset};
+use serde::Serialize;
+
+use crate::store::FlightRecord;
+
+/// The reason given for a flight cancelled by its operator.
+pub const CANCELLED_BY_OPERATOR: &str = "cancelled_by_operator";
+
+/// One flight as the service knows it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FlightEntry {
+    /// Sequence number (the flight's id in the schedule; also the listing order).
+    pub seq: u64,
+    /// The operator it belongs to.
+    pub operator: String,
+    /// The request (its `id` is the client's id).
+    pub request: Request,
+    /// The answer: a plan or a rejection.
+    pub result: Result<Plan, RejectReason>,
+    /// Free-flow time, where defined.
+    pub free_flow: Option<Millis>,
+    /// Search labels expanded.
+    pub expanded: u64,
+    /// When it was answered (service clock).
+    pub answered: Instant,
+    /// When it was cancelled, if it was.
+    pub cancelled_at: Option<Instant>,
+}
+
+/// A flight's status.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Status {
+    /// Planned and still booked.
+    Planned,
+    /// Rejected (no plan).
+    Rejected,
+    /// Planned, then cancelled by its operator.
+    Cancelled,
+}
+
+/// The SPEC §7 object of a flight as the service answers it: the plan line, plus who owns
+/// the flight and, once cancelled, when.
+#[derive(Clone, Debug, Serialize)]
+pub struct FlightView {
+    /// The SPEC §7 fields.
+    #[serde(flatten)]
+    pub line: PlanLine,
+    /// The operator the flight belongs to.
+    pub operator: String,
+    /// When the flight was cancelled (RFC 3339), for cancelled flights.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cancelled_at: Option<String>,
+}
+
+impl FlightEntry {
+    /// The flight's status.
+    pub fn status(&self) -> Status {
+        match (&self.result, self.cancelled_at) {
+            (Err(_), _) => Status::Rejected,
+            (Ok(_), Some(_)) => Status::Cancelled,
+            (Ok(_), None) => Status::Planned,
+        }
+    }
+
+    /// The booked plan, if the flight is planned and not cancelled.
+    pub fn booked_plan(&self) -> Option<&Plan> {
+        match (&self.result, self.cancelled_at) {
+            (Ok(plan), None) => Some(plan),
+            _ => None,
+        }
+    }
+
+    /// Whether `request` asks for the same flight (same stations and departure).
+    pub fn same_request(&self, request: &Request) -> bool {
+        self.request.origin == request.origin
+            && self.request.destination == request.destination
+            && self.request.departure == request.departure
+    }
+
+    /// The instants the flight spans: take-off to landing when planned, else the requested
+    /// departure.
+    pub fn span(&self) -> (Instant, Instant) {
+        match &self.result {
+            Ok(plan) => (plan.takeoff(), plan.landing()),
+            Err(_) => (self.request.departure, self.request.departure),
+        }
+    }
+
+    /// The answer as the API shows it (times in `offset`).
+    pub fn view(&self, airspace: &Airspace, offset: UtcOffset) -> FlightView {
+        let record = PlanRecord {
+            request: self.request.id.clone(),
+            origin: airspace.node(self.request.origin).id.clone(),
+            destination: airspace.node(self.request.destination).id.clone(),
+            requested_departure: self.request.departure,
+            result: self.result.clone(),
+            free_flow: self.free_flow,
+            expanded: self.expanded,
+        };
+        let mut line = plan_line(airspace, offset, &record);
+        if self.cancelled_at.is_some() {
+            // A cancelled flight holds no reservation: it shows no plan, so that a list of
+            // flights never shows two drones in one slot.
+            line.status = "cancelled".into();
+            line.reason = Some(CANCELLED_BY_OPERATOR.into());
+            line.takeoff = None;
+            line.landing = None;
+            line.airborne_s = None;
+            line.air_delay_s = None;
+            line.ground_delay_s = None;
+            line.distance_m = None;
+            line.path = None;
+        }
+        FlightView {
+            line,
+            operator: self.operator.clone(),
+            cancelled_at: self.cancelled_at.map(|t| t.to_rfc3339(offset)),
+        }
+    }
+
+    /// The store record of this answer (without the cancellation, a record of its own).
+    pub fn to_record(&self, airspace: &Airspace) -> FlightRecord {
+        let node = |n: muse_model::NodeId| airspace.node(n).id.clone();
+        FlightRecord {
+            seq: self.seq,
+            id: self.request.id.clone(),
+            operator: self.operator.clone(),
+            origin: node(self.request.origin),
+            destination: node(self.request.destination),
+            departure: self.request.departure.0,
+            answered: self.answered.0,
+            path: self.result.as_ref().ok().map(|p| {
+                p.path
+                    .iter()
+                    .map(|s| (node(s.node), s.arrive.0, s.depart.0))
+                    .collect()
+            }),
+            reason: self.result.as_ref().err().map(|r| r.as_str().to_owned()),
+            free_flow: self.free_flow.map(|m| m.0),
+            expanded: self.expanded,
+        }
+    }
+
+    /// The flight a store record describes.
+    pub fn from_record(airspace: &Airspace, r: &FlightRecord) -> Result<FlightEntry, String> {
+        let node = |id: &str| {
+            airspace
+                .node_id(id)
+                .ok_or_else(|| format!("flight `{}`: unknown node `{id}`", r.id))
+        };
+        let result = match (&r.path, &r.reason) {
+            (Some(path), None) => {
+                let mut stays = Vec::with_capacity(path.len());
+                for (n, a, d) in path {
+                    stays.push(Stay {
+                        node: node(n)?,
+                        arrive: Instant(*a),
+                        depart: Instant(*d),
+                    });
+                }
+                Ok(Plan { path: stays })
+            }
+            (None, Some(reason)) => Err(RejectReason::parse(reason)
+                .ok_or_else(|| format!("flight `{}`: unknown reason `{reason}`", r.id))?),
+            _ => return Err(format!("flight `{}`: neither a plan nor a reason", r.id)),
+        };
+        Ok(FlightEntry {
+            seq: r.seq,
+            operator: r.operator.clone(),
+            request: Request {
+                id: r.id.clone(),
+                origin: node(&r.origin)?,
+                destination: node(&r.destination)?,
+                departure: Instant(r.departure),
+            },
+            result,
+            free_flow: r.free_flow.map(Millis),
+            expanded: r.expanded,
+            answered: Instant(r.answered),
+            cancelled_at: None,
+        })
+    }
+}
+
+/// Every flight the service knows, by id and in answer order. Written only by the planner
+/// task, after the store has made its changes durable; read by every handler.
+#[derive(Debug, Default)]
+pub struct FlightIndex {
+    by_id: HashMap<String, Arc<FlightEntry>>,
+    /// Sequence numbers in answer order, for listing.
+    order: Vec<Arc<FlightEntry>>,
+    /// Position of each sequence number in `order`.
+    position: HashMap<u64, usize>,
+}
+
+/// What a listing asks for.
+#[derive(Clone, Debug, Default)]
+pub struct ListQuery {
+    /// Only this operator's flights (`None`: every operator's).
+    pub operator: Option<String>,
+    /// Only flights with this status.
+    pub status: Option<Status>,
+    /// Only flights whose span ends at or after this instant.
+    pub from: Option<Instant>,
+    /// Only flights whose span starts before this instant.
+    pub to: Option<Instant>,
+    /// Only flights answered after this sequence number (a page cursor).
+    pub after: Option<u64>,
+    /// At most this many.
+    pub limit: Option<usize>,
+}
+
+impl FlightIndex {
+    /// The flight with client id `id`.
+    pub fn get(&self, id: &str) -> Option<&Arc<FlightEntry>> {
+        self.by_id.get(id)
+    }
+
+    /// Number of flights known.
+    pub fn len(&self) -> usize {
+        self.by_id.len()
+    }
+
+    /// Whether no flight is known.
+    pub fn is_empty(&self) -> bool {
+        self.by_id.is_empty()
+    }
+
+    /// Adds a new flight or replaces a known one (same id and sequence number).
+    pub fn put(&mut self, entry: Arc<FlightEntry>) {
+        if let Some(&i) = self.position.get(&entry.seq) {
+            self.order[i] = Arc::clone(&entry);
+        } else {
+            self.position.insert(entry.seq, self.order.len());
+            self.order.push(Arc::clone(&entry));
+        }
+        self.by_id.insert(entry.request.id.clone(), entry);
+    }
+
+    /// The flights a listing asks for, in answer order, and whether more follow the page.
+    pub fn list(&self, q: &ListQuery) -> (Vec<Arc<FlightEntry>>, bool) {
+        let start = q
+            .after
+            .map_or(0, |after| self.order.partition_point(|e| e.seq <= after));
+        let limit = q.limit.unwrap_or(usize::MAX);
+        let mut out = Vec::new();
+        for e in &self.order[start..] {
+            if q.operator.as_ref().is_some_and(|op| *op != e.operator)
+                || q.status.is_some_and(|s| s != e.status())
+            {
+                continue;
+            }
+            let (a, b) = e.span();
+            if q.from.is_some_and(|f| b < f) || q.to.is_some_and(|t| a >= t) {
+                continue;
+            }
+            if out.len() == limit {
+                return (out, true);
+            }
+            out.push(Arc::clone(e));
+        }
+        (out, false)
+    }
+}

@@ -1,0 +1,170 @@
+//! `muse serve`: the planning service (SPEC §10) on the embedded Singapore default or any
+//! airspace, zones and parameters `muse plan` takes.
+
+use std::io::Write as _;
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context as _;
+use clap::Args;
+use muse_model::{Instant, Millis};
+use muse_service::auth::Tokens;
+use muse_service::state::{Clock, ServiceWorld};
+use muse_service::{Options, start};
+
+use super::common::{FlightArgs, WorldArgs};
+
+/// Arguments of `muse serve`.
+#[derive(Debug, Args)]
+pub struct ServeArgs {
+    #[command(flatten)]
+    world: WorldArgs,
+    #[command(flatten)]
+    flight: FlightArgs,
+    /// Address to listen on (port 0: any free port, printed at start).
+    #[arg(long, value_name = "ADDR", default_value = "127.0.0.1:8080")]
+    listen: SocketAddr,
+    /// Data folder: the durable store (created if missing; one service per folder).
+    #[arg(long, value_name = "DIR", default_value = "./muse-data")]
+    data: PathBuf,
+    /// Bearer tokens (TOML `[[tokens]]` with `token`, `operator`, `role`). Without it the
+    /// service is open to anyone on this machine and listens on loopback addresses only.
+    #[arg(long, value_name = "FILE")]
+    tokens: Option<PathBuf>,
+    /// Start the service clock at this instant (RFC 3339) instead of the system time; it runs
+    /// at real speed from there. For demonstrations and tests.
+    #[arg(long, value_name = "TIME")]
+    clock: Option<String>,
+    /// Bookings open this many days ahead of now.
+    #[arg(long, value_name = "DAYS", default_value_t = 30)]
+    booking_horizon_days: u32,
+    /// Largest request body, KiB (larger: 413).
+    #[arg(long, value_name = "KIB", default_value_t = 16)]
+    max_body_kib: usize,
+    /// Requests per second allowed per token (0: no limit; over it: 429).
+    #[arg(long, value_name = "N", default_value_t = 20_000.0)]
+    rate_limit: f64,
+    /// Burst of requests allowed above the rate, per token.
+    #[arg(long, value_name = "N", default_value_t = 40_000.0)]
+    burst: f64,
+}
+
+/// Runs `muse serve` until the process is stopped (Ctrl-C or SIGTERM stop it cleanly; any
+/// other end, even `kill -9`, loses nothing acknowledged).
+pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
+    let params = args.flight.params()?;
+    let world = args.world.load()?;
+    let clock = match &args.clock {
+        None => Clock::system(),
+        Some(text) => Clock::starting_at(
+            Instant::parse_rfc3339(text).with_context(|| format!("--clock {text}"))?,
+        ),
+    };
+    let tokens = match &args.tokens {
+        None => Tokens::Open,
+        Some(path) => Tokens::read(path)?,
+    };
+    let label = format!(
+        "{}{}",
+        world.airspace_source,
+        if world.zones.is_empty() {
+            String::new()
+        } else {
+            format!(
+                " ({})",
+                world
+                    .zones
+                    .iter()
+                    .map(|z| z.id.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        }
+    );
+    let stations = world.airspace.stations().count();
+    let service_world = ServiceWorld::new(
+        label.clone(),
+        world.airspace,
+        world.zones,
+        params,
+        world.offset,
+        Millis::from_secs(i64::from(args.booking_horizon_days) * 86_400),
+        clock.now(),
+    )?;
+    let mut options = Options::new(args.data.clone());
+    options.tokens = tokens;
+    options.clock = clock;
+    options.max_body = args.max_body_kib * 1024;
+    options.rate_limit = args.rate_limit;
+    options.burst = args.burst;
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .context("starting the async runtime")?;
+    runtime.block_on(async move {
+        let listener = tokio::net::TcpListener::bind(args.listen)
+            .await
+            .with_context(|| format!("listening on {}", args.listen))?;
+        let running = start(service_world, options, listener).await?;
+        let r = &running.recovery;
+        let mut out = std::io::stdout().lock();
+        writeln!(out, "MUSE serve — {label}, {stations} stations")?;
+        writeln!(
+            out,
+            "  store      {}: {} flight(s) restored ({} booked ahead or airborne, {} cancellation(s)){}",
+            args.data.join(muse_service::store::LOG_FILE).display(),
+            running.restored.flights,
+            running.restored.booked,
+            running.restored.cancellations,
+            if r.torn_bytes > 0 {
+                format!(
+                    "; dropped a torn tail of {} bytes (unacknowledged; saved as {})",
+                    r.torn_bytes,
+                    r.torn_saved
+                        .as_ref()
+                        .map_or_else(String::new, |p| p.display().to_string())
+                )
+            } else {
+                String::new()
+            }
+        )?;
+        if running.open {
+            writeln!(
+                out,
+                "  access     OPEN: no --tokens, so anyone on this machine may plan, read and cancel (loopback only)"
+            )?;
+        } else {
+            writeln!(out, "  access     bearer tokens from {}", args.tokens.as_ref().map_or_else(String::new, |p| p.display().to_string()))?;
+        }
+        writeln!(out, "  API        http://{}/v1/openapi.json", running.addr)?;
+        writeln!(out, "listening on http://{}", running.addr)?;
+        out.flush()?;
+        drop(out);
+        running.serve_until(shutdown_signal()).await?;
+        anyhow::Ok(())
+    })?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Completes on Ctrl-C or SIGTERM.
+async fn shutdown_signal() {
+    let ctrl_c = async {
+        let _ = tokio::signal::ctrl_c().await;
+    };
+    #[cfg(unix)]
+    let term = async {
+        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+            Ok(mut s) => {
+                s.recv().await;
+            }
+            Err(_) => std::future::pending::<()>().await,
+        }
+    };
+    #[cfg(not(unix))]
+    let term = std::future::pending::<()>();
+    tokio::select! {
+        () = ctrl_c => {},
+        () = term => {},
+    }
+}
