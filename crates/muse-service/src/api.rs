@@ -572,6 +572,18 @@ struct Health {
     now: String,
     flights: usize,
     airspace: String,
+    parameters: Parameters,
+}
+
+/// The flight parameters planned with (SPEC §3), as `muse plan` takes them.
+#[derive(Serialize)]
+struct Parameters {
+    speed_kmh: f64,
+    max_flight_min: f64,
+    node_separation_s: f64,
+    edge_rule: &'static str,
+    headway_s: Option<f64>,
+    max_ground_delay_s: f64,
 }
 
 async fn healthz(AxumState(app): AxumState<Arc<App>>) -> Response {
@@ -588,6 +600,20 @@ async fn healthz(AxumState(app): AxumState<Arc<App>>) -> Response {
             now: s.clock.now().to_rfc3339(s.world.offset),
             flights,
             airspace: s.world.label.clone(),
+            parameters: {
+                let p = &s.world.params;
+                Parameters {
+                    speed_kmh: p.speed.kmh(),
+                    max_flight_min: p.max_flight.as_secs_f64() / 60.0,
+                    node_separation_s: p.node_separation.as_secs_f64(),
+                    edge_rule: p.edge_rule.name(),
+                    headway_s: match p.edge_rule {
+                        muse_model::EdgeRule::Headway(h) => Some(h.as_secs_f64()),
+                        muse_model::EdgeRule::Exclusive => None,
+                    },
+                    max_ground_delay_s: p.max_ground_delay.as_secs_f64(),
+                }
+            },
         },
     )
 }
