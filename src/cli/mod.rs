@@ -4,6 +4,7 @@ mod airspace;
 mod bench;
 mod common;
 mod demand;
+mod load;
 mod plan;
 mod progress;
 mod serve;
@@ -38,6 +39,9 @@ enum Command {
     BenchCase(bench::CaseArgs),
     /// Generate a seeded requests file (uniform departures in a window, random station pairs).
     Demand(demand::DemandCmd),
+    /// Load a running `muse serve` over HTTP (open or closed loop), report throughput and
+    /// latency, then verify every planned flight.
+    Load(load::LoadArgs),
     /// Plan a requests file: exact earliest-landing plans, first come first served.
     Plan(plan::PlanArgs),
     /// The planning service: a live schedule behind a JSON API (SPEC §10), durable across
@@ -59,6 +63,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Bench(args) => bench::run(&args),
         Command::BenchCase(args) => bench::run_case(&args),
         Command::Demand(args) => demand::run(&args),
+        Command::Load(args) => load::run(&args),
         Command::Plan(args) => plan::run(&args),
         Command::Serve(args) => serve::run(&args),
         Command::Simulate(args) => simulate::run(&args),

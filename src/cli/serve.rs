@@ -48,6 +48,10 @@ pub struct ServeArgs {
     /// Burst of requests allowed above the rate, per token.
     #[arg(long, value_name = "N", default_value_t = 40_000.0)]
     burst: f64,
+    /// Keep a flight in memory (for reads, listings and idempotent retries) this many hours
+    /// after it ends; the store keeps it for ever.
+    #[arg(long, value_name = "HOURS", default_value_t = 24.0)]
+    retain_hours: f64,
 }
 
 /// Runs `muse serve` until the process is stopped (Ctrl-C or SIGTERM stop it cleanly; any
@@ -98,6 +102,9 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     options.max_body = args.max_body_kib * 1024;
     options.rate_limit = args.rate_limit;
     options.burst = args.burst;
+    options.retain = Millis::from_secs_f64(args.retain_hours * 3_600.0)
+        .ok()
+        .with_context(|| format!("--retain-hours {} must be a number >= 0", args.retain_hours))?;
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()

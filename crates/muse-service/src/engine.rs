@@ -16,9 +16,9 @@
 use std::collections::HashMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Arc;
-use std::time::{Duration, Instant as WallInstant};
+use std::time::Instant as WallInstant;
 
-use muse_model::Request;
+use muse_model::{RejectReason, Request};
 use muse_planner::online::CancelError;
 use muse_planner::{Live, Planner};
 use tokio::sync::{mpsc, oneshot};
@@ -28,6 +28,9 @@ use crate::flights::{FlightEntry, Status};
 use crate::metrics::PlanOutcome;
 use crate::state::State;
 use crate::store::{MAX_GROUP_BYTES, Record, Store};
+
+/// How far the clock moves between two evictions of ended flights from the index.
+const EVICT_EVERY: muse_model::Millis = muse_model::Millis::from_secs(60);
 
 /// Most commands decided and committed as one group.
 pub const MAX_GROUP: usize = 512;
@@ -139,13 +142,12 @@ fn run(
         }
     };
     drop(records);
+    let now = live.now();
     let mut engine = Engine {
         state,
         live,
         next_seq,
-        last_gauges: WallInstant::now()
-            .checked_sub(Duration::from_secs(1))
-            .unwrap(),
+        last_evict: now,
     };
     engine.update_gauges(&store);
     let mut group = Vec::with_capacity(MAX_GROUP);
@@ -209,6 +211,7 @@ fn recover(
         restored.flights += 1;
         index.put(Arc::new(entry));
     }
+    index.evict_ended_before(live.now() - state.retain);
     Ok((restored, max_seq))
 }
 
@@ -222,13 +225,23 @@ struct Engine<'s, 'a> {
     state: &'s State,
     live: Live<'a>,
     next_seq: u64,
-    last_gauges: WallInstant,
+    /// When flights were last evicted from the index.
+    last_evict: muse_model::Instant,
 }
 
 impl Engine<'_, '_> {
     /// Decides every command of `group`, commits the group, then publishes and answers.
     fn decide_and_commit(&mut self, store: &mut Store, group: &mut Vec<Command>) {
         self.live.advance(self.state.clock.now());
+        let now = self.live.now();
+        if now - self.last_evict >= EVICT_EVERY {
+            self.state
+                .index
+                .write()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .evict_ended_before(now - self.state.retain);
+            self.last_evict = now;
+        }
         // Entries changed by this group, visible to its later commands before publication.
         let mut staged: HashMap<String, Arc<FlightEntry>> = HashMap::new();
         let mut answers = Vec::with_capacity(group.len());
@@ -253,9 +266,7 @@ impl Engine<'_, '_> {
             }
         }
         self.commit(store, &mut staged, &mut answers);
-        if self.last_gauges.elapsed() >= Duration::from_millis(100) {
-            self.update_gauges(store);
-        }
+        self.update_gauges(store);
     }
 
     fn lookup(
@@ -289,6 +300,22 @@ impl Engine<'_, '_> {
                 metrics.count_plan(PlanOutcome::Conflict);
                 PlanReply::Conflict
             };
+        }
+        if request.departure < self.live.now() - self.state.retain {
+            // Older than anything the index keeps: a retry of such an id would not be
+            // recognised, so the answer is given without storing it (it can only be
+            // `departure_in_past`, and storing it could duplicate an evicted id).
+            metrics.count_plan(PlanOutcome::Rejected(RejectReason::DepartureInPast));
+            return PlanReply::New(Arc::new(FlightEntry {
+                seq: 0,
+                operator: caller.operator.clone(),
+                free_flow: self.live.planner().free_flow(&request),
+                request,
+                result: Err(RejectReason::DepartureInPast),
+                expanded: 0,
+                answered: self.live.now(),
+                cancelled_at: None,
+            }));
         }
         let seq = self.next_seq;
         let started = WallInstant::now();
@@ -400,12 +427,15 @@ impl Engine<'_, '_> {
             self.state.metrics.group_size.observe_value(records as f64);
         }
         if !staged.is_empty() {
+            // In sequence order: the index lists flights in that order.
+            let mut entries: Vec<Arc<FlightEntry>> = staged.drain().map(|(_, e)| e).collect();
+            entries.sort_unstable_by_key(|e| e.seq);
             let mut index = self
                 .state
                 .index
                 .write()
                 .unwrap_or_else(std::sync::PoisonError::into_inner);
-            for (_, entry) in staged.drain() {
+            for entry in entries {
                 index.put(entry);
             }
         }
@@ -436,6 +466,5 @@ impl Engine<'_, '_> {
             flights,
             store.bytes(),
         );
-        self.last_gauges = WallInstant::now();
     }
 }

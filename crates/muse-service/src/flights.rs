@@ -190,15 +190,15 @@ impl FlightEntry {
     }
 }
 
-/// Every flight the service knows, by id and in answer order. Written only by the planner
-/// task, after the store has made its changes durable; read by every handler.
+/// The flights the service holds in memory, by id and in answer order: every flight that
+/// has not ended more than the retention time ago (see [`FlightIndex::evict_ended_before`]).
+/// Written only by the planner task, after the store has made its changes durable; read by
+/// every handler.
 #[derive(Debug, Default)]
 pub struct FlightIndex {
     by_id: HashMap<String, Arc<FlightEntry>>,
-    /// Sequence numbers in answer order, for listing.
+    /// In sequence (answer) order, for listing.
     order: Vec<Arc<FlightEntry>>,
-    /// Position of each sequence number in `order`.
-    position: HashMap<u64, usize>,
 }
 
 /// What a listing asks for.
@@ -234,15 +234,35 @@ impl FlightIndex {
         self.by_id.is_empty()
     }
 
-    /// Adds a new flight or replaces a known one (same id and sequence number).
+    /// Adds a new flight (its sequence number above every one held) or replaces a held one
+    /// (same id and sequence number).
     pub fn put(&mut self, entry: Arc<FlightEntry>) {
-        if let Some(&i) = self.position.get(&entry.seq) {
-            self.order[i] = Arc::clone(&entry);
-        } else {
-            self.position.insert(entry.seq, self.order.len());
-            self.order.push(Arc::clone(&entry));
+        match self.order.last() {
+            Some(last) if last.seq >= entry.seq => {
+                let i = self.order.partition_point(|e| e.seq < entry.seq);
+                debug_assert!(self.order.get(i).is_some_and(|e| e.seq == entry.seq));
+                if let Some(slot) = self.order.get_mut(i).filter(|e| e.seq == entry.seq) {
+                    *slot = Arc::clone(&entry);
+                }
+            }
+            _ => self.order.push(Arc::clone(&entry)),
         }
         self.by_id.insert(entry.request.id.clone(), entry);
+    }
+
+    /// Drops from memory every flight whose span ended before `t` (the store keeps them);
+    /// returns how many.
+    pub fn evict_ended_before(&mut self, t: Instant) -> usize {
+        let before = self.order.len();
+        let by_id = &mut self.by_id;
+        self.order.retain(|e| {
+            let keep = e.span().1 >= t;
+            if !keep {
+                by_id.remove(&e.request.id);
+            }
+            keep
+        });
+        before - self.order.len()
     }
 
     /// The flights a listing asks for, in answer order, and whether more follow the page.
@@ -268,5 +288,79 @@ impl FlightIndex {
             out.push(Arc::clone(e));
         }
         (out, false)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use muse_model::NodeId;
+
+    fn entry(seq: u64, departure: i64, planned: bool) -> Arc<FlightEntry> {
+        let result = if planned {
+            Ok(Plan {
+                path: vec![
+                    Stay {
+                        node: NodeId(0),
+                        arrive: Instant(departure),
+                        depart: Instant(departure),
+                    },
+                    Stay {
+                        node: NodeId(1),
+                        arrive: Instant(departure + 100),
+                        depart: Instant(departure + 100),
+                    },
+                ],
+            })
+        } else {
+            Err(RejectReason::NoFeasiblePlan)
+        };
+        Arc::new(FlightEntry {
+            seq,
+            operator: "op".into(),
+            request: Request {
+                id: format!("f{seq}"),
+                origin: NodeId(0),
+                destination: NodeId(1),
+                departure: Instant(departure),
+            },
+            result,
+            free_flow: Some(Millis(100)),
+            expanded: 1,
+            answered: Instant(0),
+            cancelled_at: None,
+        })
+    }
+
+    #[test]
+    fn pages_follow_answer_order_and_eviction_drops_ended_flights() {
+        let mut index = FlightIndex::default();
+        for seq in 1..=6 {
+            index.put(entry(seq, 1_000 * seq as i64, seq % 2 == 0));
+        }
+        // Replacing keeps the place.
+        let mut cancelled = (*entry(2, 2_000, true)).clone();
+        cancelled.cancelled_at = Some(Instant(1));
+        index.put(Arc::new(cancelled));
+        let page = |index: &FlightIndex, after| {
+            index.list(&ListQuery {
+                after,
+                limit: Some(2),
+                ..ListQuery::default()
+            })
+        };
+        let (first, more) = page(&index, None);
+        assert!(more);
+        assert_eq!(first.iter().map(|e| e.seq).collect::<Vec<_>>(), [1, 2]);
+        assert_eq!(first[1].status(), Status::Cancelled);
+        let (second, _) = page(&index, Some(2));
+        assert_eq!(second.iter().map(|e| e.seq).collect::<Vec<_>>(), [3, 4]);
+        // Flights 1–3 end by 3,100 (rejections end at their departure).
+        assert_eq!(index.evict_ended_before(Instant(3_101)), 3);
+        assert!(index.get("f3").is_none() && index.get("f4").is_some());
+        assert_eq!(index.len(), 3);
+        let (rest, more) = page(&index, None);
+        assert!(more);
+        assert_eq!(rest.iter().map(|e| e.seq).collect::<Vec<_>>(), [4, 5]);
     }
 }

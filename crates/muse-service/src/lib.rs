@@ -34,6 +34,8 @@ use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::sync::{Arc, RwLock};
 
+use muse_model::Millis;
+
 use crate::api::{App, router};
 use crate::auth::{RateLimiter, Tokens};
 use crate::engine::Restored;
@@ -56,11 +58,14 @@ pub struct Options {
     pub rate_limit: f64,
     /// Burst allowed above the rate.
     pub burst: f64,
+    /// How long after its end (landing, or departure for a rejection) a flight is kept in
+    /// memory for reads, listings and idempotent retries; the store keeps it for ever.
+    pub retain: Millis,
 }
 
 impl Options {
     /// Defaults: open, system clock, 16 KiB bodies, 20,000 requests per second per token with
-    /// bursts of 40,000.
+    /// bursts of 40,000, flights kept in memory for a day after they end.
     pub fn new(data: PathBuf) -> Self {
         Options {
             data,
@@ -69,6 +74,7 @@ impl Options {
             max_body: 16 * 1024,
             rate_limit: 20_000.0,
             burst: 40_000.0,
+            retain: Millis::from_secs(86_400),
         }
     }
 }
@@ -139,6 +145,7 @@ pub async fn start(
         index: RwLock::new(FlightIndex::default()),
         metrics: metrics::Metrics::default(),
         clock: options.clock,
+        retain: options.retain,
     });
     let engine_state = Arc::clone(&state);
     let (commands, restored) =

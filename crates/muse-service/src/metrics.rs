@@ -186,6 +186,12 @@ impl Metrics {
     /// The Prometheus text exposition.
     pub fn render(&self) -> String {
         let mut out = String::with_capacity(4096);
+        self.render_counters(&mut out);
+        self.render_histograms_and_gauges(&mut out);
+        out
+    }
+
+    fn render_counters(&self, out: &mut String) {
         let get = |c: &AtomicU64| c.load(Ordering::Relaxed);
         out.push_str("# HELP muse_flight_requests_total Answers to POST /v1/flights, by outcome.\n# TYPE muse_flight_requests_total counter\n");
         let _ = writeln!(
@@ -238,23 +244,24 @@ impl Metrics {
             "muse_refused_requests_total{{reason=\"unauthorized\"}} {}",
             get(&self.unauthorized)
         );
+    }
+
+    fn render_histograms_and_gauges(&self, out: &mut String) {
+        let get = |c: &AtomicU64| c.load(Ordering::Relaxed);
         self.request_latency.write(
-            &mut out,
+            out,
             "muse_flight_request_seconds",
             "Time from receiving POST /v1/flights to answering it: queue, planning and durable write.",
         );
         self.plan_latency
-            .write(&mut out, "muse_plan_seconds", "Planner time per request.");
+            .write(out, "muse_plan_seconds", "Planner time per request.");
         self.store_latency.write(
-            &mut out,
+            out,
             "muse_store_commit_seconds",
             "Time of one group commit to the store (write and fdatasync).",
         );
-        self.group_size.write(
-            &mut out,
-            "muse_store_group_records",
-            "Records per group commit.",
-        );
+        self.group_size
+            .write(out, "muse_store_group_records", "Records per group commit.");
         let gauges = [
             (
                 "muse_schedule_reservations",
@@ -268,7 +275,7 @@ impl Metrics {
             ),
             (
                 "muse_flights",
-                "Flights known to the service (all statuses).",
+                "Flights held in memory (all statuses; flights ended more than the retention ago are evicted).",
                 get(&self.flights),
             ),
             (
@@ -287,7 +294,6 @@ impl Metrics {
                  # TYPE process_resident_memory_bytes gauge\nprocess_resident_memory_bytes {rss}"
             );
         }
-        out
     }
 }
 

@@ -126,4 +126,6 @@ pub struct State {
     pub metrics: Metrics,
     /// The clock.
     pub clock: Clock,
+    /// How long after its end a flight stays in memory (for reads and idempotent retries).
+    pub retain: Millis,
 }

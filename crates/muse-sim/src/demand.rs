@@ -8,7 +8,7 @@
 
 use muse_airspace::shortest::Dijkstra;
 use muse_model::{Airspace, Instant, Millis, NodeId, Request, Speed};
-use rand::{RngExt, SeedableRng};
+use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// How origin–destination pairs are drawn.
@@ -110,15 +110,42 @@ pub fn generate(airspace: &Airspace, spec: &DemandSpec) -> Result<Vec<Request>, 
     Ok((0..spec.count)
         .map(|i| {
             let departure = Instant(spec.start.0 + rng.random_range(0..span));
-            let (origin, destination) = pairs[rng.random_range(0..pairs.len())];
-            Request {
-                id: format!("r{:0width$}", i + 1),
-                origin,
-                destination,
-                departure,
-            }
+            draw_request(&mut rng, &pairs, format!("r{:0width$}", i + 1), departure)
         })
         .collect())
+}
+
+/// Draws one request at a given departure: its origin–destination pair uniform over `pairs`
+/// (one draw from `rng`), with id `id`. [`generate`] uses it after drawing each departure, so
+/// online demand (e.g. a load generator choosing departures relative to its clock) draws its
+/// pairs exactly as a generated day does.
+///
+/// # Panics
+/// If `pairs` is empty (see [`allowed_pairs`] and [`DemandError::NoPairs`]).
+///
+/// ```
+/// use muse_model::{Instant, NodeId};
+/// use muse_sim::demand::draw_request;
+/// use rand::SeedableRng;
+/// let pairs = [(NodeId(0), NodeId(1)), (NodeId(1), NodeId(0))];
+/// let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+/// let r = draw_request(&mut rng, &pairs, "q1".into(), Instant(60_000));
+/// assert_eq!((r.id.as_str(), r.departure), ("q1", Instant(60_000)));
+/// assert!(pairs.contains(&(r.origin, r.destination)));
+/// ```
+pub fn draw_request<R: Rng + ?Sized>(
+    rng: &mut R,
+    pairs: &[(NodeId, NodeId)],
+    id: String,
+    departure: Instant,
+) -> Request {
+    let (origin, destination) = pairs[rng.random_range(0..pairs.len())];
+    Request {
+        id,
+        origin,
+        destination,
+        departure,
+    }
 }
 
 #[cfg(test)]
@@ -196,6 +223,35 @@ mod tests {
             max_flight: Millis::from_mins(20),
         };
         assert_eq!(allowed_pairs(&air, od20).len(), 6, "the limit is inclusive");
+    }
+
+    #[test]
+    fn draw_request_matches_generate() {
+        // A generated day is its departures followed, request by request, by draw_request:
+        // the same seed gives the same pairs whichever way they are drawn.
+        let air = line_airspace();
+        let spec = DemandSpec {
+            count: 50,
+            start: Instant(0),
+            end: Instant(3_600_000),
+            seed: 9,
+            od: OdRule::Uniform,
+        };
+        let day = generate(&air, &spec).unwrap();
+        let pairs = allowed_pairs(&air, spec.od);
+        let mut rng = ChaCha8Rng::seed_from_u64(spec.seed);
+        for r in &day {
+            let departure = Instant(rng.random_range(0..spec.end.0));
+            let drawn = draw_request(&mut rng, &pairs, r.id.clone(), departure);
+            assert_eq!(&drawn, r);
+        }
+        // Every pair is reachable by the draw, and only allowed pairs are drawn.
+        let one = [(NodeId(2), NodeId(0))];
+        let r = draw_request(&mut rng, &one, "x".into(), Instant(5));
+        assert_eq!(
+            (r.origin, r.destination, r.departure),
+            (NodeId(2), NodeId(0), Instant(5))
+        );
     }
 
     #[test]

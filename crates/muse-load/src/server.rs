@@ -1,0 +1,309 @@
+//! The service under load: one keep-alive HTTP client for it, and what it plans on — the
+//! airspace (`/v1/airspace`), the zones (`/v1/zones`), the flight parameters and the clock
+//! (`/healthz`) — so that a run needs no world arguments of its own.
+
+use std::time::Duration;
+
+use muse_formats::airspace_geojson::read_airspace;
+use muse_formats::zones::read_zones;
+use muse_model::{Airspace, EdgeRule, FlightParams, Instant, Millis, Speed, UtcOffset, Zone};
+use reqwest::{StatusCode, Url, header};
+use serde::Deserialize;
+
+use crate::error::LoadError;
+
+/// A client for one service: base URL, optional bearer token and a connection pool shared by
+/// every task of a run (connections are kept alive and reused).
+#[derive(Debug, Clone)]
+pub struct Server {
+    base: String,
+    flights: Url,
+    auth: Option<header::HeaderValue>,
+    client: reqwest::Client,
+}
+
+/// What a service plans on, as it reports it.
+#[derive(Debug)]
+pub struct ServerWorld {
+    /// The service's description of its airspace and zones (`/healthz` `airspace`).
+    pub label: String,
+    /// The airspace.
+    pub airspace: Airspace,
+    /// The no-fly zones.
+    pub zones: Vec<Zone>,
+    /// The flight parameters.
+    pub params: FlightParams,
+    /// The parameters exactly as `/healthz` gave them, for the report.
+    pub parameters: serde_json::Value,
+    /// The UTC offset of the service's times.
+    pub offset: UtcOffset,
+    /// The service's clock minus this machine's, ms (estimated at the midpoint of the
+    /// `/healthz` round trip).
+    pub skew: Millis,
+    /// Flights the service held before the run.
+    pub flights_before: u64,
+}
+
+/// This machine's clock.
+pub fn system_now() -> Instant {
+    let d = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap_or_default();
+    Instant(i64::try_from(d.as_millis()).unwrap_or(i64::MAX))
+}
+
+/// An error and its causes, `: `-separated (reqwest's own message alone rarely says why).
+pub(crate) fn causes(e: &dyn std::error::Error) -> String {
+    let mut out = e.to_string();
+    let mut source = e.source();
+    while let Some(s) = source {
+        let text = s.to_string();
+        if !out.contains(&text) {
+            out.push_str(": ");
+            out.push_str(&text);
+        }
+        source = s.source();
+    }
+    out
+}
+
+#[derive(Deserialize)]
+struct Health {
+    now: String,
+    flights: u64,
+    airspace: String,
+    parameters: serde_json::Value,
+}
+
+#[derive(Deserialize)]
+struct Parameters {
+    speed_kmh: f64,
+    max_flight_min: f64,
+    node_separation_s: f64,
+    edge_rule: String,
+    headway_s: Option<f64>,
+    max_ground_delay_s: f64,
+}
+
+#[derive(Deserialize)]
+struct ErrorBody {
+    error: ErrorInner,
+}
+
+#[derive(Deserialize)]
+struct ErrorInner {
+    message: String,
+}
+
+impl Server {
+    /// A client for the service at `url` (e.g. `http://127.0.0.1:8080`), sending `token` as
+    /// a bearer token if given; each request gives up after `timeout`.
+    pub fn new(url: &str, token: Option<&str>, timeout: Duration) -> Result<Self, LoadError> {
+        let base = url.trim_end_matches('/').to_owned();
+        let flights = Url::parse(&format!("{base}/v1/flights"))
+            .ok()
+            .filter(|u| u.scheme() == "http")
+            .ok_or_else(|| {
+                LoadError::Config(format!(
+                    "--url {url} is not an http:// URL (e.g. http://127.0.0.1:8080)"
+                ))
+            })?;
+        let auth = token
+            .map(|t| {
+                header::HeaderValue::from_str(&format!("Bearer {t}")).map_err(|_| {
+                    LoadError::Config("--token holds characters a header cannot".into())
+                })
+            })
+            .transpose()?;
+        let client = reqwest::Client::builder()
+            .timeout(timeout)
+            .connect_timeout(timeout.min(Duration::from_secs(5)))
+            .tcp_nodelay(true)
+            .pool_idle_timeout(Duration::from_secs(90))
+            .no_proxy()
+            .build()
+            .map_err(|e| LoadError::Config(format!("building the HTTP client: {}", causes(&e))))?;
+        Ok(Server {
+            base,
+            flights,
+            auth,
+            client,
+        })
+    }
+
+    /// The base URL (without a trailing `/`).
+    pub fn url(&self) -> &str {
+        &self.base
+    }
+
+    /// A `POST /v1/flights` with `body`, ready to send.
+    pub(crate) fn post_flight(&self, body: String) -> reqwest::RequestBuilder {
+        let rq = self
+            .client
+            .post(self.flights.clone())
+            .header(
+                header::CONTENT_TYPE,
+                header::HeaderValue::from_static("application/json"),
+            )
+            .body(body);
+        match &self.auth {
+            Some(a) => rq.header(header::AUTHORIZATION, a.clone()),
+            None => rq,
+        }
+    }
+
+    /// `GET path` (e.g. `/v1/zones`): the body of a 2xx answer, or why there is none.
+    pub async fn get_text(&self, path: &str) -> Result<String, LoadError> {
+        let what = format!("GET {path}");
+        let mut rq = self.client.get(format!("{}{path}", self.base));
+        if let Some(a) = &self.auth {
+            rq = rq.header(header::AUTHORIZATION, a.clone());
+        }
+        let response = rq.send().await.map_err(|e| self.transport(&e))?;
+        let status = response.status();
+        let text = response
+            .text()
+            .await
+            .map_err(|e| LoadError::bad_answer(&what, causes(&e)))?;
+        if status.is_success() {
+            return Ok(text);
+        }
+        let message = serde_json::from_str::<ErrorBody>(&text)
+            .map(|b| b.error.message)
+            .unwrap_or_default();
+        let message = match (status, message.is_empty()) {
+            (StatusCode::UNAUTHORIZED, true) => "unauthorized (see --token)".to_owned(),
+            (_, true) => status.canonical_reason().unwrap_or_default().to_owned(),
+            (_, false) => message,
+        };
+        Err(LoadError::Http {
+            what,
+            status: status.as_u16(),
+            message,
+        })
+    }
+
+    /// The error for a request that got no answer.
+    fn transport(&self, e: &reqwest::Error) -> LoadError {
+        LoadError::Unreachable {
+            url: self.base.clone(),
+            cause: causes(e),
+        }
+    }
+
+    /// Fetches what the service plans on: `/healthz` first (which needs no token, so that an
+    /// unreachable service is told apart from a refused token), then the airspace and zones.
+    pub async fn world(&self) -> Result<ServerWorld, LoadError> {
+        let before = system_now();
+        let text = self.get_text("/healthz").await?;
+        let after = system_now();
+        let what = "GET /healthz";
+        let health: Health =
+            serde_json::from_str(&text).map_err(|e| LoadError::bad_answer(what, e))?;
+        let now =
+            Instant::parse_rfc3339(&health.now).map_err(|e| LoadError::bad_answer(what, e))?;
+        let offset = offset_of(&health.now).map_err(|e| LoadError::bad_answer(what, e))?;
+        let params =
+            flight_params(&health.parameters).map_err(|e| LoadError::bad_answer(what, e))?;
+        let midpoint = Instant(before.0 + (after.0 - before.0) / 2);
+        let airspace_text = self.get_text("/v1/airspace").await?;
+        let airspace = read_airspace(&airspace_text, "GET /v1/airspace")
+            .map_err(|e| LoadError::bad_answer("GET /v1/airspace", e))?;
+        let zones_text = self.get_text("/v1/zones").await?;
+        let zones = read_zones(&zones_text, "GET /v1/zones")
+            .map_err(|e| LoadError::bad_answer("GET /v1/zones", e))?;
+        Ok(ServerWorld {
+            label: health.airspace,
+            airspace,
+            zones,
+            params,
+            parameters: health.parameters,
+            offset,
+            skew: now - midpoint,
+            flights_before: health.flights,
+        })
+    }
+}
+
+/// The UTC offset an RFC 3339 timestamp is written in (`Z`, `+08:00`, …).
+fn offset_of(text: &str) -> Result<UtcOffset, String> {
+    let t = text.trim();
+    if t.ends_with(['Z', 'z']) {
+        return Ok(UtcOffset(0));
+    }
+    let start = t
+        .len()
+        .checked_sub(6)
+        .filter(|&i| t.is_char_boundary(i))
+        .ok_or_else(|| format!("`{t}` has no UTC offset"))?;
+    UtcOffset::parse(&t[start..]).map_err(|e| format!("`{t}`: {e}"))
+}
+
+/// The flight parameters of `/healthz`'s `parameters`.
+fn flight_params(v: &serde_json::Value) -> Result<FlightParams, String> {
+    let p: Parameters =
+        serde_json::from_value(v.clone()).map_err(|e| format!("parameters: {e}"))?;
+    let secs = |name: &str, s: f64| Millis::from_secs_f64(s).map_err(|e| format!("{name}: {e}"));
+    let edge_rule = match (p.edge_rule.as_str(), p.headway_s) {
+        ("exclusive", _) => EdgeRule::Exclusive,
+        ("headway", Some(h)) => EdgeRule::Headway(secs("headway_s", h)?),
+        (other, _) => return Err(format!("unknown edge rule `{other}`")),
+    };
+    Ok(FlightParams {
+        speed: Speed::from_kmh(p.speed_kmh).map_err(|e| format!("speed_kmh: {e}"))?,
+        max_flight: secs("max_flight_min", p.max_flight_min * 60.0)?,
+        node_separation: secs("node_separation_s", p.node_separation_s)?,
+        edge_rule,
+        max_ground_delay: secs("max_ground_delay_s", p.max_ground_delay_s)?,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use serde_json::json;
+
+    #[test]
+    fn offsets_of_timestamps() {
+        assert_eq!(
+            offset_of("2026-11-23T23:31:44.000+08:00"),
+            Ok(UtcOffset::SINGAPORE)
+        );
+        assert_eq!(offset_of("2026-11-23T15:31:44.000Z"), Ok(UtcOffset(0)));
+        assert_eq!(
+            offset_of("2026-11-23T10:31:44.000-05:30"),
+            Ok(UtcOffset(-19_800))
+        );
+        assert!(offset_of("x").is_err());
+    }
+
+    #[test]
+    fn parameters_as_healthz_gives_them() {
+        let v = json!({"speed_kmh": 30.0, "max_flight_min": 20.0, "node_separation_s": 5.0,
+            "edge_rule": "exclusive", "headway_s": null, "max_ground_delay_s": 0.0});
+        assert_eq!(flight_params(&v).unwrap(), FlightParams::default());
+        let v = json!({"speed_kmh": 30.0, "max_flight_min": 20.0, "node_separation_s": 5.0,
+            "edge_rule": "headway", "headway_s": 2.5, "max_ground_delay_s": 600.0});
+        let p = flight_params(&v).unwrap();
+        assert_eq!(p.edge_rule, EdgeRule::Headway(Millis(2_500)));
+        assert_eq!(p.max_ground_delay, Millis::from_mins(10));
+        let v = json!({"speed_kmh": 30.0, "max_flight_min": 20.0, "node_separation_s": 5.0,
+            "edge_rule": "sideways", "headway_s": null, "max_ground_delay_s": 0.0});
+        assert!(flight_params(&v).unwrap_err().contains("sideways"));
+    }
+
+    #[test]
+    fn only_http_urls() {
+        let t = Duration::from_secs(1);
+        assert!(Server::new("http://127.0.0.1:8080/", None, t).is_ok());
+        assert_eq!(
+            Server::new("http://127.0.0.1:8080/", None, t)
+                .unwrap()
+                .url(),
+            "http://127.0.0.1:8080"
+        );
+        assert!(Server::new("https://example.invalid", None, t).is_err());
+        assert!(Server::new("127.0.0.1:8080", None, t).is_err());
+        assert!(Server::new("http://127.0.0.1:8080", Some("a\nb"), t).is_err());
+    }
+}

@@ -1,0 +1,248 @@
+//! `muse load`: an HTTP load generator for `muse serve` (the work is in `muse-load`).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::{Duration, Instant};
+
+use anyhow::Context as _;
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use muse_load::{Event, LoadConfig, Mode, OdChoice, Stop};
+use muse_model::Millis;
+
+use super::common::write_atomically;
+
+/// Origin–destination rule on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum OdArg {
+    /// Uniform over distinct station pairs (the paper).
+    Uniform,
+    /// Only pairs whose free-flow time on the empty graph fits the battery.
+    InRange,
+}
+
+/// Arguments of `muse load`.
+#[derive(Debug, Args)]
+pub struct LoadArgs {
+    /// The service's base URL.
+    #[arg(long, value_name = "URL", default_value = "http://127.0.0.1:8080")]
+    url: String,
+    /// Bearer token (an authority's token lets the final verification see every flight).
+    #[arg(long, value_name = "TOKEN")]
+    token: Option<String>,
+    /// Open loop: send this many requests per second, whatever the answers (latency counts
+    /// from each request's due time).
+    #[arg(long, value_name = "R", conflicts_with = "clients")]
+    rate: Option<f64>,
+    /// Closed loop: this many concurrent clients, each sending as soon as answered
+    /// (default 16 without --rate).
+    #[arg(long, value_name = "N")]
+    clients: Option<usize>,
+    /// Run for this long, seconds.
+    #[arg(long, value_name = "SECONDS", conflicts_with = "count")]
+    duration: Option<f64>,
+    /// Send this many requests (default 10000 without --duration).
+    #[arg(long, value_name = "N")]
+    count: Option<u64>,
+    /// Seed of the demand.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Each departure is the service's now at send time plus a uniform lead in [A, B]
+    /// minutes.
+    #[arg(long, value_name = "A:B", default_value = "1:1440")]
+    lead_min: String,
+    /// Origin–destination rule.
+    #[arg(long, value_enum, default_value_t = OdArg::Uniform)]
+    od: OdArg,
+    /// Report file (JSON).
+    #[arg(long, value_name = "FILE", default_value = "load.json")]
+    out: PathBuf,
+    /// Do not fetch and verify the planned flights at the end.
+    #[arg(long)]
+    no_verify: bool,
+    /// Prefix of this run's flight ids (default: from the seed and the start time, so that
+    /// runs against one service never reuse ids).
+    #[arg(long, value_name = "PREFIX")]
+    id_prefix: Option<String>,
+    /// Open loop: most requests in flight at once (a request due beyond it waits and is
+    /// counted).
+    #[arg(long, value_name = "N", default_value_t = muse_load::config::DEFAULT_MAX_IN_FLIGHT, requires = "rate")]
+    max_in_flight: usize,
+    /// Per-request timeout, seconds.
+    #[arg(long, value_name = "SECONDS", default_value_t = 30.0)]
+    timeout: f64,
+}
+
+impl LoadArgs {
+    fn config(&self) -> anyhow::Result<LoadConfig> {
+        let mut c = LoadConfig::new(self.url.clone());
+        c.token.clone_from(&self.token);
+        c.mode = match self.rate {
+            Some(rate) => Mode::Open {
+                rate,
+                max_in_flight: self.max_in_flight,
+            },
+            None => Mode::Closed {
+                clients: self.clients.unwrap_or(16),
+            },
+        };
+        c.stop = match (self.duration, self.count) {
+            (Some(d), _) => Stop::Duration(seconds("--duration", d)?),
+            (None, Some(n)) => Stop::Count(n),
+            (None, None) => Stop::Count(10_000),
+        };
+        c.seed = self.seed;
+        c.lead = lead(&self.lead_min)?;
+        c.od = match self.od {
+            OdArg::Uniform => OdChoice::Uniform,
+            OdArg::InRange => OdChoice::InRange,
+        };
+        c.id_prefix.clone_from(&self.id_prefix);
+        c.verify = !self.no_verify;
+        c.timeout = seconds("--timeout", self.timeout)?;
+        Ok(c)
+    }
+}
+
+fn seconds(name: &str, s: f64) -> anyhow::Result<Duration> {
+    Duration::try_from_secs_f64(s)
+        .ok()
+        .filter(|d| !d.is_zero())
+        .with_context(|| format!("{name} must be a positive number of seconds, got {s}"))
+}
+
+/// `A:B` (or `A`) minutes.
+fn lead(text: &str) -> anyhow::Result<(Millis, Millis)> {
+    let (a, b) = text.split_once(':').unwrap_or((text, text));
+    let minutes = |v: &str| -> anyhow::Result<Millis> {
+        let m: f64 = v
+            .trim()
+            .parse()
+            .ok()
+            .with_context(|| format!("--lead-min {text}: `{v}` is not a number of minutes"))?;
+        Millis::from_secs_f64(m * 60.0).with_context(|| format!("--lead-min {text}"))
+    };
+    Ok((minutes(a)?, minutes(b)?))
+}
+
+/// Runs `muse load`; exits 1 if the verifier finds a violation, 2 if the service cannot be
+/// reached or the options are wrong.
+pub fn run(args: &LoadArgs) -> anyhow::Result<ExitCode> {
+    let config = args.config()?;
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .context("starting the async runtime")?;
+    let mut progress = Progress::default();
+    let report = runtime.block_on(muse_load::run(&config, |e| progress.on(e)));
+    progress.clear();
+    let report = report?;
+    write_atomically(&args.out, &report.to_json())?;
+    print!("{}", report.text());
+    println!("  wrote         {}", args.out.display());
+    Ok(if report.verified_ok() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+/// Progress bars, shown once a phase has lasted a second.
+#[derive(Default)]
+struct Progress {
+    phase: Option<(u8, Instant)>,
+    bar: Option<ProgressBar>,
+}
+
+impl Progress {
+    fn on(&mut self, event: &Event) {
+        let (phase, len, pos, message, template) = match *event {
+            Event::Load {
+                elapsed,
+                completed,
+                planned,
+                errors,
+                stop,
+                ..
+            } => {
+                let message = format!("load: {planned} planned, {errors} errors");
+                match stop {
+                    Stop::Count(n) => (
+                        0,
+                        n,
+                        completed,
+                        message,
+                        "{msg} [{bar:40}] {pos}/{len} ({elapsed}, ETA {eta})",
+                    ),
+                    Stop::Duration(d) => (
+                        0,
+                        d.as_secs().max(1),
+                        elapsed.as_secs(),
+                        format!("{message}, {completed} answered"),
+                        "{msg} [{bar:40}] {pos}/{len} s",
+                    ),
+                }
+            }
+            Event::Fetching { flights } => (
+                1,
+                0,
+                flights as u64,
+                "fetching planned flights".to_owned(),
+                "{msg}: {pos}",
+            ),
+            Event::Verifying { flights } => {
+                (2, 0, 0, format!("verifying {flights} flights"), "{msg}")
+            }
+        };
+        if self.phase.is_none_or(|(p, _)| p != phase) {
+            self.clear();
+            self.phase = Some((phase, Instant::now()));
+        }
+        if self.bar.is_none()
+            && self
+                .phase
+                .is_some_and(|(_, t)| t.elapsed() > Duration::from_secs(1))
+        {
+            let bar = if len > 0 {
+                ProgressBar::new(len)
+            } else {
+                ProgressBar::no_length()
+            };
+            bar.set_style(
+                ProgressStyle::with_template(template)
+                    .unwrap_or_else(|_| ProgressStyle::default_bar())
+                    .progress_chars("=> "),
+            );
+            self.bar = Some(bar);
+        }
+        if let Some(bar) = &self.bar {
+            bar.set_message(message);
+            bar.set_position(pos);
+        }
+    }
+
+    fn clear(&mut self) {
+        if let Some(bar) = self.bar.take() {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lead_ranges() {
+        assert_eq!(
+            lead("1:1440").unwrap(),
+            (Millis::from_mins(1), Millis::from_mins(1_440))
+        );
+        assert_eq!(
+            lead("0.5").unwrap(),
+            (Millis::from_secs(30), Millis::from_secs(30))
+        );
+        assert!(lead("a:2").is_err());
+        assert!(lead("-1:2").is_err());
+    }
+}
