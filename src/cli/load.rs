@@ -31,11 +31,13 @@ pub struct LoadArgs {
     #[arg(long, value_name = "TOKEN")]
     token: Option<String>,
     /// Open loop: send this many requests per second, whatever the answers (latency counts
-    /// from each request's due time).
-    #[arg(long, value_name = "R", conflicts_with = "clients")]
+    /// from each request's due time). With --clients: paced, see there.
+    #[arg(long, value_name = "R")]
     rate: Option<f64>,
     /// Closed loop: this many concurrent clients, each sending as soon as answered
-    /// (default 16 without --rate).
+    /// (default 16 without --rate). With --rate: paced, these N clients together follow the
+    /// open-loop schedule of R requests/s, each request taken by whichever client is free (it
+    /// waits while all are busy; latency still counts from its due time).
     #[arg(long, value_name = "N")]
     clients: Option<usize>,
     /// Run for this long, seconds.
@@ -65,8 +67,8 @@ pub struct LoadArgs {
     #[arg(long, value_name = "PREFIX")]
     id_prefix: Option<String>,
     /// Open loop: most requests in flight at once (a request due beyond it waits and is
-    /// counted).
-    #[arg(long, value_name = "N", default_value_t = muse_load::config::DEFAULT_MAX_IN_FLIGHT, requires = "rate")]
+    /// counted). Paced runs have --clients in flight at most.
+    #[arg(long, value_name = "N", default_value_t = muse_load::config::DEFAULT_MAX_IN_FLIGHT, requires = "rate", conflicts_with = "clients")]
     max_in_flight: usize,
     /// Per-request timeout, seconds.
     #[arg(long, value_name = "SECONDS", default_value_t = 30.0)]
@@ -77,13 +79,14 @@ impl LoadArgs {
     fn config(&self) -> anyhow::Result<LoadConfig> {
         let mut c = LoadConfig::new(self.url.clone());
         c.token.clone_from(&self.token);
-        c.mode = match self.rate {
-            Some(rate) => Mode::Open {
+        c.mode = match (self.rate, self.clients) {
+            (Some(rate), Some(clients)) => Mode::Paced { rate, clients },
+            (Some(rate), None) => Mode::Open {
                 rate,
                 max_in_flight: self.max_in_flight,
             },
-            None => Mode::Closed {
-                clients: self.clients.unwrap_or(16),
+            (None, clients) => Mode::Closed {
+                clients: clients.unwrap_or(16),
             },
         };
         c.stop = match (self.duration, self.count) {
@@ -231,6 +234,54 @@ impl Progress {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        load: LoadArgs,
+    }
+
+    fn mode(args: &[&str]) -> Result<Mode, String> {
+        let cli = Cli::try_parse_from(std::iter::once("load").chain(args.iter().copied()))
+            .map_err(|e| e.to_string())?;
+        Ok(cli.load.config().map_err(|e| e.to_string())?.mode)
+    }
+
+    #[test]
+    fn rate_and_clients_choose_the_mode() {
+        assert_eq!(mode(&[]).unwrap(), Mode::Closed { clients: 16 });
+        assert_eq!(
+            mode(&["--clients", "4"]).unwrap(),
+            Mode::Closed { clients: 4 }
+        );
+        assert_eq!(
+            mode(&["--rate", "500"]).unwrap(),
+            Mode::Open {
+                rate: 500.0,
+                max_in_flight: muse_load::config::DEFAULT_MAX_IN_FLIGHT
+            }
+        );
+        assert_eq!(
+            mode(&["--rate", "500", "--max-in-flight", "7"]).unwrap(),
+            Mode::Open {
+                rate: 500.0,
+                max_in_flight: 7
+            }
+        );
+        assert_eq!(
+            mode(&["--rate", "2000", "--clients", "256"]).unwrap(),
+            Mode::Paced {
+                rate: 2_000.0,
+                clients: 256
+            }
+        );
+        assert!(mode(&["--max-in-flight", "7"]).is_err(), "needs --rate");
+        assert!(
+            mode(&["--rate", "1", "--clients", "2", "--max-in-flight", "7"]).is_err(),
+            "paced runs have no cap of their own"
+        );
+    }
 
     #[test]
     fn lead_ranges() {

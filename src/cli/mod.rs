@@ -39,7 +39,7 @@ enum Command {
     BenchCase(bench::CaseArgs),
     /// Generate a seeded requests file (uniform departures in a window, random station pairs).
     Demand(demand::DemandCmd),
-    /// Load a running `muse serve` over HTTP (open or closed loop), report throughput and
+    /// Load a running `muse serve` over HTTP (open loop, paced clients or closed loop), report throughput and
     /// latency, then verify every planned flight.
     Load(load::LoadArgs),
     /// Plan a requests file: exact earliest-landing plans, first come first served.

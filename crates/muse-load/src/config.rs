@@ -26,6 +26,19 @@ pub enum Mode {
         /// Concurrent clients.
         clients: usize,
     },
+    /// Paced: the open-loop schedule of `rate` requests per second (request `i` due at
+    /// `t0 + i / rate`), served by `clients` concurrent clients, each with at most one request
+    /// in flight. A request is taken by whichever client is free; one that falls due while
+    /// every client is busy waits for the first to finish (and is counted as having waited).
+    /// Latency runs from the due time, as in open loop, so the wait is charged to it (no
+    /// coordinated omission); requests sent more than [`crate::schedule::PACED_LATE`] after
+    /// their due time are counted as late.
+    Paced {
+        /// Requests per second, all clients together.
+        rate: f64,
+        /// Concurrent clients.
+        clients: usize,
+    },
 }
 
 /// When a run stops issuing requests.
@@ -47,7 +60,7 @@ pub struct LoadConfig {
     pub url: String,
     /// Bearer token, if the service wants one.
     pub token: Option<String>,
-    /// Open or closed loop.
+    /// Open loop, closed loop or paced.
     pub mode: Mode,
     /// Count or duration.
     pub stop: Stop,
@@ -92,23 +105,17 @@ impl LoadConfig {
                 rate,
                 max_in_flight,
             } => {
-                if !(rate.is_finite() && rate > 0.0) {
-                    return Err(LoadError::Config(format!(
-                        "--rate must be a positive number of requests per second, got {rate}"
-                    )));
-                }
+                check_rate(rate)?;
                 if !(1..=1_000_000).contains(&max_in_flight) {
                     return Err(LoadError::Config(format!(
                         "the cap on requests in flight must be 1 to 1,000,000, got {max_in_flight}"
                     )));
                 }
             }
-            Mode::Closed { clients } => {
-                if !(1..=100_000).contains(&clients) {
-                    return Err(LoadError::Config(format!(
-                        "--clients must be 1 to 100,000, got {clients}"
-                    )));
-                }
+            Mode::Closed { clients } => check_clients(clients)?,
+            Mode::Paced { rate, clients } => {
+                check_rate(rate)?;
+                check_clients(clients)?;
             }
         }
         match self.stop {
@@ -131,6 +138,7 @@ impl LoadConfig {
                 max_in_flight,
             } => ("open", Some(rate), None, Some(max_in_flight)),
             Mode::Closed { clients } => ("closed", None, Some(clients), None),
+            Mode::Paced { rate, clients } => ("paced", Some(rate), Some(clients), None),
         };
         let (count, duration_s) = match self.stop {
             Stop::Count(n) => (Some(n), None),
@@ -158,16 +166,38 @@ impl LoadConfig {
     }
 }
 
+/// `--rate` is a positive, finite number of requests per second.
+fn check_rate(rate: f64) -> Result<(), LoadError> {
+    if rate.is_finite() && rate > 0.0 {
+        Ok(())
+    } else {
+        Err(LoadError::Config(format!(
+            "--rate must be a positive number of requests per second, got {rate}"
+        )))
+    }
+}
+
+/// `--clients` is 1 to 100,000.
+fn check_clients(clients: usize) -> Result<(), LoadError> {
+    if (1..=100_000).contains(&clients) {
+        Ok(())
+    } else {
+        Err(LoadError::Config(format!(
+            "--clients must be 1 to 100,000, got {clients}"
+        )))
+    }
+}
+
 /// The parameters of a run, as written to the report.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ConfigSummary {
     /// The service's base URL.
     pub url: String,
-    /// `open` or `closed`.
+    /// `open`, `closed` or `paced`.
     pub mode: &'static str,
-    /// Open loop: requests per second.
+    /// Open loop and paced: requests per second.
     pub rate: Option<f64>,
-    /// Closed loop: concurrent clients.
+    /// Closed loop and paced: concurrent clients.
     pub clients: Option<usize>,
     /// Open loop: most requests in flight.
     pub max_in_flight: Option<usize>,
@@ -221,6 +251,22 @@ mod tests {
             rate: 0.5,
             max_in_flight: 1
         }));
+        assert!(bad(|c| c.mode = Mode::Paced {
+            rate: f64::NAN,
+            clients: 4
+        }));
+        assert!(bad(|c| c.mode = Mode::Paced {
+            rate: 100.0,
+            clients: 0
+        }));
+        assert!(bad(|c| c.mode = Mode::Paced {
+            rate: 100.0,
+            clients: 100_001
+        }));
+        assert!(!bad(|c| c.mode = Mode::Paced {
+            rate: 2_000.0,
+            clients: 1
+        }));
     }
 
     #[test]
@@ -237,5 +283,20 @@ mod tests {
             ("open", Some(2_000.0), None, Some(30.0), None)
         );
         assert_eq!(s.lead_min, [1.0, 1_440.0]);
+    }
+
+    #[test]
+    fn summary_of_a_paced_run() {
+        let mut c = LoadConfig::new("http://x");
+        c.mode = Mode::Paced {
+            rate: 2_000.0,
+            clients: 16,
+        };
+        c.stop = Stop::Count(500);
+        let s = c.summary("p");
+        assert_eq!(
+            (s.mode, s.rate, s.clients, s.max_in_flight, s.count),
+            ("paced", Some(2_000.0), Some(16), None, Some(500))
+        );
     }
 }

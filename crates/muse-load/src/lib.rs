@@ -1,8 +1,9 @@
 //! `muse load`: an HTTP load generator for the MUSE planning service (`muse serve`, SPEC §10).
 //!
 //! A run asks the service what it plans on (`/healthz`, `/v1/airspace`, `/v1/zones`), sends
-//! it seeded Singapore demand with departures in the future — open loop at a fixed rate or
-//! closed loop with N clients, for a count or a duration — records every request's latency,
+//! it seeded Singapore demand with departures in the future — open loop at a fixed rate,
+//! closed loop with N clients, or paced: N clients that together follow the open-loop
+//! schedule of a fixed rate — for a count or a duration — records every request's latency,
 //! status and outcome, samples the service's memory gauges about once a second, and at the
 //! end fetches every planned flight the service holds and checks them all together with the
 //! independent verifier.
@@ -10,8 +11,9 @@
 //! - [`config`]: what a run does ([`LoadConfig`], [`Mode`], [`Stop`]);
 //! - [`server`]: the HTTP client and what the service plans on;
 //! - [`demand`]: the seeded requests (pairs from `muse_sim::demand`);
-//! - [`schedule`]: the open-loop schedule (latency from due time: no coordinated omission);
-//! - [`client`]: the open- and closed-loop runners;
+//! - [`schedule`]: the open-loop schedule (latency from due time: no coordinated omission)
+//!   and its precise pacing for paced runs;
+//! - [`client`]: the open-loop, closed-loop and paced runners;
 //! - [`outcome`]: what became of one request;
 //! - [`stats`]: exact percentiles;
 //! - [`metrics`]: the service's gauges over time;
@@ -27,6 +29,10 @@
 //! config.stop = Stop::Duration(std::time::Duration::from_secs(10));
 //! let report = muse_load::run(&config, |_| {}).await?;
 //! println!("{}", report.text());
+//! // The same schedule served by 16 clients, each with one request in flight at most.
+//! config.mode = Mode::Paced { rate: 500.0, clients: 16 };
+//! let paced = muse_load::run(&config, |_| {}).await?;
+//! println!("{}", paced.text());
 //! # Ok(()) }
 //! ```
 

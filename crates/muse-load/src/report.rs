@@ -10,7 +10,6 @@ use crate::client::{LoadRun, Sample};
 use crate::config::ConfigSummary;
 use crate::metrics::{Extent, MetricPoint, bytes, extents};
 use crate::outcome::Outcome;
-use crate::schedule::LATE;
 use crate::stats::Latency;
 use crate::verify::Verification;
 
@@ -82,18 +81,20 @@ pub struct Throughput {
     pub sent_per_s: f64,
 }
 
-/// How well an open-loop run kept to its schedule.
+/// How well an open-loop or paced run kept to its schedule.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct OpenLoop {
-    /// Requests due while the in-flight cap was reached, which waited for a slot.
+    /// Open loop: requests due while the in-flight cap was reached, which waited for a slot.
+    /// Paced: requests due while every client was busy, which waited for one.
     pub waited_for_slot: u64,
     /// Requests sent more than `late_threshold_ms` after their due time (the generator could
-    /// not keep up; their latency still counts from the due time).
+    /// not keep up, or in a paced run every client was busy; their latency still counts from
+    /// the due time).
     pub late: u64,
-    /// The lateness threshold, ms.
+    /// The lateness threshold, ms: 10 in open loop, 1 paced.
     pub late_threshold_ms: f64,
-    /// Send time minus due time (the dispatcher's own lateness, including the async
-    /// timer's millisecond granularity).
+    /// Send time minus due time: in open loop the dispatcher's own lateness, including the
+    /// async timer's millisecond granularity; paced, also the wait for a free client.
     pub send_lag_ms: Latency,
     /// Latency of the planning answers measured from sending instead of from the due time:
     /// what the service alone took, without the generator's lag.
@@ -145,7 +146,7 @@ pub struct Report {
     pub latency_ms: Latency,
     /// Latency of every request, errors included (to the failure), ms.
     pub latency_all_ms: Latency,
-    /// Open loop only: schedule keeping.
+    /// Open loop and paced only: schedule keeping.
     pub open_loop: Option<OpenLoop>,
     /// The service's gauges.
     pub gauges: Gauges,
@@ -174,7 +175,7 @@ impl Report {
             .map(|s| s.latency_ns)
             .collect();
         let mut all: Vec<u64> = run.samples.iter().map(|s| s.latency_ns).collect();
-        let open_loop = (config.mode == "open").then(|| {
+        let open_loop = matches!(config.mode, "open" | "paced").then(|| {
             let mut lag: Vec<u64> = run.samples.iter().map(|s| s.lag_ns).collect();
             let mut from_send: Vec<u64> = run
                 .samples
@@ -185,7 +186,7 @@ impl Report {
             OpenLoop {
                 waited_for_slot: run.waited_for_slot,
                 late: run.late,
-                late_threshold_ms: LATE.as_secs_f64() * 1e3,
+                late_threshold_ms: run.late_threshold.as_secs_f64() * 1e3,
                 send_lag_ms: Latency::from_nanos(&mut lag),
                 from_send_ms: Latency::from_nanos(&mut from_send),
             }
@@ -287,16 +288,28 @@ impl Report {
         let _ = writeln!(o, "  latency       {} ({from})", self.latency_ms.line());
         if let Some(ol) = &self.open_loop {
             let _ = writeln!(o, "  from send     {}", ol.from_send_ms.line());
+            let waited = if self.config.mode == "paced" {
+                let n = self.config.clients.unwrap_or_default();
+                if n == 1 {
+                    format!("{} due while the one client was busy", ol.waited_for_slot)
+                } else {
+                    format!("{} due while all {n} clients were busy", ol.waited_for_slot)
+                }
+            } else {
+                format!(
+                    "{} waited for a slot (cap {})",
+                    ol.waited_for_slot,
+                    self.config.max_in_flight.unwrap_or_default()
+                )
+            };
             let _ = writeln!(
                 o,
-                "  schedule      send lag p50 {}, p99 {}, max {}; {} sent over {} ms late, {} waited for a slot (cap {})",
+                "  schedule      send lag p50 {}, p99 {}, max {}; {} sent over {} ms late, {waited}",
                 crate::stats::ms(ol.send_lag_ms.p50_ms),
                 crate::stats::ms(ol.send_lag_ms.p99_ms),
                 crate::stats::ms(ol.send_lag_ms.max_ms),
                 ol.late,
                 ol.late_threshold_ms,
-                ol.waited_for_slot,
-                self.config.max_in_flight.unwrap_or_default()
             );
         }
         self.gauge_lines(&mut o);
@@ -379,10 +392,15 @@ impl Report {
 
     fn describe_load(&self) -> String {
         let s = &self.config;
-        let mode = match (s.rate, s.clients) {
-            (Some(rate), _) => format!("open loop at {rate} requests/s"),
-            (None, Some(n)) => format!("closed loop, {n} client{}", if n == 1 { "" } else { "s" }),
-            (None, None) => s.mode.to_owned(),
+        let clients = |n: usize| format!("{n} client{}", if n == 1 { "" } else { "s" });
+        let mode = match (s.mode, s.rate, s.clients) {
+            ("paced", Some(rate), Some(n)) => format!(
+                "paced at {rate} requests/s (open-loop schedule) by {}",
+                clients(n)
+            ),
+            (_, Some(rate), _) => format!("open loop at {rate} requests/s"),
+            (_, None, Some(n)) => format!("closed loop, {}", clients(n)),
+            (_, None, None) => s.mode.to_owned(),
         };
         let stop = match (s.count, s.duration_s) {
             (Some(n), _) => format!("{n} request{}", if n == 1 { "" } else { "s" }),
@@ -460,6 +478,7 @@ mod tests {
             wall: Duration::from_secs(2),
             waited_for_slot: 0,
             late: 0,
+            late_threshold: Duration::ZERO,
         };
         let config = LoadConfig::new("http://x").summary("p");
         let r = Report::new(String::new(), config, server(), &run, 5, Vec::new(), None);
@@ -508,6 +527,7 @@ mod tests {
             wall: Duration::from_secs(1),
             waited_for_slot: 0,
             late: 0,
+            late_threshold: crate::schedule::LATE,
         };
         let v = Verification {
             flights: 2,
@@ -542,8 +562,71 @@ mod tests {
             )
         );
         assert!(text.contains("(from due time)"));
+        assert!(text.contains("  load          open loop at 10 requests/s, 1 request,"));
+        assert!(text.contains(" sent over 10 ms late, 0 waited for a slot (cap 5)\n"));
         let json = serde_json::to_value(&r).unwrap();
         assert_eq!(json["config"]["mode"], "open");
+        assert_eq!(json["open_loop"]["late_threshold_ms"], 10.0);
         assert_eq!(json["counts"]["planned"], 1);
+    }
+
+    #[test]
+    fn paced_report() {
+        let mut config = LoadConfig::new("http://x");
+        config.mode = Mode::Paced {
+            rate: 2_000.0,
+            clients: 16,
+        };
+        config.stop = Stop::Duration(Duration::from_secs(30));
+        let run = LoadRun {
+            samples: vec![
+                Sample {
+                    lag_ns: 3_000_000,
+                    ..sample(5, 201, Outcome::Planned)
+                },
+                Sample {
+                    lag_ns: 100_000,
+                    ..sample(1, 200, Outcome::Rejected(RejectReason::OutOfRange))
+                },
+            ],
+            wall: Duration::from_secs(1),
+            waited_for_slot: 1,
+            late: 1,
+            late_threshold: crate::schedule::PACED_LATE,
+        };
+        let r = Report::new(
+            String::new(),
+            config.summary("p"),
+            server(),
+            &run,
+            2,
+            Vec::new(),
+            None,
+        );
+        let ol = r.open_loop.unwrap();
+        assert_eq!(
+            (ol.late, ol.waited_for_slot, ol.late_threshold_ms),
+            (1, 1, 1.0)
+        );
+        assert_eq!(ol.send_lag_ms.max_ms, 3.0);
+        assert_eq!(ol.from_send_ms.max_ms, 2.0);
+        let text = r.text();
+        assert!(
+            text.contains(
+                "  load          paced at 2000 requests/s (open-loop schedule) by 16 clients, for 30 s,"
+            ),
+            "{text}"
+        );
+        assert!(text.contains("(from due time)"), "{text}");
+        assert!(
+            text.contains(" 1 sent over 1 ms late, 1 due while all 16 clients were busy\n"),
+            "{text}"
+        );
+        let json = serde_json::to_value(&r).unwrap();
+        assert_eq!(json["config"]["mode"], "paced");
+        assert_eq!(json["config"]["rate"], 2_000.0);
+        assert_eq!(json["config"]["clients"], 16);
+        assert_eq!(json["config"]["max_in_flight"], serde_json::Value::Null);
+        assert_eq!(json["open_loop"]["late_threshold_ms"], 1.0);
     }
 }

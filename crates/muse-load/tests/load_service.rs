@@ -1,6 +1,6 @@
 //! `muse load` against a real service: the embedded Singapore default served in-process on
-//! an ephemeral loopback port, a closed-loop and an open-loop run, each verified together
-//! with everything planned before it.
+//! an ephemeral loopback port, a closed-loop, an open-loop and a paced run, each verified
+//! together with everything planned before it.
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -38,7 +38,7 @@ async fn serve(data: PathBuf) -> String {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-async fn closed_and_open_loop_runs_add_up_and_verify() {
+async fn closed_open_and_paced_runs_add_up_and_verify() {
     let data = temp_dir("runs");
     let url = serve(data.clone()).await;
 
@@ -121,6 +121,9 @@ async fn closed_and_open_loop_runs_add_up_and_verify() {
     assert_eq!(v2.flights as u64, c.planned + c2.planned);
     assert_eq!(v2.this_run as u64, c2.planned);
 
+    // Paced, verified together with both runs before it.
+    paced_run(&url, c.sent + c2.sent, c.planned + c2.planned).await;
+
     // Reusing the closed run's ids with other departures: every request is a 409 conflict,
     // counted as an error of that kind.
     let mut again = closed.clone();
@@ -135,6 +138,64 @@ async fn closed_and_open_loop_runs_add_up_and_verify() {
     assert!(r3.verification.is_none() && r3.verified_ok());
 
     let _ = std::fs::remove_dir_all(&data);
+}
+
+/// A paced run against the service at `url`, which holds `held_before` flights of which
+/// `planned_before` planned: the open-loop schedule of 500 requests/s served by 4 clients,
+/// 300 requests, pairs within range, verified together with everything before it. (Another
+/// seed than the closed run's: the same pairs and leads a few seconds later would mostly find
+/// their slots taken.)
+async fn paced_run(url: &str, held_before: u64, planned_before: u64) {
+    let mut paced = LoadConfig::new(url);
+    paced.seed = 2;
+    paced.mode = Mode::Paced {
+        rate: 500.0,
+        clients: 4,
+    };
+    paced.stop = Stop::Count(300);
+    paced.od = OdChoice::InRange;
+    paced.lead = (Millis::from_mins(1), Millis::from_mins(120));
+    paced.id_prefix = Some("paced".into());
+    let r4 = muse_load::run(&paced, |_| {}).await.unwrap();
+    let c4 = &r4.counts;
+    assert_eq!(c4.sent, 300);
+    assert_eq!(c4.answered, 300);
+    assert_eq!(c4.errors, 0, "{:?}", c4.errors_by_kind);
+    assert_eq!(c4.planned + c4.rejected, 300);
+    assert_eq!(c4.unaccounted(), 0);
+    assert_eq!(c4.rejected_by_reason.values().sum::<u64>(), c4.rejected);
+    assert_eq!(c4.http_status.get("201"), Some(&c4.planned));
+    assert!(
+        c4.planned > 100,
+        "in-range demand is mostly planned: {c4:?}"
+    );
+    assert_eq!(r4.latency_ms.count, 300);
+    assert!(
+        r4.wall_s >= 0.598,
+        "the last of 300 is due 299/500 s after the start: {}",
+        r4.wall_s
+    );
+    let ol4 = r4.open_loop.unwrap();
+    assert_eq!(ol4.send_lag_ms.count, 300);
+    assert_eq!(ol4.from_send_ms.count, 300);
+    assert!((ol4.late_threshold_ms - 1.0).abs() < 1e-12);
+    assert!(ol4.late <= 300 && ol4.waited_for_slot <= 300);
+    assert!(ol4.from_send_ms.max_ms <= r4.latency_ms.max_ms);
+    assert_eq!(r4.server.flights_before, held_before);
+    let v4 = r4.verification.as_ref().unwrap();
+    assert!(v4.ok(), "{:?}", v4.first_violations);
+    assert_eq!(v4.flights as u64, planned_before + c4.planned);
+    assert_eq!(v4.this_run as u64, c4.planned);
+    let json: serde_json::Value = serde_json::from_str(&r4.to_json()).unwrap();
+    assert_eq!(json["config"]["mode"], "paced");
+    assert_eq!(json["config"]["clients"], 4);
+    assert_eq!(json["config"]["rate"], 500.0);
+    let text = r4.text();
+    assert!(
+        text.contains("paced at 500 requests/s (open-loop schedule) by 4 clients, 300 requests"),
+        "{text}"
+    );
+    assert!(text.contains(": OK\n"), "{text}");
 }
 
 #[tokio::test]
