@@ -152,6 +152,31 @@ async fn get(http: &reqwest::Client, url: String) -> (u16, Value) {
     (code, r.json().await.expect("JSON"))
 }
 
+/// Every flight the server holds, by id, read page by page.
+async fn all_flights(http: &reqwest::Client, base: &str) -> BTreeMap<String, Value> {
+    let mut out = BTreeMap::new();
+    let mut after: Option<u64> = None;
+    loop {
+        let url = match after {
+            Some(a) => format!("{base}/v1/flights?limit=5000&after={a}"),
+            None => format!("{base}/v1/flights?limit=5000"),
+        };
+        let (code, page) = get(http, url).await;
+        assert_eq!(code, 200, "{page}");
+        for f in page["flights"].as_array().unwrap() {
+            let id = f["request"].as_str().unwrap().to_owned();
+            assert!(
+                out.insert(id.clone(), f.clone()).is_none(),
+                "{id} listed twice"
+            );
+        }
+        match page["next_after"].as_u64() {
+            Some(a) => after = Some(a),
+            None => return out,
+        }
+    }
+}
+
 /// Checks, on a freshly restarted server, that every acknowledged state is there unchanged
 /// and that retrying each unanswered request gives one consistent answer (which becomes
 /// acknowledged).
@@ -165,17 +190,19 @@ async fn check_restart(base: &str, ledger: &Mutex<Ledger>) {
             l.cancel_unanswered.clone(),
         )
     };
+    let held = all_flights(&http, base).await;
     for (id, want) in &acked {
-        let (code, got) = get(&http, format!("{base}/v1/flights/{id}")).await;
-        assert_eq!(code, 200, "acknowledged flight {id} lost: {got}");
+        let got = held
+            .get(id)
+            .unwrap_or_else(|| panic!("acknowledged flight {id} lost"));
         if cancels.contains(id) && got["status"] == "cancelled" {
             // The unanswered cancellation was durable before the kill: now it is known.
             let mut l = ledger.lock().unwrap();
             l.cancel_unanswered.remove(id);
-            l.acked.insert(id.clone(), got);
+            l.acked.insert(id.clone(), got.clone());
             continue;
         }
-        assert_eq!(&got, want, "acknowledged flight {id} changed");
+        assert_eq!(got, want, "acknowledged flight {id} changed");
     }
     for (id, body) in &unanswered {
         let post = || {
