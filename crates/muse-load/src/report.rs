@@ -377,6 +377,12 @@ impl Report {
                         v.first_duplicates.join(", ")
                     );
                 }
+                if !v.completeness_checked {
+                    let _ = writeln!(
+                        o,
+                        "  listing       not checked for completeness: the run outlasted the service's retention, so flights that ended have left its memory by design"
+                    );
+                }
                 if v.missing > 0 {
                     let _ = writeln!(
                         o,
@@ -539,6 +545,7 @@ mod tests {
             first_duplicates: vec!["p-0".into()],
             missing: 0,
             first_missing: Vec::new(),
+            completeness_checked: true,
         };
         let r = Report::new(
             String::new(),

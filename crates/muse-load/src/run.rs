@@ -5,15 +5,15 @@ use std::sync::Arc;
 use std::sync::atomic::Ordering;
 use std::time::Duration;
 
-use crate::client::{Live, run_load};
+use crate::client::{Live, LoadRun, run_load};
 use crate::config::{LoadConfig, Stop};
 use crate::demand::{Demand, default_prefix};
 use crate::error::LoadError;
 use crate::metrics::{MetricPoint, parse_gauges};
 use crate::outcome::Outcome;
 use crate::report::{Report, ServerSummary};
-use crate::server::{Server, system_now};
-use crate::verify::{check, fetch_planned};
+use crate::server::{Server, ServerWorld, system_now};
+use crate::verify::{Verification, check, fetch_planned};
 
 /// How often progress is reported during the load.
 pub const PROGRESS_EVERY: Duration = Duration::from_millis(200);
@@ -59,6 +59,41 @@ async fn sample(server: &Server, origin: tokio::time::Instant) -> Option<MetricP
         t_s: origin.elapsed().as_secs_f64(),
         values: parse_gauges(&text),
     })
+}
+
+/// Fetches every planned flight the service holds and verifies them together; checks that
+/// every flight of this run answered `planned` is listed, when the run was shorter than the
+/// service's retention (after it, ended flights leave the service's memory by design).
+async fn verify_run(
+    server: &Server,
+    world: &ServerWorld,
+    prefix: &str,
+    load_run: &LoadRun,
+    ran_for: Duration,
+    on_event: &mut impl FnMut(&Event),
+) -> Result<Verification, LoadError> {
+    on_event(&Event::Fetching { flights: 0 });
+    let plans = fetch_planned(server, |flights| {
+        on_event(&Event::Fetching { flights });
+    })
+    .await?;
+    on_event(&Event::Verifying {
+        flights: plans.lines().count(),
+    });
+    let complete = world.retain.is_none_or(|r| ran_for < r);
+    let acknowledged: Vec<u64> = if complete {
+        load_run
+            .samples
+            .iter()
+            .filter(|s| s.outcome == Outcome::Planned)
+            .map(|s| s.index)
+            .collect()
+    } else {
+        Vec::new()
+    };
+    let mut v = check(world, &plans, prefix, &acknowledged)?;
+    v.completeness_checked = complete;
+    Ok(v)
 }
 
 /// Runs `config` against its service, reporting progress to `on_event`.
@@ -138,21 +173,8 @@ pub async fn run(
     series.extend(sample(&server, origin).await);
 
     let verification = if config.verify {
-        on_event(&Event::Fetching { flights: 0 });
-        let plans = fetch_planned(&server, |flights| {
-            on_event(&Event::Fetching { flights });
-        })
-        .await?;
-        on_event(&Event::Verifying {
-            flights: plans.lines().count(),
-        });
-        let acknowledged: Vec<u64> = load_run
-            .samples
-            .iter()
-            .filter(|s| s.outcome == Outcome::Planned)
-            .map(|s| s.index)
-            .collect();
-        Some(check(&world, &plans, &prefix, &acknowledged)?)
+        let ran_for = origin.elapsed();
+        Some(verify_run(&server, &world, &prefix, &load_run, ran_for, &mut on_event).await?)
     } else {
         None
     };

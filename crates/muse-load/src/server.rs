@@ -42,6 +42,8 @@ pub struct ServerWorld {
     pub skew: Millis,
     /// Flights the service held before the run.
     pub flights_before: u64,
+    /// How long the service keeps a flight in memory after it ends (`None`: not said).
+    pub retain: Option<std::time::Duration>,
 }
 
 /// This machine's clock.
@@ -73,6 +75,8 @@ struct Health {
     flights: u64,
     airspace: String,
     parameters: serde_json::Value,
+    #[serde(default)]
+    retain_s: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -221,6 +225,10 @@ impl Server {
             offset,
             skew: now - midpoint,
             flights_before: health.flights,
+            retain: health
+                .retain_s
+                .filter(|s| s.is_finite() && *s >= 0.0)
+                .map(std::time::Duration::from_secs_f64),
         })
     }
 }

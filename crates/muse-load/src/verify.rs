@@ -42,6 +42,10 @@ pub struct Verification {
     pub missing: usize,
     /// The first [`KEPT`] missing ids.
     pub first_missing: Vec<String>,
+    /// Whether the listing was checked for completeness (every flight of the run answered
+    /// `planned` listed): only for runs shorter than the service's retention, after which
+    /// ended flights leave its memory by design.
+    pub completeness_checked: bool,
 }
 
 impl Verification {
@@ -147,6 +151,7 @@ pub fn check(
         first_duplicates: duplicated.into_iter().take(KEPT).collect(),
         missing: missing.len(),
         first_missing: missing.into_iter().take(KEPT).collect(),
+        completeness_checked: true,
     };
     let first = flights.iter().map(|(_, p)| p.takeoff()).min();
     let last = flights.iter().map(|(_, p)| p.landing()).max();
@@ -215,6 +220,7 @@ mod tests {
             offset: UtcOffset::SINGAPORE,
             skew: Millis::ZERO,
             flights_before: 0,
+            retain: None,
         }
     }
 

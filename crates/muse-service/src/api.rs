@@ -573,6 +573,8 @@ struct Health {
     flights: usize,
     airspace: String,
     parameters: Parameters,
+    /// Seconds a flight stays in memory after it ends (`--retain-hours`).
+    retain_s: f64,
 }
 
 /// The flight parameters planned with (SPEC §3), as `muse plan` takes them.
@@ -600,6 +602,7 @@ async fn healthz(AxumState(app): AxumState<Arc<App>>) -> Response {
             now: s.clock.now().to_rfc3339(s.world.offset),
             flights,
             airspace: s.world.label.clone(),
+            retain_s: s.retain.as_secs_f64(),
             parameters: {
                 let p = &s.world.params;
                 Parameters {
