@@ -18,11 +18,29 @@ use muse_planner::{Planner, Schedule, Scratch};
 use proptest::prelude::{Strategy, prop_assert_eq};
 use scenario::{Instance, Shape, Tally, ZoneSpec, runner};
 
-/// Runs `cases` random instances of `shape`; panics with the minimal failing instance.
+/// Runs `cases` random instances of `shape` through the batch path; panics with the minimal
+/// failing instance.
 fn property(shape: Shape, cases: u32, seed: u64) -> Tally {
+    property_of(scenario::run, "batch", shape, cases, seed)
+}
+
+/// The same through the online path (`scenario::run_online`).
+fn property_online(shape: Shape, cases: u32, seed: u64) -> Tally {
+    property_of(scenario::run_online, "online", shape, cases, seed)
+}
+
+/// Runs `cases` random instances of `shape` through `run`; panics with the minimal failing
+/// instance.
+fn property_of(
+    run: fn(&scenario::Instance) -> Result<Tally, String>,
+    path: &str,
+    shape: Shape,
+    cases: u32,
+    seed: u64,
+) -> Tally {
     let total = std::cell::Cell::new(Tally::default());
     let result = runner(cases, seed).run(&scenario::instances(shape), |instance| {
-        let tally = scenario::run(&instance).map_err(proptest::test_runner::TestCaseError::fail)?;
+        let tally = run(&instance).map_err(proptest::test_runner::TestCaseError::fail)?;
         let mut t = total.get();
         t.add(&tally);
         total.set(t);
@@ -32,7 +50,7 @@ fn property(shape: Shape, cases: u32, seed: u64) -> Tally {
         panic!("seed {seed}: {e}");
     }
     let t = total.get();
-    println!("{shape:?}: {t:?}");
+    println!("{path} {shape:?}: {t:?}");
     t
 }
 
@@ -76,25 +94,6 @@ fn planner_matches_oracle_tau_zero() {
         t.planned > 10_000 && t.ground_delayed > 1_000 && t.air_delayed > 1_000,
         "{t:?}"
     );
-}
-
-/// Runs `cases` random instances of `shape` through the online path (`scenario::run_online`).
-fn property_online(shape: Shape, cases: u32, seed: u64) -> Tally {
-    let total = std::cell::Cell::new(Tally::default());
-    let result = runner(cases, seed).run(&scenario::instances(shape), |instance| {
-        let tally =
-            scenario::run_online(&instance).map_err(proptest::test_runner::TestCaseError::fail)?;
-        let mut t = total.get();
-        t.add(&tally);
-        total.set(t);
-        Ok(())
-    });
-    if let Err(e) = result {
-        panic!("seed {seed}: {e}");
-    }
-    let t = total.get();
-    println!("online {shape:?}: {t:?}");
-    t
 }
 
 #[test]

@@ -35,8 +35,7 @@ pub struct FlightEntry {
 }
 
 /// A flight's status.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Deserialize)]
-#[serde(rename_all = "snake_case")]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Status {
     /// Planned and still booked.
     Planned,

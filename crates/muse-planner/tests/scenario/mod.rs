@@ -431,24 +431,7 @@ pub fn run(instance: &Instance) -> Result<Tally, String> {
         // of past reservations, and its reset when an instance is not in departure order).
         schedule.set_horizon(request.departure.0);
         let outcome = planner.plan(&schedule, request, &mut scratch);
-        let others: Vec<&Plan> = accepted.iter().map(|(_, p)| p).collect();
-        let expected = oracle::solve(
-            &b.airspace,
-            &b.params,
-            &b.raw,
-            &others,
-            request,
-            instance.unit,
-        );
-        judge(
-            &b,
-            &accepted,
-            request,
-            &outcome,
-            &expected,
-            instance.unit,
-            &mut tally,
-        )?;
+        judge_with_oracle(&b, &accepted, request, &outcome, instance.unit, &mut tally)?;
         if let Ok(plan) = &outcome.result {
             schedule.insert(&b.airspace, i as u64, plan);
             accepted.push((i, plan.clone()));
@@ -461,8 +444,8 @@ pub fn run(instance: &Instance) -> Result<Tally, String> {
 
 /// The online path (SPEC §10) against the oracle: the instance's requests arrive in their
 /// generated order, not by departure, while the clock moves evenly over three quarters of the
-/// instance's departures (forgetting the past at every step), so some departures are already past and must be rejected as such;
-/// after every third booking, an older booked flight is cancelled (refused once it has taken
+/// instance's departures (forgetting the past at every step), so some departures are already
+/// past and must be rejected as such; after every third booking, an older booked flight is cancelled (refused once it has taken
 /// off). Every answer is compared with the oracle's against the flights still booked, and the
 /// final booked set must pass the verifier.
 pub fn run_online(instance: &Instance) -> Result<Tally, String> {
@@ -494,24 +477,7 @@ pub fn run_online(instance: &Instance) -> Result<Tally, String> {
             tally.in_past += 1;
             continue;
         }
-        let others: Vec<&Plan> = accepted.iter().map(|(_, p)| p).collect();
-        let expected = oracle::solve(
-            &b.airspace,
-            &b.params,
-            &b.raw,
-            &others,
-            request,
-            instance.unit,
-        );
-        judge(
-            &b,
-            &accepted,
-            request,
-            &outcome,
-            &expected,
-            instance.unit,
-            &mut tally,
-        )?;
+        judge_with_oracle(&b, &accepted, request, &outcome, instance.unit, &mut tally)?;
         let Ok(plan) = outcome.result else { continue };
         accepted.push((i, plan));
         booked += 1;
@@ -562,6 +528,21 @@ fn check_all(b: &Built, accepted: &[(usize, Plan)]) -> Result<(), String> {
         list.join("\n"),
         describe(b, accepted)
     ))
+}
+
+/// Asks the oracle about `request` against the accepted plans and [`judge`]s the planner's
+/// answer with it.
+fn judge_with_oracle(
+    b: &Built,
+    accepted: &[(usize, Plan)],
+    request: &Request,
+    outcome: &Outcome,
+    unit: i64,
+    tally: &mut Tally,
+) -> Result<(), String> {
+    let others: Vec<&Plan> = accepted.iter().map(|(_, p)| p).collect();
+    let expected = oracle::solve(&b.airspace, &b.params, &b.raw, &others, request, unit);
+    judge(b, accepted, request, outcome, &expected, unit, tally)
 }
 
 /// Compares the planner's answer for one request with the oracle's, checking both plans with

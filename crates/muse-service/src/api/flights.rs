@@ -1,231 +1,23 @@
-//! The HTTP API (JSON, versioned under `/v1`): routes, input checks and answers.
-//!
-//! | method and path | what |
-//! |---|---|
-//! | `POST /v1/flights` | plan a request: `201` planned, `200` rejected, `409` id taken |
-//! | `GET /v1/flights` | the caller's flights (every flight for an authority), filtered |
-//! | `GET /v1/flights/{id}` | one flight |
-//! | `DELETE /v1/flights/{id}` | cancel before take-off (`409` after) |
-//! | `GET /v1/airspace` | the airspace, SPEC §2 GeoJSON |
-//! | `GET /v1/zones` | the no-fly zones, ED-318 GeoJSON |
-//! | `GET /v1/openapi.json` | this API as `OpenAPI` 3.1 |
-//! | `GET /healthz` | liveness and a few numbers |
-//! | `GET /metrics` | Prometheus metrics |
-//!
-//! Every error is `{"error": {"status", "code", "message", "field"}}`; `field` names the
-//! offending input field when there is one.
+//! The flight routes: plan, list, read and cancel, with their input checks.
 
 use std::sync::Arc;
 use std::time::Instant as WallInstant;
 
-use axum::Router;
 use axum::body::Bytes;
 use axum::extract::rejection::{BytesRejection, QueryRejection};
-use axum::extract::{DefaultBodyLimit, FromRequestParts, Path, Query, State as AxumState};
-use axum::http::{HeaderValue, StatusCode, header, request::Parts};
-use axum::response::{IntoResponse, Response};
-use axum::routing::get;
+use axum::extract::{Path, Query, State as AxumState};
+use axum::http::StatusCode;
+use axum::response::Response;
 use muse_model::{Instant, NodeId, NodeKind, Request};
 use serde::{Deserialize, Serialize};
-use tokio::sync::{mpsc, oneshot};
-use tower_http::catch_panic::CatchPanicLayer;
+use tokio::sync::oneshot;
 
-use crate::auth::{Caller, RateLimiter, Tokens};
 use crate::engine::{CancelReply, Command, PlanReply};
 use crate::flights::{FlightEntry, ListQuery, Status};
 use crate::metrics::PlanOutcome;
-use crate::state::State;
 
-/// The `OpenAPI` description of this API.
-pub const OPENAPI: &str = include_str!("openapi.json");
-
-/// Every route, as `(method, path)`: the router serves exactly these (checked against the
-/// `OpenAPI` document by a test).
-pub const ROUTES: &[(&str, &str)] = &[
-    ("post", "/v1/flights"),
-    ("get", "/v1/flights"),
-    ("get", "/v1/flights/{id}"),
-    ("delete", "/v1/flights/{id}"),
-    ("get", "/v1/airspace"),
-    ("get", "/v1/zones"),
-    ("get", "/v1/openapi.json"),
-    ("get", "/healthz"),
-    ("get", "/metrics"),
-];
-
-/// Longest client id accepted.
-pub const MAX_ID_LEN: usize = 128;
-
-/// What the handlers share.
-#[derive(Debug)]
-pub struct App {
-    /// The state shared with the planner task.
-    pub state: Arc<State>,
-    /// Who may call.
-    pub tokens: Tokens,
-    /// Requests per token.
-    pub limiter: RateLimiter,
-    /// The planner task's queue.
-    pub commands: mpsc::Sender<Command>,
-    /// `GET /v1/airspace`, rendered once.
-    pub airspace_geojson: String,
-    /// `GET /v1/zones`, rendered once.
-    pub zones_geojson: String,
-    /// Largest request body, bytes.
-    pub max_body: usize,
-}
-
-/// The router of the API over `app`.
-pub fn router(app: Arc<App>) -> Router {
-    let max_body = app.max_body;
-    Router::new()
-        .route("/v1/flights", get(list).post(create))
-        .route("/v1/flights/{id}", get(read).delete(cancel))
-        .route("/v1/airspace", get(airspace))
-        .route("/v1/zones", get(zones))
-        .route("/v1/openapi.json", get(openapi))
-        .route("/healthz", get(healthz))
-        .route("/metrics", get(metrics))
-        .fallback(not_found)
-        .layer(DefaultBodyLimit::max(max_body))
-        .layer(CatchPanicLayer::custom(|_| {
-            ApiError::new(
-                StatusCode::INTERNAL_SERVER_ERROR,
-                "internal",
-                "internal error while handling the request; the schedule is unchanged",
-            )
-            .into_response()
-        }))
-        .with_state(app)
-}
-
-/// An error answer.
-#[derive(Debug)]
-pub struct ApiError {
-    status: StatusCode,
-    code: &'static str,
-    message: String,
-    field: Option<String>,
-    retry_after_s: Option<u64>,
-}
-
-#[derive(Serialize)]
-struct ErrorBody<'a> {
-    error: ErrorInner<'a>,
-}
-
-#[derive(Serialize)]
-struct ErrorInner<'a> {
-    status: u16,
-    code: &'a str,
-    message: &'a str,
-    field: Option<&'a str>,
-}
-
-impl ApiError {
-    fn new(status: StatusCode, code: &'static str, message: impl Into<String>) -> Self {
-        ApiError {
-            status,
-            code,
-            message: message.into(),
-            field: None,
-            retry_after_s: None,
-        }
-    }
-
-    fn field(mut self, field: impl Into<String>) -> Self {
-        self.field = Some(field.into());
-        self
-    }
-
-    fn invalid(field: &str, message: impl Into<String>) -> Self {
-        ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, "invalid_value", message).field(field)
-    }
-
-    fn not_found(what: &str) -> Self {
-        ApiError::new(StatusCode::NOT_FOUND, "not_found", format!("no {what}"))
-    }
-
-    fn unavailable() -> Self {
-        ApiError::new(
-            StatusCode::SERVICE_UNAVAILABLE,
-            "unavailable",
-            "the planner is not running (the service is stopping); retry with the same id",
-        )
-    }
-}
-
-impl IntoResponse for ApiError {
-    fn into_response(self) -> Response {
-        let body = ErrorBody {
-            error: ErrorInner {
-                status: self.status.as_u16(),
-                code: self.code,
-                message: &self.message,
-                field: self.field.as_deref(),
-            },
-        };
-        let mut response = json(self.status, &body);
-        if let Some(s) = self.retry_after_s {
-            response
-                .headers_mut()
-                .insert(header::RETRY_AFTER, HeaderValue::from(s));
-        }
-        response
-    }
-}
-
-/// A JSON answer.
-fn json<T: Serialize>(status: StatusCode, body: &T) -> Response {
-    // Our bodies are plain data: serialising cannot fail.
-    let bytes = serde_json::to_vec(body).unwrap_or_default();
-    (
-        status,
-        [(
-            header::CONTENT_TYPE,
-            HeaderValue::from_static("application/json"),
-        )],
-        bytes,
-    )
-        .into_response()
-}
-
-/// The authenticated, rate-limited caller of a `/v1` route.
-pub struct Authed(pub Caller);
-
-impl FromRequestParts<Arc<App>> for Authed {
-    type Rejection = ApiError;
-
-    async fn from_request_parts(parts: &mut Parts, app: &Arc<App>) -> Result<Self, ApiError> {
-        let header = parts
-            .headers
-            .get(header::AUTHORIZATION)
-            .and_then(|v| v.to_str().ok());
-        let Some((key, caller)) = app.tokens.caller(header) else {
-            app.state.metrics.count_unauthorized();
-            return Err(ApiError::new(
-                StatusCode::UNAUTHORIZED,
-                "unauthorized",
-                if header.is_some() {
-                    "unknown token"
-                } else {
-                    "an `Authorization: Bearer <token>` header is required"
-                },
-            ));
-        };
-        if let Err(wait) = app.limiter.check(&key) {
-            app.state.metrics.count_rate_limited();
-            let mut e = ApiError::new(
-                StatusCode::TOO_MANY_REQUESTS,
-                "rate_limited",
-                "too many requests for this token; retry later",
-            );
-            e.retry_after_s = Some(wait.ceil().max(1.0) as u64);
-            return Err(e);
-        }
-        Ok(Authed(caller))
-    }
-}
+use super::error::json;
+use super::{ApiError, App, Authed, MAX_ID_LEN};
 
 /// The body of `POST /v1/flights`.
 #[derive(Debug, Deserialize)]
@@ -343,7 +135,7 @@ fn answer_status(entry: &FlightEntry) -> StatusCode {
     }
 }
 
-async fn create(
+pub(super) async fn create(
     AxumState(app): AxumState<Arc<App>>,
     Authed(caller): Authed,
     body: Result<Bytes, BytesRejection>,
@@ -391,7 +183,7 @@ async fn create(
 /// Query of `GET /v1/flights`.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-struct ListParams {
+pub(super) struct ListParams {
     status: Option<String>,
     from: Option<String>,
     to: Option<String>,
@@ -407,7 +199,7 @@ struct FlightList {
     next_after: Option<u64>,
 }
 
-async fn list(
+pub(super) async fn list(
     AxumState(app): AxumState<Arc<App>>,
     Authed(caller): Authed,
     params: Result<Query<ListParams>, QueryRejection>,
@@ -480,7 +272,7 @@ async fn list(
     Ok(json(StatusCode::OK, &body))
 }
 
-async fn read(
+pub(super) async fn read(
     AxumState(app): AxumState<Arc<App>>,
     Authed(caller): Authed,
     Path(id): Path<String>,
@@ -497,7 +289,7 @@ async fn read(
     Ok(flight_json(&app, StatusCode::OK, &entry))
 }
 
-async fn cancel(
+pub(super) async fn cancel(
     AxumState(app): AxumState<Arc<App>>,
     Authed(caller): Authed,
     Path(id): Path<String>,
@@ -534,108 +326,4 @@ async fn cancel(
             m,
         )),
     }
-}
-
-fn geojson(text: &str) -> Response {
-    (
-        [(
-            header::CONTENT_TYPE,
-            HeaderValue::from_static("application/geo+json"),
-        )],
-        text.to_owned(),
-    )
-        .into_response()
-}
-
-async fn airspace(AxumState(app): AxumState<Arc<App>>, Authed(_): Authed) -> Response {
-    geojson(&app.airspace_geojson)
-}
-
-async fn zones(AxumState(app): AxumState<Arc<App>>, Authed(_): Authed) -> Response {
-    geojson(&app.zones_geojson)
-}
-
-async fn openapi() -> Response {
-    (
-        [(
-            header::CONTENT_TYPE,
-            HeaderValue::from_static("application/json"),
-        )],
-        OPENAPI,
-    )
-        .into_response()
-}
-
-#[derive(Serialize)]
-struct Health {
-    status: &'static str,
-    now: String,
-    flights: usize,
-    airspace: String,
-    parameters: Parameters,
-    /// Seconds a flight stays in memory after it ends (`--retain-hours`).
-    retain_s: f64,
-}
-
-/// The flight parameters planned with (SPEC §3), as `muse plan` takes them.
-#[derive(Serialize)]
-struct Parameters {
-    speed_kmh: f64,
-    max_flight_min: f64,
-    node_separation_s: f64,
-    edge_rule: &'static str,
-    headway_s: Option<f64>,
-    max_ground_delay_s: f64,
-}
-
-async fn healthz(AxumState(app): AxumState<Arc<App>>) -> Response {
-    let s = &app.state;
-    let flights = s
-        .index
-        .read()
-        .unwrap_or_else(std::sync::PoisonError::into_inner)
-        .len();
-    json(
-        StatusCode::OK,
-        &Health {
-            status: "ok",
-            now: s.clock.now().to_rfc3339(s.world.offset),
-            flights,
-            airspace: s.world.label.clone(),
-            retain_s: s.retain.as_secs_f64(),
-            parameters: {
-                let p = &s.world.params;
-                Parameters {
-                    speed_kmh: p.speed.kmh(),
-                    max_flight_min: p.max_flight.as_secs_f64() / 60.0,
-                    node_separation_s: p.node_separation.as_secs_f64(),
-                    edge_rule: p.edge_rule.name(),
-                    headway_s: match p.edge_rule {
-                        muse_model::EdgeRule::Headway(h) => Some(h.as_secs_f64()),
-                        muse_model::EdgeRule::Exclusive => None,
-                    },
-                    max_ground_delay_s: p.max_ground_delay.as_secs_f64(),
-                }
-            },
-        },
-    )
-}
-
-async fn metrics(AxumState(app): AxumState<Arc<App>>) -> Response {
-    (
-        [(
-            header::CONTENT_TYPE,
-            HeaderValue::from_static("text/plain; version=0.0.4"),
-        )],
-        app.state.metrics.render(),
-    )
-        .into_response()
-}
-
-async fn not_found() -> ApiError {
-    ApiError::new(
-        StatusCode::NOT_FOUND,
-        "not_found",
-        "no such route; see /v1/openapi.json",
-    )
 }

@@ -1,0 +1,108 @@
+//! What the service plans on and how it is doing: airspace, zones, the API description,
+//! health and metrics.
+
+use std::sync::Arc;
+
+use axum::extract::State as AxumState;
+use axum::http::{HeaderValue, StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use serde::Serialize;
+
+use super::error::json;
+use super::{App, Authed, OPENAPI};
+
+fn geojson(text: &str) -> Response {
+    (
+        [(
+            header::CONTENT_TYPE,
+            HeaderValue::from_static("application/geo+json"),
+        )],
+        text.to_owned(),
+    )
+        .into_response()
+}
+
+pub(super) async fn airspace(AxumState(app): AxumState<Arc<App>>, Authed(_): Authed) -> Response {
+    geojson(&app.airspace_geojson)
+}
+
+pub(super) async fn zones(AxumState(app): AxumState<Arc<App>>, Authed(_): Authed) -> Response {
+    geojson(&app.zones_geojson)
+}
+
+pub(super) async fn openapi() -> Response {
+    (
+        [(
+            header::CONTENT_TYPE,
+            HeaderValue::from_static("application/json"),
+        )],
+        OPENAPI,
+    )
+        .into_response()
+}
+
+#[derive(Serialize)]
+struct Health {
+    status: &'static str,
+    now: String,
+    flights: usize,
+    airspace: String,
+    parameters: Parameters,
+    /// Seconds a flight stays in memory after it ends (`--retain-hours`).
+    retain_s: f64,
+}
+
+/// The flight parameters planned with (SPEC §3), as `muse plan` takes them.
+#[derive(Serialize)]
+struct Parameters {
+    speed_kmh: f64,
+    max_flight_min: f64,
+    node_separation_s: f64,
+    edge_rule: &'static str,
+    headway_s: Option<f64>,
+    max_ground_delay_s: f64,
+}
+
+pub(super) async fn healthz(AxumState(app): AxumState<Arc<App>>) -> Response {
+    let s = &app.state;
+    let flights = s
+        .index
+        .read()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+        .len();
+    json(
+        StatusCode::OK,
+        &Health {
+            status: "ok",
+            now: s.clock.now().to_rfc3339(s.world.offset),
+            flights,
+            airspace: s.world.label.clone(),
+            retain_s: s.retain.as_secs_f64(),
+            parameters: {
+                let p = &s.world.params;
+                Parameters {
+                    speed_kmh: p.speed.kmh(),
+                    max_flight_min: p.max_flight.as_secs_f64() / 60.0,
+                    node_separation_s: p.node_separation.as_secs_f64(),
+                    edge_rule: p.edge_rule.name(),
+                    headway_s: match p.edge_rule {
+                        muse_model::EdgeRule::Headway(h) => Some(h.as_secs_f64()),
+                        muse_model::EdgeRule::Exclusive => None,
+                    },
+                    max_ground_delay_s: p.max_ground_delay.as_secs_f64(),
+                }
+            },
+        },
+    )
+}
+
+pub(super) async fn metrics(AxumState(app): AxumState<Arc<App>>) -> Response {
+    (
+        [(
+            header::CONTENT_TYPE,
+            HeaderValue::from_static("text/plain; version=0.0.4"),
+        )],
+        app.state.metrics.render(),
+    )
+        .into_response()
+}
