@@ -247,6 +247,7 @@ async fn verify_all(base: &str) -> usize {
             origin: airspace.node_id(&r.origin).unwrap(),
             destination: airspace.node_id(&r.destination).unwrap(),
             departure: r.requested_departure,
+            submitted: r.requested_departure,
         })
         .collect();
     let flights: Vec<muse_verify::Flight<'_>> = records

@@ -48,6 +48,7 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<ExitCode> {
             origin: station(&r.origin, "origin")?,
             destination: station(&r.destination, "destination")?,
             departure: r.requested_departure,
+            submitted: r.requested_departure,
         });
     }
     let flights: Vec<Flight<'_>> = records

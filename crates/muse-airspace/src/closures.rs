@@ -259,7 +259,7 @@ pub enum ClosureError {
 /// let zone = Zone {
 ///     id: "Z".into(), name: String::new(), restriction: "PROHIBITED".into(),
 ///     area: Some(ZoneArea::Polygons(square.into())),
-///     node_ids: vec![], edge_ids: vec![], periods: vec![],
+///     node_ids: vec![], edge_ids: vec![], periods: vec![], announced: None,
 /// };
 /// let (nodes, edges) = closed_elements(&airspace, &zone).unwrap();
 /// assert!(nodes.is_empty());
@@ -291,7 +291,7 @@ pub fn closed_elements(
 /// ).unwrap();
 /// let zone = Zone {
 ///     id: "CBD".into(), name: String::new(), restriction: "PROHIBITED".into(), area: None,
-///     node_ids: vec!["S001".into()], edge_ids: vec![],
+///     node_ids: vec!["S001".into()], edge_ids: vec![], announced: None,
 ///     periods: vec![Period { start: None, end: None, daily: vec![DailyWindow {
 ///         days: Weekday::ALL.to_vec(), start: Millis::from_secs(10 * 3600),
 ///         end: Millis::from_secs(12 * 3600), offset: UtcOffset::SINGAPORE,
@@ -342,7 +342,7 @@ pub fn resolve(
 /// let t = |s: &str| Instant::parse_rfc3339(s).unwrap();
 /// let zone = Zone {
 ///     id: "Z".into(), name: String::new(), restriction: String::new(), area: None,
-///     node_ids: vec![], edge_ids: vec![],
+///     node_ids: vec![], edge_ids: vec![], announced: None,
 ///     periods: vec![Period { start: Some(t("2026-01-05T09:00:00Z")), end: None, daily: vec![] }],
 /// };
 /// let w = zone_windows(&zone, t("2026-01-05T00:00:00Z"), t("2026-01-06T00:00:00Z")).unwrap();
@@ -808,6 +808,7 @@ mod tests {
             node_ids: vec![],
             edge_ids: vec![],
             periods,
+            announced: None,
         }
     }
 

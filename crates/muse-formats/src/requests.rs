@@ -130,6 +130,7 @@ pub fn read_requests(
             origin,
             destination,
             departure,
+            submitted: departure,
         });
     }
     Ok(out)
@@ -156,7 +157,7 @@ pub fn read_requests_file(
 /// # let air = muse_formats::airspace_geojson::read_airspace(r#"{"type": "FeatureCollection", "features": [
 /// #  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.8, 1.3]}, "properties": {"id": "A", "kind": "station"}},
 /// #  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.81, 1.3]}, "properties": {"id": "B", "kind": "station"}}]}"#, "a").unwrap();
-/// let r = Request { id: "r1".into(), origin: NodeId(0), destination: NodeId(1), departure: Instant(0) };
+/// let r = Request { id: "r1".into(), origin: NodeId(0), destination: NodeId(1), departure: Instant(0), submitted: Instant(0) };
 /// let csv = muse_formats::requests::write_requests(&[r], &air, UtcOffset::SINGAPORE);
 /// assert_eq!(csv, "id,origin,destination,departure\nr1,A,B,1970-01-01T08:00:00.000+08:00\n");
 /// ```

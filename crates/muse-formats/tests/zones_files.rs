@@ -147,6 +147,7 @@ fn cbd_zone() -> Zone {
         )]))),
         node_ids: vec![],
         edge_ids: vec![],
+        announced: None,
         periods: vec![Period {
             start: None,
             end: None,
@@ -273,6 +274,7 @@ fn arb_zone() -> impl Strategy<Value = Zone> {
                     area,
                     node_ids,
                     edge_ids,
+                    announced: None,
                     periods,
                 }
             },

@@ -131,6 +131,7 @@ pub fn check(
             destination: node(&r.destination)?,
             id: r.request,
             departure: r.requested_departure,
+            submitted: r.requested_departure,
         };
         flights.push((request, plan));
     }

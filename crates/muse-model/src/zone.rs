@@ -116,6 +116,9 @@ pub struct Zone {
     pub edge_ids: Vec<String>,
     /// When it applies; empty = permanent.
     pub periods: Vec<Period>,
+    /// When the zone becomes known (SPEC §11): it binds every stay and traversal that begins
+    /// at or after this instant, and none that begins before. `None`: known from the start.
+    pub announced: Option<Instant>,
 }
 
 impl Zone {

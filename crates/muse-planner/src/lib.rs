@@ -27,7 +27,7 @@
 //! let planner = Planner::new(&airspace, params);
 //! let mut schedule = Schedule::new(&airspace, &params, &Closures::none(&airspace));
 //! let mut scratch = Scratch::new();
-//! let r = |id: &str| Request { id: id.into(), origin: NodeId(0), destination: NodeId(1), departure: Instant(0) };
+//! let r = |id: &str| Request { id: id.into(), origin: NodeId(0), destination: NodeId(1), departure: Instant(0), submitted: Instant(0) };
 //!
 //! let first = planner.plan(&schedule, &r("r1"), &mut scratch).result.unwrap();
 //! assert_eq!(first.landing(), Instant(120_000)); // 1 km at 30 km/h

@@ -30,7 +30,7 @@
 //! ).unwrap();
 //! let planner = Planner::new(&airspace, FlightParams::default());
 //! let mut live = Live::new(planner, &Closures::none(&airspace), Instant(0));
-//! let r = |id: &str, t| Request { id: id.into(), origin: NodeId(0), destination: NodeId(1), departure: Instant(t) };
+//! let r = |id: &str, t| Request { id: id.into(), origin: NodeId(0), destination: NodeId(1), departure: Instant(t), submitted: Instant(t) };
 //!
 //! // A later departure first, then an earlier one: both fit, in arrival order.
 //! let late = live.book(1, &r("late", 600_000)).result.unwrap();
@@ -204,6 +204,7 @@ mod tests {
             origin: NodeId(from),
             destination: NodeId(to),
             departure: Instant(t),
+            submitted: Instant(t),
         }
     }
 

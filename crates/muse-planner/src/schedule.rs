@@ -736,6 +736,7 @@ mod tests {
             area: None,
             node_ids: vec!["B".into()],
             edge_ids: vec!["A-B".into()],
+            announced: None,
             periods: vec![Period {
                 start: Some(Instant(1_000_000)),
                 end: Some(Instant(2_000_000)),

@@ -373,6 +373,7 @@ fn oracle_free_flow_and_plan_shape() {
         origin: NodeId(0),
         destination: NodeId(2),
         departure: Instant(0),
+        submitted: Instant(0),
     };
     let answer = oracle::solve(&airspace, &params, &raw, &[], &request, 1000);
     assert_eq!(answer.result, Ok((Instant(0), Instant(20_000))));

@@ -62,6 +62,7 @@ fn b_closed(a: &Airspace) -> Closures {
         area: None,
         node_ids: vec!["B".into()],
         edge_ids: vec![],
+        announced: None,
         periods: vec![Period {
             start: Some(Instant(0)),
             end: Some(Instant(25_000)),
@@ -84,12 +85,14 @@ fn plan_against(other: &Plan) -> Plan {
         origin: other.path[0].node,
         destination: other.path.last().unwrap().node,
         departure: other.takeoff(),
+        submitted: other.takeoff(),
     };
     let request = Request {
         id: "r".into(),
         origin: NodeId(0),
         destination: NodeId(2),
         departure: Instant(0),
+        submitted: Instant(0),
     };
     let plan = planner
         .plan(&schedule, &request, &mut Scratch::new())
@@ -193,6 +196,7 @@ fn tau_zero_touching_stays_are_fine() {
         origin: NodeId(0),
         destination: NodeId(2),
         departure: Instant(0),
+        submitted: Instant(0),
     };
     let plan = planner
         .plan(&schedule, &request, &mut Scratch::new())

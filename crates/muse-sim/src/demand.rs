@@ -145,6 +145,7 @@ pub fn draw_request<R: Rng + ?Sized>(
         origin,
         destination,
         departure,
+        submitted: departure,
     }
 }
 

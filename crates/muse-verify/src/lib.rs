@@ -41,7 +41,7 @@
 //!     vec![Edge { id: "A-B".into(), from: NodeId(0), to: NodeId(1), length_m: 1_000.0 }],
 //! ).unwrap();
 //! let params = FlightParams::default(); // 30 km/h: 1 km takes 120 s
-//! let request = |id: &str, t| Request { id: id.into(), origin: NodeId(0), destination: NodeId(1), departure: Instant(t) };
+//! let request = |id: &str, t| Request { id: id.into(), origin: NodeId(0), destination: NodeId(1), departure: Instant(t), submitted: Instant(t) };
 //! let plan = |t: i64| Plan { path: vec![
 //!     Stay { node: NodeId(0), arrive: Instant(t), depart: Instant(t) },
 //!     Stay { node: NodeId(1), arrive: Instant(t + 120_000), depart: Instant(t + 120_000) },
@@ -672,6 +672,7 @@ mod tests {
             origin: plan.path.first().map_or(NodeId(0), |s| s.node),
             destination: plan.path.last().map_or(a.node_id("C").unwrap(), |s| s.node),
             departure: Instant(departure),
+            submitted: Instant(departure),
         }
     }
 
@@ -999,6 +1000,7 @@ mod tests {
             area: None,
             node_ids: nodes.iter().map(|s| (*s).to_string()).collect(),
             edge_ids: edges.iter().map(|s| (*s).to_string()).collect(),
+            announced: None,
             periods: vec![Period {
                 start: Some(Instant(start)),
                 end: Some(Instant(end)),

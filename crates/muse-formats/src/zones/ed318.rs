@@ -173,6 +173,7 @@ fn circle_extent(ctx: &Ctx<'_>, v: &Value, field: &str) -> Result<f64, InputErro
 ///         (x: 103.84, y: 1.27), (x: 103.86, y: 1.27), (x: 103.86, y: 1.29), (x: 103.84, y: 1.27)
 ///     ].into())),
 ///     node_ids: vec![],
+///     announced: None,
 ///     edge_ids: vec![],
 ///     periods: vec![Period {
 ///         start: None,
@@ -226,6 +227,8 @@ struct PropertiesOut<'a> {
     variant: &'static str,
     #[serde(skip_serializing_if = "Vec::is_empty")]
     limited_applicability: Vec<PeriodOut>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    announced: Option<String>,
     #[serde(skip_serializing_if = "<[String]>::is_empty")]
     nodes: &'a [String],
     #[serde(skip_serializing_if = "<[String]>::is_empty")]
@@ -296,11 +299,20 @@ fn feature_out(zone: &Zone) -> FeatureOut<'_> {
             zone_type: &zone.restriction,
             variant: "COMMON",
             limited_applicability: zone.periods.iter().map(period_out).collect(),
+            announced: zone.announced.map(|t| t.to_rfc3339(zone_offset(zone))),
             nodes: &zone.node_ids,
             edges: &zone.edge_ids,
         },
         geometry: zone.area.as_ref().map(geometry_out),
     }
+}
+
+/// The offset date-times are written in: the first daily window's, else UTC.
+fn zone_offset(zone: &Zone) -> UtcOffset {
+    zone.periods
+        .iter()
+        .find_map(|p| p.daily.first())
+        .map_or(UtcOffset(0), |d| d.offset)
 }
 
 fn period_out(p: &muse_model::Period) -> PeriodOut {

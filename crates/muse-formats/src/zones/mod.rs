@@ -160,7 +160,7 @@ pub fn read_zones_file(path: &Path) -> Result<Vec<Zone>, InputError> {
 /// let zone = Zone {
 ///     id: "Z".into(), name: String::new(), restriction: "PROHIBITED".into(),
 ///     area: Some(ZoneArea::Circle { centre: LonLat::new(103.812_345_678, 1.3), radius_m: 50.0 }),
-///     node_ids: vec![], edge_ids: vec![], periods: vec![],
+///     node_ids: vec![], edge_ids: vec![], periods: vec![], announced: None,
 /// };
 /// let Some(ZoneArea::Circle { centre, .. }) = normalize(&zone).area else { unreachable!() };
 /// assert_eq!(centre.lon, 103.812_345_7);
@@ -401,6 +401,7 @@ pub(crate) struct Common {
     pub(crate) node_ids: Vec<String>,
     pub(crate) edge_ids: Vec<String>,
     pub(crate) periods: Vec<Period>,
+    pub(crate) announced: Option<Instant>,
 }
 
 /// Reads name, restriction (the first of `restriction_keys` present), periods and the explicit
@@ -433,6 +434,7 @@ pub(crate) fn parse_common(
         node_ids: parse_id_list(ctx, obj, "nodes")?,
         edge_ids: parse_id_list(ctx, obj, "edges")?,
         periods: parse_periods(ctx, obj)?,
+        announced: parse_date_time(ctx, obj, "announced", "")?,
     })
 }
 
@@ -896,6 +898,7 @@ pub(crate) fn assemble(
         node_ids,
         edge_ids,
         periods,
+        announced,
     } = common;
     if areas.len() <= 1 {
         return Ok(vec![Zone {
@@ -906,6 +909,7 @@ pub(crate) fn assemble(
             node_ids,
             edge_ids,
             periods,
+            announced,
         }]);
     }
     Ok(areas
@@ -919,6 +923,7 @@ pub(crate) fn assemble(
             node_ids: if k == 0 { node_ids.clone() } else { Vec::new() },
             edge_ids: if k == 0 { edge_ids.clone() } else { Vec::new() },
             periods: periods.clone(),
+            announced,
         })
         .collect())
 }

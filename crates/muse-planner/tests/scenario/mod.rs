@@ -126,6 +126,7 @@ impl Instance {
                     origin,
                     destination,
                     departure: Instant(dep * self.unit),
+                    submitted: Instant(dep * self.unit),
                 }
             })
             .collect();
@@ -184,6 +185,7 @@ impl Instance {
                 area: None,
                 node_ids: Vec::new(),
                 edge_ids: Vec::new(),
+                announced: None,
                 periods: vec![Period {
                     start: Some(Instant(window.0)),
                     end: Some(Instant(window.1)),

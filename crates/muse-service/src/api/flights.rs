@@ -118,6 +118,7 @@ fn validate(app: &App, body: NewFlight) -> Result<Request, ApiError> {
         origin,
         destination,
         departure,
+        submitted: departure,
     })
 }
 
