@@ -254,6 +254,187 @@ fn simulate_is_deterministic() {
     );
 }
 
+/// The `(id, origin, destination, departure)` rows of a requests CSV and its `submitted`
+/// instants (the departure where the file has no such column).
+fn read_requests_csv(path: &Path) -> (String, Vec<[String; 4]>, Vec<muse_model::Instant>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().to_owned();
+    let (mut rows, mut submitted) = (Vec::new(), Vec::new());
+    for line in lines {
+        let cells: Vec<&str> = line.split(',').collect();
+        let at = |t: &str| muse_model::Instant::parse_rfc3339(t).unwrap();
+        submitted.push(at(cells.get(4).copied().unwrap_or(cells[3])));
+        rows.push([0, 1, 2, 3].map(|i| cells[i].to_owned()));
+    }
+    (header, rows, submitted)
+}
+
+#[test]
+fn simulate_books_ahead_records_the_lead_and_verifies() {
+    let dir = scratch_dir("booking_lead");
+    let path = |name: &str| dir.join(name).display().to_string();
+    let simulate = |out: &str, lead: Option<&str>| {
+        let mut args = vec![
+            "simulate", "--count", "3000", "--seed", "5", "--od", "in-range", "--out", out,
+        ];
+        if let Some(lead) = lead {
+            args.extend(["--booking-lead-min", lead]);
+        }
+        let o = muse(&args);
+        assert!(o.status.success(), "{args:?}: {}{}", stdout(&o), stderr(&o));
+        stdout(&o)
+    };
+    let text = simulate(&path("booked"), Some("0:120"));
+    assert!(text.contains("seed 5, booked 0–120 min ahead"), "{text}");
+    assert!(text.contains("verified      OK"), "{text}");
+
+    // summary.json records the lead among the parameters.
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("booked/summary.json")).unwrap())
+            .unwrap();
+    assert_eq!(
+        summary["parameters"]["booking_lead_min"],
+        serde_json::json!({"from": 0.0, "to": 120.0}),
+        "{summary}"
+    );
+
+    // requests.csv has the submitted column, every lead within 0–120 minutes.
+    let (header, rows, submitted) = read_requests_csv(&dir.join("booked/requests.csv"));
+    assert_eq!(header, "id,origin,destination,departure,submitted");
+    let leads: Vec<i64> = rows
+        .iter()
+        .zip(&submitted)
+        .map(|(r, s)| (muse_model::Instant::parse_rfc3339(&r[3]).unwrap() - *s).0)
+        .collect();
+    assert!(leads.iter().all(|l| (0..=7_200_000).contains(l)));
+    assert!(leads.iter().any(|l| *l > 3_600_000));
+
+    // The plans are in submission order, and the independent verifier accepts them.
+    let plans = std::fs::read_to_string(dir.join("booked/plans.jsonl")).unwrap();
+    let by_id: std::collections::HashMap<&str, muse_model::Instant> = rows
+        .iter()
+        .map(|r| r[0].as_str())
+        .zip(submitted.iter().copied())
+        .collect();
+    let order: Vec<muse_model::Instant> = plans
+        .lines()
+        .map(|l| {
+            let v: serde_json::Value = serde_json::from_str(l).unwrap();
+            by_id[v["request"].as_str().unwrap()]
+        })
+        .collect();
+    assert_eq!(order.len(), 3000);
+    assert!(
+        order.windows(2).all(|w| w[0] <= w[1]),
+        "planned by submission"
+    );
+    let o = muse(&["verify", "--plans", &path("booked/plans.jsonl")]);
+    assert!(o.status.success(), "{}{}", stdout(&o), stderr(&o));
+
+    // `muse plan` on the written requests reads the column back and plans the same day.
+    let o = muse(&[
+        "plan",
+        "--requests",
+        &path("booked/requests.csv"),
+        "--out",
+        &path("replanned"),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        std::fs::read_to_string(dir.join("replanned/plans.jsonl")).unwrap(),
+        plans
+    );
+
+    // Same seed without a lead: the same departures and pairs, no submitted column; an
+    // explicit lead of 0 is byte for byte the default.
+    simulate(&path("paper"), None);
+    simulate(&path("zero"), Some("0"));
+    let (paper_header, paper_rows, paper_submitted) =
+        read_requests_csv(&dir.join("paper/requests.csv"));
+    assert_eq!(paper_header, "id,origin,destination,departure");
+    assert_eq!(paper_rows, rows);
+    assert_ne!(paper_submitted, submitted);
+    for file in ["requests.csv", "plans.jsonl"] {
+        assert_eq!(
+            std::fs::read(dir.join("paper").join(file)).unwrap(),
+            std::fs::read(dir.join("zero").join(file)).unwrap(),
+            "{file}"
+        );
+    }
+    // Booking ahead changes who gets the contested slots.
+    let planned = |text: &str| -> std::collections::BTreeSet<String> {
+        text.lines()
+            .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap())
+            .filter(|v| v["status"] == "planned")
+            .map(|v| v["request"].as_str().unwrap().to_owned())
+            .collect()
+    };
+    let paper_plans = std::fs::read_to_string(dir.join("paper/plans.jsonl")).unwrap();
+    assert_ne!(planned(&paper_plans), planned(&plans));
+}
+
+#[test]
+fn demand_and_sweep_take_the_booking_lead() {
+    let dir = scratch_dir("booking_lead_demand");
+    let path = |name: &str| dir.join(name).display().to_string();
+    let o = muse(&[
+        "demand",
+        "--count",
+        "50",
+        "--booking-lead-min",
+        "30",
+        "--out",
+        &path("r.csv"),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stdout(&o).contains("(seed 1, booked 30 min ahead)"),
+        "{}",
+        stdout(&o)
+    );
+    let (header, rows, submitted) = read_requests_csv(&dir.join("r.csv"));
+    assert_eq!(header, "id,origin,destination,departure,submitted");
+    for (r, s) in rows.iter().zip(&submitted) {
+        let dep = muse_model::Instant::parse_rfc3339(&r[3]).unwrap();
+        assert_eq!((dep - *s).0, 30 * 60_000);
+    }
+    let o = muse(&["demand", "--count", "50", "--out", &path("paper.csv")]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (header, paper_rows, _) = read_requests_csv(&dir.join("paper.csv"));
+    assert_eq!(header, "id,origin,destination,departure");
+    assert_eq!(paper_rows, rows);
+
+    let o = muse(&[
+        "sweep",
+        "--counts",
+        "200",
+        "--reps",
+        "2",
+        "--booking-lead-min",
+        "10:60",
+        "--out",
+        &path("sweep"),
+    ]);
+    assert!(o.status.success(), "{}{}", stdout(&o), stderr(&o));
+    assert!(
+        stdout(&o).contains("400 requests booked 10–60 min ahead"),
+        "{}",
+        stdout(&o)
+    );
+    let csv = std::fs::read_to_string(dir.join("sweep/sweep.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert!(
+        lines
+            .next()
+            .unwrap()
+            .ends_with(",booking_lead_min_from,booking_lead_min_to")
+    );
+    assert!(lines.all(|l| l.ends_with(",10,60")), "{csv}");
+    let svg = std::fs::read_to_string(dir.join("sweep/sweep_success.svg")).unwrap();
+    assert!(svg.contains("requests booked 10–60 min ahead"), "footnote");
+}
+
 #[test]
 fn sweep_is_deterministic_and_compares_variants() {
     let dir = scratch_dir("sweep");
@@ -356,6 +537,36 @@ fn argument_errors_are_clear() {
         assert_eq!(o.status.code(), Some(2), "{args:?}");
         assert!(stderr(&o).contains(expected), "{args:?}: {}", stderr(&o));
     }
+    // The booking lead is checked by clap, for every command that generates demand.
+    for (cmd, lead, expected) in [
+        (
+            "simulate",
+            "120:30",
+            "invalid value '120:30' for '--booking-lead-min <A[:B]>': the lower bound 120 must not exceed the upper bound 30",
+        ),
+        (
+            "demand",
+            "-5",
+            "invalid value '-5' for '--booking-lead-min <A[:B]>': -5 minutes: a booking lead must be a number of minutes >= 0",
+        ),
+        (
+            "sweep",
+            "soon",
+            "invalid value 'soon' for '--booking-lead-min <A[:B]>': `soon` is not a number of minutes",
+        ),
+    ] {
+        let arg = format!("--booking-lead-min={lead}");
+        let o = muse(&[cmd, &arg]);
+        assert_eq!(o.status.code(), Some(2), "{cmd} {arg}");
+        assert!(stderr(&o).contains(expected), "{cmd} {arg}: {}", stderr(&o));
+    }
+    let o = muse(&["simulate", "--requests", "r.csv", "--booking-lead-min", "5"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("cannot be used with '--booking-lead-min <A[:B]>'"),
+        "{}",
+        stderr(&o)
+    );
     // Usage errors come from clap, also with exit code 2.
     let o = muse(&["simulate", "--edge-rule", "sometimes"]);
     assert_eq!(o.status.code(), Some(2));

@@ -253,11 +253,7 @@ async fn verify_all(base: &str) -> usize {
     let flights: Vec<muse_verify::Flight<'_>> = records
         .iter()
         .zip(&requests)
-        .map(|(r, q)| muse_verify::Flight {
-            id: &r.request,
-            request: q,
-            plan: r.result.as_ref().expect("planned"),
-        })
+        .map(|(r, q)| muse_verify::Flight::new(&r.request, q, r.result.as_ref().expect("planned")))
         .collect();
     let day = Millis::from_secs(86_400);
     let from = requests.iter().map(|r| r.departure).min().unwrap() - day;

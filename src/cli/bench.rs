@@ -20,7 +20,7 @@ use muse_sim::bench::{
     peak_rss_bytes,
 };
 use muse_sim::day::plan_requests;
-use muse_sim::demand::{DemandSpec, OdRule, generate};
+use muse_sim::demand::{BookingLead, DemandSpec, OdRule, generate};
 
 use super::common::{FlightArgs, write_atomically};
 use super::demand::OdArg;
@@ -276,6 +276,7 @@ pub fn run_case(args: &CaseArgs) -> anyhow::Result<ExitCode> {
         end: at(TO_H),
         seed: args.seed,
         od,
+        booking_lead: BookingLead::NONE,
     };
     let started = std::time::Instant::now();
     let requests = generate(&graph.airspace, &spec).with_context(|| format!("demand on {name}"))?;

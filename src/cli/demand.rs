@@ -6,9 +6,9 @@ use std::process::ExitCode;
 use anyhow::Context as _;
 use clap::Args;
 use muse_formats::requests::write_requests;
-use muse_model::Instant;
 use muse_model::time::parse_clock;
-use muse_sim::demand::{DemandSpec, OdRule, generate};
+use muse_model::{Instant, Millis};
+use muse_sim::demand::{BookingLead, DemandSpec, OdRule, generate};
 
 use super::common::{RangeArgs, World, WorldArgs, write_atomically};
 
@@ -39,9 +39,90 @@ pub struct DemandArgs {
     /// Origin–destination rule.
     #[arg(long, value_enum, default_value_t = OdArg::Uniform)]
     pub od: OdArg,
+    /// Book each request ahead of its departure by a lead uniform in [A, B] minutes (whole
+    /// milliseconds): `submitted = departure − lead`. A single number A means exactly A
+    /// minutes; 0 (the default, the paper) books every request at its departure. Departures
+    /// and pairs do not depend on it: a seed gives the same ones with any lead.
+    #[arg(
+        long,
+        value_name = "A[:B]",
+        default_value = "0",
+        value_parser = parse_booking_lead
+    )]
+    pub booking_lead_min: BookingLeadArg,
+}
+
+/// `--booking-lead-min A[:B]`: a booking lead uniform in `[A, B]` minutes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BookingLeadArg {
+    /// Shortest lead, minutes, as given.
+    pub from_min: f64,
+    /// Longest lead, minutes, as given.
+    pub to_min: f64,
+    /// The lead, in milliseconds.
+    pub lead: BookingLead,
+}
+
+impl std::fmt::Display for BookingLeadArg {
+    /// `A` when the bounds are equal, else `A:B` (minutes).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.lead.min == self.lead.max {
+            write!(f, "{}", self.from_min)
+        } else {
+            write!(f, "{}:{}", self.from_min, self.to_min)
+        }
+    }
+}
+
+/// Parses `A` or `A:B` (minutes, `0 ≤ A ≤ B`) for clap; the message is what clap prints after
+/// "invalid value".
+fn parse_booking_lead(text: &str) -> Result<BookingLeadArg, String> {
+    let minutes = |part: &str| -> Result<(f64, Millis), String> {
+        let m: f64 = part.trim().parse().map_err(|_| {
+            format!("`{part}` is not a number of minutes; expected A or A:B, e.g. 0:120")
+        })?;
+        if !m.is_finite() || m < 0.0 {
+            return Err(format!(
+                "{} minutes: a booking lead must be a number of minutes >= 0",
+                part.trim()
+            ));
+        }
+        let ms = Millis::from_secs_f64(m * 60.0)
+            .map_err(|_| format!("{} minutes is too long a booking lead", part.trim()))?;
+        Ok((m, ms))
+    };
+    let (a, b) = if let Some((a, b)) = text.split_once(':') {
+        (minutes(a)?, minutes(b)?)
+    } else {
+        let a = minutes(text)?;
+        (a, a)
+    };
+    if a.0 > b.0 {
+        return Err(format!(
+            "the lower bound {} must not exceed the upper bound {} (A:B with A <= B)",
+            a.0, b.0
+        ));
+    }
+    let lead = BookingLead::new(a.1, b.1).map_err(|e| e.to_string())?;
+    Ok(BookingLeadArg {
+        from_min: a.0,
+        to_min: b.0,
+        lead,
+    })
 }
 
 impl DemandArgs {
+    /// `booked A–B min ahead` when requests are booked ahead of departure, for messages and
+    /// plot footnotes; `None` for the paper's demand (so those read as they always did).
+    pub fn booking_note(&self) -> Option<String> {
+        (!self.booking_lead_min.lead.is_none()).then(|| {
+            format!(
+                "booked {} min ahead",
+                self.booking_lead_min.to_string().replace(':', "–")
+            )
+        })
+    }
+
     /// The generation spec for a world.
     pub fn spec(&self, world: &World, range: RangeArgs) -> anyhow::Result<DemandSpec> {
         let clock = |name: &str, v: &str| {
@@ -65,6 +146,7 @@ impl DemandArgs {
             end,
             seed: self.seed,
             od,
+            booking_lead: self.booking_lead_min.lead,
         })
     }
 }
@@ -92,11 +174,53 @@ pub fn run(args: &DemandCmd) -> anyhow::Result<ExitCode> {
         &args.out,
         &write_requests(&requests, &world.airspace, world.offset),
     )?;
+    let booked = args
+        .demand
+        .booking_note()
+        .map_or(String::new(), |b| format!(", {b}"));
     println!(
-        "wrote {} requests (seed {}) to {}",
+        "wrote {} requests (seed {}{booked}) to {}",
         requests.len(),
         spec.seed,
         args.out.display()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn booking_lead_flag() {
+        let ok = |t: &str| parse_booking_lead(t).unwrap();
+        assert_eq!(ok("0").lead, BookingLead::NONE);
+        assert_eq!(
+            ok("0:120").lead,
+            BookingLead::new(Millis::ZERO, Millis::from_mins(120)).unwrap()
+        );
+        assert_eq!(
+            ok(" 30 ").lead,
+            BookingLead::new(Millis::from_mins(30), Millis::from_mins(30)).unwrap()
+        );
+        assert_eq!(ok("0.5:1.5").lead.max, Millis::from_secs(90));
+        assert_eq!(ok("0:120").to_string(), "0:120");
+        assert_eq!(ok("30").to_string(), "30");
+        for (bad, message) in [
+            ("5:1", "the lower bound 5 must not exceed the upper bound 1"),
+            (
+                "-1",
+                "-1 minutes: a booking lead must be a number of minutes >= 0",
+            ),
+            ("0:-5", "-5 minutes: a booking lead must be"),
+            ("abc", "`abc` is not a number of minutes"),
+            ("1:2:3", "`2:3` is not a number of minutes"),
+            ("", "`` is not a number of minutes"),
+            ("inf", "inf minutes: a booking lead must be"),
+            ("NaN", "NaN minutes: a booking lead must be"),
+        ] {
+            let e = parse_booking_lead(bad).unwrap_err();
+            assert!(e.contains(message), "{bad}: {e}");
+        }
+    }
 }

@@ -8,6 +8,7 @@ use clap::Args;
 use muse_formats::plans::{PlanRecord, write_plan_line};
 use muse_formats::requests::{LocalDay, read_requests_file};
 use muse_sim::day::{DayRun, plan_requests};
+use muse_sim::demand::BookingLead;
 use muse_sim::metrics::{Provenance, RunItem, Summary};
 
 use super::common::{FlightArgs, World, WorldArgs, write_atomically};
@@ -15,7 +16,7 @@ use super::common::{FlightArgs, World, WorldArgs, write_atomically};
 /// Arguments of `muse plan`.
 #[derive(Debug, Args)]
 pub struct PlanArgs {
-    /// Requests CSV (`id,origin,destination,departure`).
+    /// Requests CSV (`id,origin,destination,departure[,submitted]`).
     #[arg(long, value_name = "FILE")]
     requests: PathBuf,
     #[command(flatten)]
@@ -43,7 +44,7 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         requests: args.requests.display().to_string(),
         seed: None,
     };
-    let summary = write_outputs(&world, &run, &params, provenance, &args.out)?;
+    let summary = write_outputs(&world, &run, &params, provenance, None, &args.out)?;
     println!(
         "planned {} of {} requests ({:.1}%) in {:.1} ms ({:.1} µs and {:.1} expanded labels per request); wrote {}",
         summary.planned,
@@ -58,11 +59,14 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
 }
 
 /// Writes `plans.jsonl` and `summary.json` for a planned day into `out`; returns the summary.
+/// `booking_lead` is the lead of generated demand, recorded in the summary's parameters
+/// (`None` for requests read from a file).
 pub fn write_outputs(
     world: &World,
     run: &DayRun,
     params: &muse_model::FlightParams,
     provenance: Provenance,
+    booking_lead: Option<BookingLead>,
     out: &std::path::Path,
 ) -> anyhow::Result<Summary> {
     let a = &world.airspace;
@@ -89,7 +93,10 @@ pub fn write_outputs(
             free_flow: o.free_flow,
             expanded: o.expanded,
         });
-    let summary = Summary::compute(items, params, run.planner_wall, provenance);
+    let mut summary = Summary::compute(items, params, run.planner_wall, provenance);
+    if let Some(lead) = booking_lead {
+        summary = summary.with_booking_lead(lead);
+    }
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     write_atomically(&out.join("plans.jsonl"), &text)?;
     write_atomically(&out.join("summary.json"), &summary.to_json())?;

@@ -25,7 +25,11 @@ pub struct SimulateArgs {
     #[command(flatten)]
     demand: DemandArgs,
     /// Plan this requests file instead of generating demand.
-    #[arg(long, value_name = "FILE", conflicts_with_all = ["count", "seed", "from", "to", "od"])]
+    #[arg(
+        long,
+        value_name = "FILE",
+        conflicts_with_all = ["count", "seed", "from", "to", "od", "booking_lead_min"]
+    )]
     requests: Option<PathBuf>,
     #[command(flatten)]
     world: WorldArgs,
@@ -40,7 +44,7 @@ pub struct SimulateArgs {
 pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
     let params = args.flight.params()?;
     let world = args.world.load()?;
-    let (requests, source, seed) = if let Some(path) = &args.requests {
+    let (requests, source, seed, booking_lead) = if let Some(path) = &args.requests {
         let day = LocalDay {
             date: world.date,
             offset: world.offset,
@@ -48,6 +52,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         (
             read_requests_file(path, &world.airspace, day)?,
             path.display().to_string(),
+            None,
             None,
         )
     } else {
@@ -57,11 +62,15 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
             super::demand::OdArg::Uniform => "uniform",
             super::demand::OdArg::InRange => "in-range",
         };
+        let booked = args
+            .demand
+            .booking_note()
+            .map_or(String::new(), |b| format!(", {b}"));
         let source = format!(
-            "generated: {} requests, {}–{}, {od} pairs, seed {}",
+            "generated: {} requests, {}–{}, {od} pairs, seed {}{booked}",
             spec.count, args.demand.from, args.demand.to, spec.seed
         );
-        (reqs, source, Some(spec.seed))
+        (reqs, source, Some(spec.seed), Some(spec.booking_lead))
     };
     let mut progress = LazyProgress::new(requests.len() as u64, "planning");
     let run = plan_requests(&world.airspace, &world.zones, params, requests, |done| {
@@ -74,11 +83,10 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         .iter()
         .zip(&run.outcomes)
         .filter_map(|(r, o)| {
-            o.result.as_ref().ok().map(|plan| Flight {
-                id: &r.id,
-                request: r,
-                plan,
-            })
+            o.result
+                .as_ref()
+                .ok()
+                .map(|plan| Flight::new(&r.id, r, plan))
         })
         .collect();
     let violations = verify(&world.airspace, &run.closures, &params, &flights);
@@ -98,7 +106,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         &args.out.join("requests.csv"),
         &write_requests(&owned, &world.airspace, world.offset),
     )?;
-    let summary = write_outputs(&world, &run, &params, provenance, &args.out)?;
+    let summary = write_outputs(&world, &run, &params, provenance, booking_lead, &args.out)?;
     let features: Vec<FlightFeature<'_>> = run
         .requests
         .iter()

@@ -212,15 +212,18 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
         start: demand.start,
         end: demand.end,
         od: demand.od,
+        booking_lead: demand.booking_lead,
         variants: variants(&world, base, &args.vary)?,
     };
+    let booked = args.demand.booking_note();
     println!(
-        "sweep: {} variant(s) × {} counts × {} repetitions = {} runs, {} requests, {} threads",
+        "sweep: {} variant(s) × {} counts × {} repetitions = {} runs, {} requests{}, {} threads",
         spec.variants.len(),
         spec.counts.len(),
         spec.reps,
         spec.runs(),
         spec.total_requests(),
+        booked.as_deref().map_or(String::new(), |b| format!(" {b}")),
         rayon::current_num_threads()
     );
     let bar = ProgressBar::new(spec.runs() as u64).with_message("runs");
@@ -239,7 +242,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
         .with_context(|| format!("creating {}", args.out.display()))?;
     write_atomically(&args.out.join("sweep.csv"), &runs_csv(&records))?;
     write_atomically(&args.out.join("sweep_summary.csv"), &summary_csv(&rows))?;
-    write_plots(&spec, &rows, &args.out)?;
+    write_plots(&spec, &rows, booked.as_deref(), &args.out)?;
     println!(
         "done in {:.1} s wall; wrote {}/{{sweep.csv, sweep_summary.csv, sweep_runtime.svg, sweep_success.svg, sweep_air_delay.svg}}",
         wall.as_secs_f64(),
@@ -275,12 +278,18 @@ fn series(
         .collect()
 }
 
-fn write_plots(spec: &SweepSpec, rows: &[SummaryRow], out: &std::path::Path) -> anyhow::Result<()> {
+fn write_plots(
+    spec: &SweepSpec,
+    rows: &[SummaryRow],
+    booked: Option<&str>,
+    out: &std::path::Path,
+) -> anyhow::Result<()> {
     let foot = format!(
-        "{} runs per point (seeds {}…{}); bands: 95% confidence interval of the mean.",
+        "{} runs per point (seeds {}…{}{}); bands: 95% confidence interval of the mean.",
         spec.reps,
         spec.base_seed,
-        spec.base_seed + (spec.counts.len() * spec.reps) as u64 - 1
+        spec.base_seed + (spec.counts.len() * spec.reps) as u64 - 1,
+        booked.map_or(String::new(), |b| format!(", requests {b}"))
     );
     let plots = [
         (

@@ -55,11 +55,10 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<ExitCode> {
         .iter()
         .zip(&requests)
         .filter_map(|(r, q)| {
-            r.result.as_ref().ok().map(|plan| Flight {
-                id: &r.request,
-                request: q,
-                plan,
-            })
+            r.result
+                .as_ref()
+                .ok()
+                .map(|plan| Flight::new(&r.request, q, plan))
         })
         .collect();
     let day = Millis::from_secs(86_400);

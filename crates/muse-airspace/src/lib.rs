@@ -3,9 +3,11 @@
 //! - [`builder`]: stations (and waypoints) → Delaunay triangulation → the paper's
 //!   "join collinear nodes" → optional maximum edge length → a connected [`Airspace`](muse_model::Airspace);
 //! - [`closures`]: zones + a date range → each node's and edge's closure windows;
+//! - [`announced`]: those windows by when their zones became known (SPEC §11);
 //! - [`shortest`]: Dijkstra on integer traversal times (free-flow times, heuristics);
 //! - [`stats`]: graph statistics for `muse airspace info`.
 
+pub mod announced;
 pub mod builder;
 pub mod closures;
 pub mod shortest;

@@ -149,24 +149,66 @@ impl Dijkstra {
         airspace: &Airspace,
         source: NodeId,
         target: Option<NodeId>,
+        cost: F,
+    ) where
+        F: FnMut(EdgeId) -> Option<Millis>,
+    {
+        self.search_from(airspace, &[source], target, cost);
+        self.source = Some(source);
+    }
+
+    /// Shortest times from the nearest of several `sources` to every node (a multi-source
+    /// search: each node's time is to whichever source is closest), with edge costs `times`.
+    /// [`Dijkstra::source`] is then `None`; [`Dijkstra::path_to`] leads back to the nearest
+    /// source.
+    ///
+    /// ```
+    /// use muse_airspace::shortest::Dijkstra;
+    /// use muse_model::{Airspace, Edge, LonLat, Millis, Node, NodeId, NodeKind};
+    /// let node = |id: &str| Node { id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(103.8, 1.3) };
+    /// let edge = |id: &str, a, b, l| Edge { id: id.into(), from: NodeId(a), to: NodeId(b), length_m: l };
+    /// let airspace = Airspace::new(
+    ///     vec![node("A"), node("B"), node("C")],
+    ///     vec![edge("A-B", 0, 1, 1.0), edge("B-C", 1, 2, 1.0)],
+    /// ).unwrap();
+    /// let mut search = Dijkstra::new(3);
+    /// search.run_from_all(&airspace, &[Millis(4), Millis(1)], &[NodeId(0), NodeId(2)]);
+    /// assert_eq!(search.time_to(NodeId(1)), Some(Millis(1)), "C is nearer to B than A is");
+    /// ```
+    ///
+    /// Panics if `times` is shorter than the edge list or holds a negative time.
+    pub fn run_from_all(&mut self, airspace: &Airspace, times: &[Millis], sources: &[NodeId]) {
+        assert!(
+            times.len() >= airspace.edge_count(),
+            "one traversal time per edge is needed"
+        );
+        self.search_from(airspace, sources, None, |e| Some(times[e.index()]));
+    }
+
+    fn search_from<F>(
+        &mut self,
+        airspace: &Airspace,
+        sources: &[NodeId],
+        target: Option<NodeId>,
         mut cost: F,
     ) where
         F: FnMut(EdgeId) -> Option<Millis>,
     {
         let n = airspace.node_count();
-        assert!(
-            source.index() < n,
-            "source {source} is not a node of this airspace"
-        );
         self.dist.clear();
         self.dist.resize(n, UNREACHED);
         self.pred.clear();
         self.pred.resize(n, NO_EDGE);
         self.heap.clear();
-        self.source = Some(source);
-
-        self.dist[source.index()] = 0;
-        self.heap.push(Reverse((0, source.0)));
+        self.source = None;
+        for &source in sources {
+            assert!(
+                source.index() < n,
+                "source {source} is not a node of this airspace"
+            );
+            self.dist[source.index()] = 0;
+            self.heap.push(Reverse((0, source.0)));
+        }
         while let Some(Reverse((d, u))) = self.heap.pop() {
             if d > self.dist[u as usize] {
                 continue; // stale entry

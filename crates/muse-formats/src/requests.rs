@@ -1,10 +1,22 @@
-//! The requests CSV (SPEC §5): header `id,origin,destination,departure`.
+//! The requests CSV (SPEC §5): header `id,origin,destination,departure`, optionally followed
+//! by `submitted`.
 //!
-//! `departure` is an RFC 3339 timestamp with an offset, or a bare local clock time
-//! `HH:MM[:SS[.mmm]]` on the scenario's date in the scenario's offset. Origin and destination
-//! must be distinct stations of the airspace; ids must be unique. Columns may come in any
-//! order; other columns are allowed and ignored. Every error names the file, the line (the
-//! header is line 1) and the field.
+//! - `departure` (the earliest take-off) is an RFC 3339 timestamp with an offset, or a bare
+//!   local clock time `HH:MM[:SS[.mmm]]` on the scenario's date in the scenario's offset.
+//! - `submitted` (optional column) is when the request reaches the planner: a booking made
+//!   ahead of departure, in the same syntax. It may not be later than the departure. Without
+//!   the column, or in a row whose `submitted` cell is empty, the request is submitted at its
+//!   departure (the paper). Requests are planned in order of `(submitted, id)`.
+//!
+//! The header names exactly these columns: the four required ones and, optionally,
+//! `submitted`. They may come in any order; a missing required column, a column named twice,
+//! an unnamed column or any other column is an error on line 1 naming the column. Origin and
+//! destination must be distinct stations of the airspace; ids must be unique. Every error
+//! names the file, the line (the header is line 1) and the field.
+//!
+//! [`write_requests`] writes the four required columns, and the `submitted` column only when
+//! some request was submitted before its departure, so files without bookings ahead are
+//! written exactly as before the column existed.
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -25,7 +37,77 @@ pub struct LocalDay {
     pub offset: UtcOffset,
 }
 
+/// The required columns, in the order [`write_requests`] writes them.
 const COLUMNS: [&str; 4] = ["id", "origin", "destination", "departure"];
+
+/// The optional column: when the request reaches the planner.
+const SUBMITTED: &str = "submitted";
+
+/// What the header must be, for messages.
+const HEADER: &str = "id,origin,destination,departure, optionally followed by submitted";
+
+/// The position of every column in a header: the required ones in [`COLUMNS`] order, then
+/// `submitted` if present.
+struct Header {
+    required: [usize; 4],
+    submitted: Option<usize>,
+}
+
+impl Header {
+    /// Checks that the header names exactly the required columns and optionally `submitted`,
+    /// each once, in any order.
+    fn parse(headers: &csv::StringRecord, file: &str) -> Result<Header, InputError> {
+        let at_header = |field: Option<&str>, message: String| {
+            InputError::new(file, Location::Line(1), field, message)
+        };
+        let mut required = [None; 4];
+        let mut submitted = None;
+        for (i, name) in headers.iter().enumerate() {
+            let slot = match COLUMNS.iter().position(|c| *c == name) {
+                Some(k) => &mut required[k],
+                None if name == SUBMITTED => &mut submitted,
+                None if name.is_empty() => {
+                    return Err(at_header(
+                        None,
+                        format!(
+                            "column {} has no name (a stray comma?); the header must be {HEADER}",
+                            i + 1
+                        ),
+                    ));
+                }
+                None => {
+                    return Err(at_header(
+                        Some(name),
+                        format!("unknown column; the header must be {HEADER}"),
+                    ));
+                }
+            };
+            if let Some(first) = slot.replace(i) {
+                return Err(at_header(
+                    Some(name),
+                    format!(
+                        "the column is named twice (columns {} and {})",
+                        first + 1,
+                        i + 1
+                    ),
+                ));
+            }
+        }
+        let mut cols = [0usize; 4];
+        for ((slot, found), name) in cols.iter_mut().zip(required).zip(COLUMNS) {
+            *slot = found.ok_or_else(|| {
+                at_header(
+                    Some(name),
+                    format!("missing column (the header must be {HEADER})"),
+                )
+            })?;
+        }
+        Ok(Header {
+            required: cols,
+            submitted,
+        })
+    }
+}
 
 /// Reads requests from CSV text, in file order; `file` names the source in error messages.
 ///
@@ -35,9 +117,13 @@ const COLUMNS: [&str; 4] = ["id", "origin", "destination", "departure"];
 /// #  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.8, 1.3]}, "properties": {"id": "A", "kind": "station"}},
 /// #  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.81, 1.3]}, "properties": {"id": "B", "kind": "station"}}]}"#, "a").unwrap();
 /// let day = LocalDay { date: jiff::civil::date(2026, 1, 5), offset: muse_model::UtcOffset::SINGAPORE };
-/// let csv = "id,origin,destination,departure\nr1,A,B,08:15\nr2,B,A,2026-01-05T08:20:00.000+08:00\n";
+/// let csv = "id,origin,destination,departure,submitted\n\
+///            r1,A,B,08:15,07:00\n\
+///            r2,B,A,2026-01-05T08:20:00.000+08:00,\n";
 /// let reqs = read_requests(csv, "r.csv", &air, day).unwrap();
 /// assert_eq!(reqs[1].departure - reqs[0].departure, muse_model::Millis::from_mins(5));
+/// assert_eq!(reqs[0].departure - reqs[0].submitted, muse_model::Millis::from_mins(75));
+/// assert_eq!(reqs[1].submitted, reqs[1].departure); // an empty cell: at departure
 /// ```
 pub fn read_requests(
     text: &str,
@@ -48,31 +134,16 @@ pub fn read_requests(
     let mut reader = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .from_reader(text.as_bytes());
-    let headers = reader
-        .headers()
-        .map_err(|e| {
-            InputError::new(
-                file,
-                Location::Line(1),
-                None,
-                format!("cannot read the header: {e}"),
-            )
-        })?
-        .clone();
-    let mut col = [0usize; 4];
-    for (slot, name) in col.iter_mut().zip(COLUMNS) {
-        *slot = headers.iter().position(|h| h == name).ok_or_else(|| {
-            InputError::new(
-                file,
-                Location::Line(1),
-                Some(name),
-                format!(
-                    "missing column (the header must have {})",
-                    COLUMNS.join(",")
-                ),
-            )
-        })?;
-    }
+    let headers = reader.headers().map_err(|e| {
+        InputError::new(
+            file,
+            Location::Line(1),
+            None,
+            format!("cannot read the header: {e}"),
+        )
+    })?;
+    let header = Header::parse(headers, file)?;
+    let col = header.required;
     let mut seen: HashMap<String, usize> = HashMap::new();
     let mut out = Vec::new();
     for record in reader.records() {
@@ -124,13 +195,30 @@ pub fn read_requests(
                 format!("origin and destination are both `{}`", get(1)),
             ));
         }
-        let departure = parse_departure(get(3), day).map_err(|m| err("departure", m))?;
+        let departure = parse_time(get(3), day).map_err(|m| err("departure", m))?;
+        let submitted = match header.submitted.and_then(|i| record.get(i)) {
+            None | Some("") => departure,
+            Some(text) => {
+                let submitted = parse_time(text, day).map_err(|m| err(SUBMITTED, m))?;
+                if submitted > departure {
+                    return Err(err(
+                        SUBMITTED,
+                        format!(
+                            "`{text}` is later than the departure `{}`; a request is submitted \
+                             at or before its departure",
+                            get(3)
+                        ),
+                    ));
+                }
+                submitted
+            }
+        };
         out.push(Request {
             id: id.to_owned(),
             origin,
             destination,
             departure,
-            submitted: departure,
+            submitted,
         });
     }
     Ok(out)
@@ -150,21 +238,32 @@ pub fn read_requests_file(
     )
 }
 
-/// Writes requests as CSV with RFC 3339 departures in `offset`.
+/// Writes requests as CSV with RFC 3339 times in `offset`: the columns
+/// `id,origin,destination,departure`, and `submitted` after them only when some request was
+/// submitted before its departure (then every row gives its submission instant).
 ///
 /// ```
 /// use muse_model::{Instant, NodeId, Request, UtcOffset};
 /// # let air = muse_formats::airspace_geojson::read_airspace(r#"{"type": "FeatureCollection", "features": [
 /// #  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.8, 1.3]}, "properties": {"id": "A", "kind": "station"}},
 /// #  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.81, 1.3]}, "properties": {"id": "B", "kind": "station"}}]}"#, "a").unwrap();
-/// let r = Request { id: "r1".into(), origin: NodeId(0), destination: NodeId(1), departure: Instant(0), submitted: Instant(0) };
-/// let csv = muse_formats::requests::write_requests(&[r], &air, UtcOffset::SINGAPORE);
+/// let mut r = Request { id: "r1".into(), origin: NodeId(0), destination: NodeId(1), departure: Instant(0), submitted: Instant(0) };
+/// let csv = muse_formats::requests::write_requests(std::slice::from_ref(&r), &air, UtcOffset::SINGAPORE);
 /// assert_eq!(csv, "id,origin,destination,departure\nr1,A,B,1970-01-01T08:00:00.000+08:00\n");
+/// r.submitted = Instant(-60_000);
+/// let csv = muse_formats::requests::write_requests(&[r], &air, UtcOffset::SINGAPORE);
+/// assert_eq!(csv, "id,origin,destination,departure,submitted\n\
+///                  r1,A,B,1970-01-01T08:00:00.000+08:00,1970-01-01T07:59:00.000+08:00\n");
 /// ```
 pub fn write_requests(requests: &[Request], airspace: &Airspace, offset: UtcOffset) -> String {
-    let mut out = String::from("id,origin,destination,departure\n");
+    let with_submitted = requests.iter().any(|r| r.submitted != r.departure);
+    let mut out = COLUMNS.join(",");
+    if with_submitted {
+        let _ = write!(out, ",{SUBMITTED}");
+    }
+    out.push('\n');
     for r in requests {
-        let _ = writeln!(
+        let _ = write!(
             out,
             "{},{},{},{}",
             csv_field(&r.id),
@@ -172,6 +271,10 @@ pub fn write_requests(requests: &[Request], airspace: &Airspace, offset: UtcOffs
             csv_field(&airspace.node(r.destination).id),
             r.departure.to_rfc3339(offset)
         );
+        if with_submitted {
+            let _ = write!(out, ",{}", r.submitted.to_rfc3339(offset));
+        }
+        out.push('\n');
     }
     out
 }
@@ -184,7 +287,8 @@ fn csv_field(s: &str) -> String {
     }
 }
 
-fn parse_departure(text: &str, day: LocalDay) -> Result<Instant, String> {
+/// A `departure` or `submitted` cell: RFC 3339 with an offset, or a local clock time of `day`.
+fn parse_time(text: &str, day: LocalDay) -> Result<Instant, String> {
     if text.is_empty() {
         return Err("missing".into());
     }
@@ -239,7 +343,7 @@ mod tests {
     #[test]
     fn local_and_rfc3339_departures_agree() {
         let reqs = read_requests(
-            "departure,destination,origin,id,note\n08:15:00,B,A,r1,x\n2026-01-05T00:15:00Z,A,B,r2,y\n",
+            "departure,destination,origin,id\n08:15:00,B,A,r1\n2026-01-05T00:15:00Z,A,B,r2\n",
             "r.csv",
             &air(),
             DAY,
@@ -250,8 +354,127 @@ mod tests {
             reqs[0].departure.to_rfc3339(UtcOffset::SINGAPORE),
             "2026-01-05T08:15:00.000+08:00"
         );
+        assert!(reqs.iter().all(|r| r.submitted == r.departure));
         let text = write_requests(&reqs, &air(), UtcOffset::SINGAPORE);
+        assert!(
+            text.starts_with("id,origin,destination,departure\n"),
+            "{text}"
+        );
         assert_eq!(read_requests(&text, "w.csv", &air(), DAY).unwrap(), reqs);
+    }
+
+    fn read(text: &str) -> Result<Vec<Request>, String> {
+        read_requests(text, "r.csv", &air(), DAY).map_err(|e| e.to_string())
+    }
+
+    #[test]
+    fn submitted_column_local_rfc3339_empty_and_any_order() {
+        let reqs = read(
+            "id,origin,destination,departure,submitted\n\
+             r1,A,B,08:15,07:45:30\n\
+             r2,B,A,08:15,2026-01-04T23:00:00Z\n\
+             r3,A,B,08:15,\n\
+             r4,A,B,08:15,08:15\n",
+        )
+        .unwrap();
+        let dep = reqs[0].departure;
+        let lead: Vec<i64> = reqs.iter().map(|r| (dep - r.submitted).0).collect();
+        assert_eq!(lead, [1_770_000, 4_500_000, 0, 0]);
+        assert!(reqs.iter().all(|r| r.departure == dep));
+        // Columns in any order, `submitted` included.
+        let moved =
+            read("submitted,departure,id,destination,origin\n07:45:30,08:15,r1,B,A\n").unwrap();
+        assert_eq!(moved[0], reqs[0]);
+    }
+
+    #[test]
+    fn writes_submitted_only_when_some_request_is_booked_ahead() {
+        let reqs =
+            read("id,origin,destination,departure,submitted\nr1,A,B,08:15,07:00\nr2,B,A,09:00,\n")
+                .unwrap();
+        let text = write_requests(&reqs, &air(), UtcOffset::SINGAPORE);
+        assert_eq!(
+            text,
+            "id,origin,destination,departure,submitted\n\
+             r1,A,B,2026-01-05T08:15:00.000+08:00,2026-01-05T07:00:00.000+08:00\n\
+             r2,B,A,2026-01-05T09:00:00.000+08:00,2026-01-05T09:00:00.000+08:00\n"
+        );
+        assert_eq!(read(&text).unwrap(), reqs);
+        // All at departure: the column is left out, whatever the input had.
+        let at_departure =
+            read("id,origin,destination,departure,submitted\nr1,A,B,08:15,08:15\n").unwrap();
+        assert_eq!(
+            write_requests(&at_departure, &air(), UtcOffset::SINGAPORE),
+            "id,origin,destination,departure\nr1,A,B,2026-01-05T08:15:00.000+08:00\n"
+        );
+        assert_eq!(
+            write_requests(&[], &air(), UtcOffset::SINGAPORE),
+            "id,origin,destination,departure\n"
+        );
+    }
+
+    #[test]
+    fn submitted_errors_name_file_line_and_field() {
+        let bad = |body: &str| {
+            read(&format!(
+                "id,origin,destination,departure,submitted\n{body}"
+            ))
+            .unwrap_err()
+        };
+        assert_eq!(
+            bad("r1,A,B,08:00,07:00\nr2,A,B,08:00,08:00:01\n"),
+            "r.csv: line 3: field `submitted`: `08:00:01` is later than the departure `08:00`; \
+             a request is submitted at or before its departure"
+        );
+        assert!(
+            bad("r1,A,B,08:00,8 pm\n")
+                .starts_with("r.csv: line 2: field `submitted`: `8 pm` is neither"),
+        );
+        assert!(bad("r1,A,B,08:00,2026-01-05T07:00:00\n").starts_with(
+            "r.csv: line 2: field `submitted`: `2026-01-05T07:00:00` is not an RFC 3339"
+        ));
+        // The departure is checked first.
+        assert_eq!(
+            bad("r1,A,B,,07:00\n"),
+            "r.csv: line 2: field `departure`: missing"
+        );
+        assert!(bad("r1,A,B,08:00\n").starts_with("r.csv: line 2: malformed CSV record"));
+    }
+
+    #[test]
+    fn header_errors_name_the_column() {
+        let header = |h: &str| read(&format!("{h}\nr1,A,B,08:00,x\n")).unwrap_err();
+        let must = "the header must be id,origin,destination,departure, optionally followed by \
+                    submitted";
+        assert_eq!(
+            header("id,origin,destination,departure,note"),
+            format!("r.csv: line 1: field `note`: unknown column; {must}")
+        );
+        assert_eq!(
+            header("id,origin,destination,departure,Submitted"),
+            format!("r.csv: line 1: field `Submitted`: unknown column; {must}")
+        );
+        assert_eq!(
+            header("id,origin,destination,departure,"),
+            format!("r.csv: line 1: column 5 has no name (a stray comma?); {must}")
+        );
+        assert_eq!(
+            header("id,origin,destination,departure,departure"),
+            "r.csv: line 1: field `departure`: the column is named twice (columns 4 and 5)"
+        );
+        assert_eq!(
+            header("id,origin,destination,submitted,submitted"),
+            "r.csv: line 1: field `submitted`: the column is named twice (columns 4 and 5)"
+        );
+        assert_eq!(
+            header("id,origin,destination,submitted"),
+            format!("r.csv: line 1: field `departure`: missing column ({must})")
+        );
+        // Header errors come before any row is read.
+        assert_eq!(
+            read("id,origin,destination,departure,extra\n").unwrap_err(),
+            format!("r.csv: line 1: field `extra`: unknown column; {must}")
+        );
     }
 
     #[test]
@@ -288,7 +511,7 @@ mod tests {
         let missing = read_requests("id,origin,departure\n", "r.csv", &air(), DAY).unwrap_err();
         assert_eq!(
             missing.to_string(),
-            "r.csv: line 1: field `destination`: missing column (the header must have id,origin,destination,departure)"
+            "r.csv: line 1: field `destination`: missing column (the header must be id,origin,destination,departure, optionally followed by submitted)"
         );
     }
 }

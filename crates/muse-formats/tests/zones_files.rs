@@ -111,7 +111,12 @@ fn missing_file_names_the_path() {
 
 #[test]
 fn fixtures_round_trip_and_output_is_stable() {
-    for name in ["ed318_sample.geojson", "ed269_sample.json"] {
+    for name in [
+        "ed318_sample.geojson",
+        "ed269_sample.json",
+        "ed318_announced.geojson",
+        "ed269_announced.json",
+    ] {
         let zones = read_zones(&fixture_text(name), name).unwrap();
         let text = write_ed318(&zones);
         assert_eq!(read_zones(&text, "out").unwrap(), zones, "{name}");
@@ -121,6 +126,62 @@ fn fixtures_round_trip_and_output_is_stable() {
             "{name}: writing what was read back changes nothing"
         );
     }
+}
+
+#[test]
+fn reads_announced_zones_in_both_formats() {
+    let at = |t: &str| Some(Instant::parse_rfc3339(t).unwrap());
+    let zones = read_zones_file(&fixture("ed318_announced.geojson")).unwrap();
+    let announced: Vec<(&str, Option<Instant>)> =
+        zones.iter().map(|z| (z.id.as_str(), z.announced)).collect();
+    assert_eq!(
+        announced,
+        [
+            ("SGFIRE", at("2026-01-05T09:40:00+08:00")),
+            ("SGVIP", at("2026-01-05T10:00:00.250+08:00")),
+            ("SGKNOWN", None),
+        ]
+    );
+    assert_eq!(zones[1].edge_ids, ["S001-S002"]);
+    let zones = read_zones_file(&fixture("ed269_announced.json")).unwrap();
+    assert_eq!(zones.len(), 1);
+    assert_eq!(zones[0].id, "E001");
+    assert_eq!(zones[0].announced, at("2026-01-05T06:05:00Z"));
+    assert_eq!(zones[0].periods[0].start, at("2026-01-05T14:15:00+08:00"));
+}
+
+#[test]
+fn announced_is_written_and_read_back() {
+    let zones = read_zones_file(&fixture("ed318_announced.geojson")).unwrap();
+    let text = write_ed318(&zones);
+    // In the offset of the zone's first daily window, else UTC; an unannounced zone has none.
+    assert!(
+        text.contains("\"announced\": \"2026-01-05T01:40:00.000+00:00\""),
+        "{text}"
+    );
+    assert!(
+        text.contains("\"announced\": \"2026-01-05T10:00:00.250+08:00\""),
+        "{text}"
+    );
+    assert_eq!(text.matches("\"announced\"").count(), 2, "{text}");
+    let back = read_zones(&text, "out.geojson").unwrap();
+    assert_eq!(back, zones);
+    assert_eq!(write_ed318(&back), text);
+    // ED-269 in, ED-318 out: the announcement survives the change of format.
+    let ed269 = read_zones_file(&fixture("ed269_announced.json")).unwrap();
+    let text = write_ed318(&ed269);
+    assert_eq!(read_zones(&text, "out.geojson").unwrap(), ed269);
+
+    let mut cbd = cbd_zone();
+    cbd.announced = Some(Instant::parse_rfc3339("2026-01-05T09:15:30.125+08:00").unwrap());
+    let text = write_ed318(std::slice::from_ref(&cbd));
+    assert!(
+        text.contains("\"announced\": \"2026-01-05T09:15:30.125+08:00\""),
+        "{text}"
+    );
+    let back = read_zones(&text, "cbd.geojson").unwrap();
+    assert_eq!(back[0].announced, cbd.announced);
+    assert_eq!(back, vec![normalize(&cbd)]);
 }
 
 /// The Singapore CBD zone as the scenario builder makes it: a polygon with full-precision
@@ -261,9 +322,10 @@ fn arb_zone() -> impl Strategy<Value = Zone> {
         prop::collection::vec("[A-Z0-9-]{1,6}", 0..3),
         prop::collection::vec("[A-Z0-9-]{1,9}", 0..3),
         prop::collection::vec(arb_period(), 0..3),
+        prop::option::of(946_684_800_000..4_102_444_800_000_i64),
     )
         .prop_map(
-            |(id, name, restriction, area, mut node_ids, edge_ids, periods)| {
+            |(id, name, restriction, area, mut node_ids, edge_ids, periods, announced)| {
                 if area.is_none() && edge_ids.is_empty() && node_ids.is_empty() {
                     node_ids.push("S001".into());
                 }
@@ -274,7 +336,7 @@ fn arb_zone() -> impl Strategy<Value = Zone> {
                     area,
                     node_ids,
                     edge_ids,
-                    announced: None,
+                    announced: announced.map(Instant),
                     periods,
                 }
             },

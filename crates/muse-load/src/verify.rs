@@ -169,11 +169,7 @@ pub fn check(
     .map_err(|e| LoadError::bad_answer("GET /v1/zones", e))?;
     let checked: Vec<Flight<'_>> = flights
         .iter()
-        .map(|(request, plan)| Flight {
-            id: &request.id,
-            request,
-            plan,
-        })
+        .map(|(request, plan)| Flight::new(&request.id, request, plan))
         .collect();
     let violations = verify(&world.airspace, &closures, &world.params, &checked);
     v.span = Some([

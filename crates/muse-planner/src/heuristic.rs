@@ -6,6 +6,10 @@
 //! inequality of shortest paths), unlike the paper's straight-line estimate divided by speed,
 //! which is admissible but not tight. Tables are computed once per destination, on first use,
 //! by one Dijkstra search from the destination (edges are undirected), and then shared.
+//!
+//! A diversion (SPEC §11) goes to whichever station it can land at earliest; its heuristic is
+//! the free-flow time to the *nearest* station, one multi-source search from all stations,
+//! equally exact and consistent.
 
 use std::sync::OnceLock;
 
@@ -20,6 +24,7 @@ pub const UNREACHABLE: i64 = i64::MAX;
 pub struct Heuristics {
     times: Vec<Millis>,
     tables: Vec<OnceLock<Box<[i64]>>>,
+    any_station: OnceLock<Box<[i64]>>,
 }
 
 impl Heuristics {
@@ -30,6 +35,7 @@ impl Heuristics {
             tables: (0..airspace.node_count())
                 .map(|_| OnceLock::new())
                 .collect(),
+            any_station: OnceLock::new(),
         }
     }
 
@@ -39,6 +45,17 @@ impl Heuristics {
         self.tables[destination.index()].get_or_init(|| {
             let mut search = Dijkstra::new(airspace.node_count());
             search.run(airspace, &self.times, destination);
+            search.raw_times().into()
+        })
+    }
+
+    /// Free-flow time from every node to the nearest station in ms ([`UNREACHABLE`] if
+    /// none), indexed by node. Computed on the first call.
+    pub fn to_any_station(&self, airspace: &Airspace) -> &[i64] {
+        self.any_station.get_or_init(|| {
+            let stations: Vec<NodeId> = airspace.stations().collect();
+            let mut search = Dijkstra::new(airspace.node_count());
+            search.run_from_all(airspace, &self.times, &stations);
             search.raw_times().into()
         })
     }

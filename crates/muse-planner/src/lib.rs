@@ -8,7 +8,10 @@
 //! - [`planner`]: [`Planner`], prepared once per airspace and parameters, and [`plan_day`],
 //!   which plans a list of requests first come, first served;
 //! - [`online`]: [`Live`], the same planner and schedule driven by a clock, for requests that
-//!   arrive one at a time in any order of departure, with cancellation (SPEC §10).
+//!   arrive one at a time in any order of departure, with cancellation (SPEC §10) and zones
+//!   announced while it runs (SPEC §11);
+//! - [`replan`](mod@replan): what a newly announced zone does to the flights it hits (SPEC §11):
+//!   replanned, diverted, cancelled or contingency.
 //!
 //! ```
 //! use muse_airspace::closures::Closures;
@@ -42,10 +45,11 @@
 pub mod heuristic;
 pub mod online;
 pub mod planner;
+pub mod replan;
 pub mod schedule;
 pub mod sipp;
 
 pub use online::Live;
-pub use planner::{Outcome, Planner, plan_and_book, plan_day};
+pub use planner::{Landing, Outcome, Planner, plan_and_book, plan_day};
 pub use schedule::{FlightId, Schedule};
 pub use sipp::Scratch;

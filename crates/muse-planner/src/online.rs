@@ -10,7 +10,13 @@
 //! - reservations that ended before now are dropped from memory as the clock moves
 //!   ([`Schedule::forget_past`]): memory stays bounded by the traffic still ahead, however
 //!   many days the service runs (the store, not the planner, keeps history);
-//! - a flight can be cancelled before take-off, which frees its reservations.
+//! - a flight can be cancelled before take-off, which frees its reservations;
+//! - zones can be announced while it runs (SPEC §11): [`Live::announce`] closes the airspace
+//!   from now on and [replans](crate::replan) the flights the zone hits; [`Live::withdraw`]
+//!   lifts an announced zone and replans nothing.
+//!
+//! It keeps every flight that has not landed yet (its request and current plan), which is
+//! what replanning needs; landed flights are dropped with the reservations they held.
 //!
 //! The clock never goes back: an earlier `now` than one already seen is ignored, so a clock
 //! step backwards cannot resurrect forgotten instants.
@@ -37,18 +43,21 @@
 //! let early = live.book(2, &r("early", 0)).result.unwrap();
 //! assert_eq!((early.takeoff(), late.takeoff()), (Instant(0), Instant(600_000)));
 //!
-//! // At 300 s the early flight is in the air: it can no longer be cancelled; the late one can.
-//! live.advance(Instant(300_000));
-//! assert_eq!(live.cancel(2, &early), Err(CancelError::TookOff));
-//! assert_eq!(live.cancel(1, &late), Ok(()));
+//! // At 60 s the early flight is in the air: it can no longer be cancelled; the late one can.
+//! live.advance(Instant(60_000));
+//! assert_eq!(live.cancel(2), Err(CancelError::TookOff));
+//! assert_eq!(live.cancel(1), Ok(late));
 //! // And the past is closed.
 //! assert_eq!(live.book(3, &r("old", 0)).result, Err(RejectReason::DepartureInPast));
 //! ```
+
+use std::collections::HashMap;
 
 use muse_airspace::closures::Closures;
 use muse_model::{Instant, Millis, Plan, RejectReason, Request};
 
 use crate::planner::{Outcome, Planner, plan_and_book};
+use crate::replan::{Affected, Booking, replan};
 use crate::schedule::{FlightId, Schedule};
 use crate::sipp::Scratch;
 
@@ -62,9 +71,20 @@ pub enum CancelError {
     /// The flight has taken off (take-off at or before now): it is committed.
     #[error("the flight has taken off; it is committed and cannot be cancelled")]
     TookOff,
-    /// The schedule does not hold this flight with this plan.
+    /// The schedule holds no such flight (never booked, cancelled, or landed).
     #[error("the schedule holds no such flight")]
     NotHeld,
+}
+
+/// Why a zone could not be announced or withdrawn.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ZoneError {
+    /// A zone with this id is already announced.
+    #[error("a zone `{0}` is already announced")]
+    Taken(String),
+    /// No announced zone has this id.
+    #[error("no announced zone `{0}`")]
+    Unknown(String),
 }
 
 /// A live schedule with its planner and clock (see the module docs).
@@ -76,6 +96,12 @@ pub struct Live<'a> {
     now: Instant,
     last_forget: Instant,
     forget_every: Millis,
+    /// Flights that have not landed yet.
+    bookings: HashMap<FlightId, Booking>,
+    /// Closures known from the start.
+    base: Closures,
+    /// Zones announced since, by id, in announcement order.
+    announced: Vec<(String, Closures)>,
 }
 
 impl<'a> Live<'a> {
@@ -90,6 +116,9 @@ impl<'a> Live<'a> {
             now,
             last_forget: now,
             forget_every: FORGET_EVERY,
+            bookings: HashMap::new(),
+            base: closures.clone(),
+            announced: Vec::new(),
         }
     }
 
@@ -116,6 +145,16 @@ impl<'a> Live<'a> {
         self.now
     }
 
+    /// The flights held that have not landed (as of the last sweep), with their current plans.
+    pub fn bookings(&self) -> &HashMap<FlightId, Booking> {
+        &self.bookings
+    }
+
+    /// The ids of the zones announced and not withdrawn, in announcement order.
+    pub fn announced(&self) -> impl Iterator<Item = &str> {
+        self.announced.iter().map(|(id, _)| id.as_str())
+    }
+
     /// Moves the clock to `now` (ignored if earlier than the current now) and, every [`FORGET_EVERY`]
     /// of clock time, drops the reservations that ended before it.
     pub fn advance(&mut self, now: Instant) {
@@ -126,6 +165,7 @@ impl<'a> Live<'a> {
         self.schedule.set_horizon(now.0);
         if now - self.last_forget >= self.forget_every {
             self.schedule.forget_past();
+            self.bookings.retain(|_, b| b.plan.landing() >= now);
             self.last_forget = now;
         }
     }
@@ -141,34 +181,109 @@ impl<'a> Live<'a> {
                 expanded: 0,
             };
         }
-        plan_and_book(
+        let outcome = plan_and_book(
             &self.planner,
             &mut self.schedule,
             flight,
             request,
             &mut self.scratch,
-        )
+        );
+        if let Ok(plan) = &outcome.result {
+            self.bookings.insert(
+                flight,
+                Booking {
+                    request: request.clone(),
+                    plan: plan.clone(),
+                },
+            );
+        }
+        outcome
     }
 
     /// Books a plan accepted earlier (when a service restarts from its store) without
-    /// planning it again. Plans that ended before now are skipped: they can no longer matter.
-    pub fn restore(&mut self, flight: FlightId, plan: &Plan) {
+    /// planning it again; `plan` is the flight's plan as it stands (after any replanning).
+    /// Plans that ended before now are skipped: they can no longer matter.
+    pub fn restore(&mut self, flight: FlightId, request: &Request, plan: &Plan) {
         if plan.landing() < self.now {
             return;
         }
         self.schedule.insert(self.planner.airspace(), flight, plan);
+        self.bookings.insert(
+            flight,
+            Booking {
+                request: request.clone(),
+                plan: plan.clone(),
+            },
+        );
     }
 
-    /// Cancels a booked flight, freeing its reservations; only before take-off.
-    pub fn cancel(&mut self, flight: FlightId, plan: &Plan) -> Result<(), CancelError> {
-        if plan.takeoff() <= self.now {
+    /// Reserves the committed part of a flight left in contingency (SPEC §11) when a service
+    /// restarts from its store; it is not a booking (it is never replanned again).
+    pub fn restore_committed(&mut self, flight: FlightId, part: &Plan) {
+        if part.landing() >= self.now {
+            self.schedule.insert(self.planner.airspace(), flight, part);
+        }
+    }
+
+    /// Cancels a booked flight, freeing its reservations; only before take-off. Returns the
+    /// plan it had.
+    pub fn cancel(&mut self, flight: FlightId) -> Result<Plan, CancelError> {
+        let booking = self.bookings.get(&flight).ok_or(CancelError::NotHeld)?;
+        if booking.plan.takeoff() <= self.now {
             return Err(CancelError::TookOff);
         }
-        if self.schedule.remove(self.planner.airspace(), flight, plan) {
-            Ok(())
-        } else {
-            Err(CancelError::NotHeld)
+        if !self
+            .schedule
+            .remove(self.planner.airspace(), flight, &booking.plan)
+        {
+            return Err(CancelError::NotHeld);
         }
+        Ok(self
+            .bookings
+            .remove(&flight)
+            .expect("the booking was just read")
+            .plan)
+    }
+
+    /// Announces a zone now (SPEC §11): its closures bind everything from now on, and the
+    /// flights it hits are replanned ([`replan`](crate::replan::replan)). Returns the
+    /// affected flights in the order they were replanned.
+    pub fn announce(&mut self, id: &str, zone: Closures) -> Result<Vec<Affected>, ZoneError> {
+        if self.announced.iter().any(|(z, _)| z == id) {
+            return Err(ZoneError::Taken(id.to_owned()));
+        }
+        self.announced.push((id.to_owned(), zone));
+        self.schedule.set_closures(&self.known_closures());
+        let zone = &self.announced.last().expect("just pushed").1;
+        Ok(replan(
+            &self.planner,
+            &mut self.schedule,
+            &mut self.bookings,
+            zone,
+            self.now,
+            &mut self.scratch,
+        ))
+    }
+
+    /// Withdraws an announced zone: it closes nothing from now on. Nothing is replanned.
+    pub fn withdraw(&mut self, id: &str) -> Result<(), ZoneError> {
+        let k = self
+            .announced
+            .iter()
+            .position(|(z, _)| z == id)
+            .ok_or_else(|| ZoneError::Unknown(id.to_owned()))?;
+        self.announced.remove(k);
+        self.schedule.set_closures(&self.known_closures());
+        Ok(())
+    }
+
+    /// The closures in force: those known from the start and every zone announced since.
+    fn known_closures(&self) -> Closures {
+        let mut all = self.base.clone();
+        for (_, zone) in &self.announced {
+            all.add(zone);
+        }
+        all
     }
 }
 
@@ -239,8 +354,8 @@ mod tests {
         let first = live.book(1, &request("a", 0, 1, 60_000)).result.unwrap();
         let second = live.book(2, &request("b", 0, 1, 60_000)).result.unwrap();
         assert_eq!(second.takeoff(), Instant(180_000));
-        assert_eq!(live.cancel(1, &first), Ok(()));
-        assert_eq!(live.cancel(1, &first), Err(CancelError::NotHeld));
+        assert_eq!(live.cancel(1), Ok(first.clone()));
+        assert_eq!(live.cancel(1), Err(CancelError::NotHeld));
         let third = live.book(3, &request("c", 0, 1, 60_000)).result.unwrap();
         assert_eq!(third, first);
         live.advance(Instant(100_000));

@@ -216,30 +216,6 @@ struct EdgeBook {
 impl Schedule {
     /// An empty schedule (no flights) with the zone closures as permanent blocks.
     pub fn new(airspace: &Airspace, params: &FlightParams, closures: &Closures) -> Self {
-        // A window [start, end) becomes the barrier (start − 1 − before, end).
-        let barriers = |windows: &[muse_airspace::closures::Window], before: i64| -> Vec<Occ> {
-            let mut v: Vec<(i64, i64)> = windows
-                .iter()
-                .filter(|win| win.start < win.end)
-                .map(|win| (win.start.0, win.end.0))
-                .collect();
-            v.sort_unstable();
-            let mut merged: Vec<(i64, i64)> = Vec::with_capacity(v.len());
-            for (a, b) in v {
-                match merged.last_mut() {
-                    Some(last) if a <= last.1 => last.1 = last.1.max(b),
-                    _ => merged.push((a, b)),
-                }
-            }
-            merged
-                .into_iter()
-                .map(|(a, b)| Occ {
-                    start: a - 1 - before,
-                    end: b,
-                    flight: FlightId::MAX,
-                })
-                .collect()
-        };
         let nodes = (0..airspace.node_count())
             .map(|i| NodeBook {
                 stays: Book::default(),
@@ -267,6 +243,17 @@ impl Schedule {
             horizon: NEG_INF,
             flights: 0,
             reservations: 0,
+        }
+    }
+
+    /// Replaces the zone closures (a zone announced or withdrawn during the day, SPEC §11);
+    /// the flights held are kept as they are. `closures` must be for the same airspace.
+    pub fn set_closures(&mut self, closures: &Closures) {
+        for (i, book) in self.nodes.iter_mut().enumerate() {
+            book.zones = barriers(closures.node(NodeId(i as u32)), 0);
+        }
+        for (i, book) in self.edges.iter_mut().enumerate() {
+            book.zones = barriers(closures.edge(EdgeId(i as u32)), book.w);
         }
     }
 
@@ -427,18 +414,21 @@ impl Schedule {
     /// Removes a plan previously inserted with the same `flight` (a cancellation). Returns
     /// `false`, and removes nothing, if any of its reservations is not held.
     pub fn remove(&mut self, airspace: &Airspace, flight: FlightId, plan: &Plan) -> bool {
-        let position = |list: &[Occ], occ: Occ| {
-            let i = list
-                .partition_point(|o| (o.start, o.end, o.flight) < (occ.start, occ.end, occ.flight));
-            (list.get(i) == Some(&occ)).then_some(i)
-        };
         let mut all_held = true;
         for_each_reservation(airspace, flight, plan, |target, occ| {
             all_held &= position(&self.book(target).occ, occ).is_some();
         });
-        if !all_held {
-            return false;
+        if all_held {
+            self.release(airspace, flight, plan);
         }
+        all_held
+    }
+
+    /// Removes every reservation of a plan previously inserted with the same `flight` that
+    /// the schedule still holds, and counts the flight out. Unlike [`Schedule::remove`] it
+    /// does not mind reservations already [forgotten](Schedule::forget_past): replanning an
+    /// airborne flight (SPEC §11) releases plans that began before now.
+    pub fn release(&mut self, airspace: &Airspace, flight: FlightId, plan: &Plan) {
         for_each_reservation(airspace, flight, plan, |target, occ| {
             let book = self.book_mut(target);
             if let Some(i) = position(&book.occ, occ) {
@@ -449,8 +439,7 @@ impl Schedule {
                 self.reservations -= 1;
             }
         });
-        self.flights -= 1;
-        true
+        self.flights = self.flights.saturating_sub(1);
     }
 
     fn book(&self, target: Target) -> &Book {
@@ -466,6 +455,38 @@ impl Schedule {
             Target::Edge(i, d) => &mut self.edges[i].dirs[d],
         }
     }
+}
+
+/// Where `occ` is in a sorted list, if it is there.
+fn position(list: &[Occ], occ: Occ) -> Option<usize> {
+    let i = list.partition_point(|o| (o.start, o.end, o.flight) < (occ.start, occ.end, occ.flight));
+    (list.get(i) == Some(&occ)).then_some(i)
+}
+
+/// Zone windows `[start, end)` of one element as merged barriers `(start − 1 − before, end)`
+/// (`before`: the traversal time on an edge, 0 at a node; see the module docs).
+fn barriers(windows: &[muse_airspace::closures::Window], before: i64) -> Vec<Occ> {
+    let mut v: Vec<(i64, i64)> = windows
+        .iter()
+        .filter(|win| win.start < win.end)
+        .map(|win| (win.start.0, win.end.0))
+        .collect();
+    v.sort_unstable();
+    let mut merged: Vec<(i64, i64)> = Vec::with_capacity(v.len());
+    for (a, b) in v {
+        match merged.last_mut() {
+            Some(last) if a <= last.1 => last.1 = last.1.max(b),
+            _ => merged.push((a, b)),
+        }
+    }
+    merged
+        .into_iter()
+        .map(|(a, b)| Occ {
+            start: a - 1 - before,
+            end: b,
+            flight: FlightId::MAX,
+        })
+        .collect()
 }
 
 /// Where a reservation is held.

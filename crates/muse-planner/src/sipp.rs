@@ -39,9 +39,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use muse_model::{
-    Airspace, EdgeId, FlightParams, Instant, NodeId, Plan, RejectReason, Request, Stay,
-};
+use muse_model::{Airspace, EdgeId, FlightParams, Instant, NodeId, Plan, RejectReason, Stay};
 
 use crate::heuristic::UNREACHABLE;
 use crate::schedule::{NodeSlot, Schedule};
@@ -151,68 +149,140 @@ fn dominates(s: &Label, n: &Label) -> bool {
 pub(crate) struct Problem<'a> {
     pub airspace: &'a Airspace,
     pub params: &'a FlightParams,
-    /// Free-flow time to the destination per node (`UNREACHABLE` if none).
+    /// Free-flow time to the goal per node (`UNREACHABLE` if none).
     pub h: &'a [i64],
 }
 
-/// Plans `request` against `schedule`: the earliest landing, then the latest take-off, or
-/// the reason no plan exists. `scratch.expanded` counts the labels expanded.
+/// Where a search starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Start {
+    /// On the ground at `origin`, taking off at any instant of `[earliest, latest]`.
+    Ground {
+        origin: NodeId,
+        earliest: i64,
+        latest: i64,
+    },
+    /// In the air: arriving at `node` at instant `at` (fixed), having taken off at `takeoff`
+    /// (SPEC §11: an airborne flight replanned from the first node it reaches).
+    Airborne { node: NodeId, at: i64, takeoff: i64 },
+}
+
+/// Where a search may end.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Goal {
+    /// Landing at this station.
+    Node(NodeId),
+    /// Landing at any station: the earliest landing, ties to the lowest node index
+    /// (SPEC §11 diversion).
+    AnyStation,
+}
+
+/// Plans from `start` to `goal` against `schedule`: the earliest landing, then the latest
+/// take-off, or the reason no plan exists. `scratch.expanded` counts the labels expanded.
+///
+/// Reasons: `Unreachable` when no path leads from the start to the goal; `OutOfRange` when
+/// even the free-flow path exceeds the battery left (on the ground: `T_max`); otherwise
+/// `NoFeasiblePlan`.
 pub(crate) fn search(
     p: Problem<'_>,
     schedule: &Schedule,
-    request: &Request,
+    start: Start,
+    goal: Goal,
     scratch: &mut Scratch,
 ) -> Result<Plan, RejectReason> {
-    let (origin, dest) = (request.origin, request.destination);
     let t_max = p.params.max_flight.0;
     scratch.reset(p.airspace.node_count());
-    let h_origin = p.h[origin.index()];
-    if h_origin == UNREACHABLE {
+    let (first, spent) = match start {
+        Start::Ground { origin, .. } => (origin, 0),
+        Start::Airborne { node, at, takeoff } => (node, at - takeoff),
+    };
+    let h_first = p.h[first.index()];
+    if h_first == UNREACHABLE {
         return Err(RejectReason::Unreachable);
     }
-    if h_origin > t_max {
+    if spent + h_first > t_max {
         return Err(RejectReason::OutOfRange);
     }
 
-    // Take-off: any instant of [dep, dep + G_max] at which the origin is free. Each safe
-    // interval of the origin met gives one label whose members are the take-off instants.
-    let dep = request.departure.0;
-    let latest = dep + p.params.max_ground_delay.0;
-    let mut t = dep;
-    while t <= latest {
-        match schedule.node_slot(origin, t) {
-            NodeSlot::Blocked { next_free } => t = next_free,
-            NodeSlot::Safe { lo, hi, next } => {
-                let label = Label {
-                    node: origin.0,
-                    lo,
-                    hi,
-                    arrive: t,
-                    takeoff: t,
-                    slack: hi.min(latest) - t,
-                    parent: NONE,
-                    via: NONE,
-                    next_in_state: NONE,
-                    dead: false,
-                };
-                scratch.push(label, h_origin);
-                t = next;
+    match start {
+        // Take-off: any instant of [earliest, latest] at which the origin is free. Each safe
+        // interval of the origin met gives one label whose members are the take-off instants.
+        Start::Ground {
+            origin,
+            earliest,
+            latest,
+        } => {
+            let mut t = earliest;
+            while t <= latest {
+                match schedule.node_slot(origin, t) {
+                    NodeSlot::Blocked { next_free } => t = next_free,
+                    NodeSlot::Safe { lo, hi, next } => {
+                        scratch.push(root(origin, lo, hi, t, t, hi.min(latest) - t), h_first);
+                        t = next;
+                    }
+                }
+            }
+        }
+        // In the air the arrival is fixed: one point label, if the node is free then.
+        Start::Airborne { node, at, takeoff } => {
+            if let NodeSlot::Safe { lo, hi, .. } = schedule.node_slot(node, at) {
+                scratch.push(root(node, lo, hi, at, takeoff, 0), h_first);
             }
         }
     }
 
-    while let Some(Reverse((_, _, idx))) = scratch.heap.pop() {
+    let is_goal = |n: u32| match goal {
+        Goal::Node(d) => n == d.0,
+        Goal::AnyStation => p.airspace.is_station(NodeId(n)),
+    };
+    let mut found: Option<u32> = None;
+    while let Some(Reverse((key, _, idx))) = scratch.heap.pop() {
         let label = scratch.labels[idx as usize];
         if label.dead {
             continue;
         }
-        if label.node == dest.0 {
-            return Ok(reconstruct(schedule, &scratch.labels, idx));
+        if let Some(best) = found {
+            // Any station: other labels with the same key may land as early at a station
+            // of lower index; past that key nothing can.
+            if key > scratch.labels[best as usize].arrive {
+                break;
+            }
+            if is_goal(label.node) && label.arrive == key {
+                if label.node < scratch.labels[best as usize].node {
+                    found = Some(idx);
+                }
+                continue;
+            }
+        } else if is_goal(label.node) {
+            found = Some(idx);
+            if matches!(goal, Goal::Node(_)) {
+                break;
+            }
+            continue;
         }
         scratch.expanded += 1;
         expand(p, schedule, scratch, idx, &label);
     }
-    Err(RejectReason::NoFeasiblePlan)
+    match found {
+        Some(idx) => Ok(reconstruct(schedule, &scratch.labels, idx)),
+        None => Err(RejectReason::NoFeasiblePlan),
+    }
+}
+
+/// A label with no parent: a take-off (or the start of an airborne replan).
+fn root(node: NodeId, lo: i64, hi: i64, arrive: i64, takeoff: i64, slack: i64) -> Label {
+    Label {
+        node: node.0,
+        lo,
+        hi,
+        arrive,
+        takeoff,
+        slack,
+        parent: NONE,
+        via: NONE,
+        next_in_state: NONE,
+        dead: false,
+    }
 }
 
 /// Generates the successors of `label` (see the module docs).

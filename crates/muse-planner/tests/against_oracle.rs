@@ -114,6 +114,50 @@ fn online_matches_oracle_crowded() {
     );
 }
 
+/// SPEC §11 (`scenario::announce`): the instance's last zone announced at a random instant
+/// while flights are booked and airborne; every affected flight's fate and plan against the
+/// oracle, the final set against the verifier with the exemption rule.
+fn property_announce(shape: Shape, cases: u32, seed: u64) -> scenario::announce::Announcements {
+    let total = std::cell::Cell::new(scenario::announce::Announcements::default());
+    let strategy = (scenario::instances(shape), 0..=shape.horizon);
+    let result = runner(cases, seed).run(&strategy, |(instance, at)| {
+        let (_, counts) = scenario::announce::run_announce(&instance, at)
+            .map_err(proptest::test_runner::TestCaseError::fail)?;
+        let mut t = total.get();
+        t.add(&counts);
+        total.set(t);
+        Ok(())
+    });
+    if let Err(e) = result {
+        panic!("seed {seed}: {e}");
+    }
+    let t = total.get();
+    println!("announce {shape:?}: {t:?}");
+    t
+}
+
+#[test]
+fn replanning_matches_oracle_mixed() {
+    let t = property_announce(Shape::MIXED, 10_000, 0x5eed_0021);
+    assert!(
+        t.replanned > 1_000
+            && t.cancelled > 1_000
+            && t.airborne > 500
+            && t.diverted > 100
+            && t.contingency > 100,
+        "{t:?}"
+    );
+}
+
+#[test]
+fn replanning_matches_oracle_crowded() {
+    let t = property_announce(Shape::CROWDED, 10_000, 0x5eed_0022);
+    assert!(
+        t.replanned > 1_000 && t.cancelled > 1_000 && t.airborne > 500,
+        "{t:?}"
+    );
+}
+
 /// The oracle's grid argument, checked: on data in units of 7 or 37 ms, searching the grid of
 /// whole units plus offsets gives the same answers as searching every millisecond.
 #[test]

@@ -99,16 +99,8 @@ fn plan_against(other: &Plan) -> Plan {
         .result
         .expect("a plan exists");
     let flights = [
-        Flight {
-            id: "other",
-            request: &other_request,
-            plan: other,
-        },
-        Flight {
-            id: "r",
-            request: &request,
-            plan: &plan,
-        },
+        Flight::new("other", &other_request, other),
+        Flight::new("r", &request, &plan),
     ];
     let violations = verify(&a, &closures, &params, &flights);
     assert!(

@@ -2,7 +2,8 @@
 //! airspaces:
 //!
 //! - `singapore-77`, the default (SPEC §8): 77 HDB car parks chosen by seeded k-means, the
-//!   CBD no-fly zone; parsed from committed files ([`singapore_77`]);
+//!   CBD no-fly zone; parsed from committed files ([`singapore_77`]); with it, an announced
+//!   event zone around the National Stadium ([`stadium_zone`]);
 //! - `singapore-all`: all 1,115 HDB multi-storey car parks, the same zone; built at run time
 //!   ([`singapore_all()`]);
 //! - [`synthetic`](mod@synthetic): grid or random geometric airspaces of any size, for
@@ -62,6 +63,17 @@
 //! id `SG-CBD-DOWNTOWN-CORE`, name "Downtown Core (CBD) no-fly zone 10:00–12:00". No
 //! station lies in it (none of the 1,115 candidates does); edges crossing it close with it.
 //!
+//! [`stadium_zone`]: a zone announced during the day (SPEC §11), offered alongside the
+//! scenario and not one of its zones: a circle of radius 1.5 km around the National
+//! Stadium, Singapore Sports Hub (lat 1.300694, lon 103.874222, from the stadium's Wikipedia
+//! infobox; see `data/SOURCES.md`, "Points of interest"), restriction `PROHIBITED`, id
+//! [`STADIUM_ZONE_ID`] = `SG-NATIONAL-STADIUM-EVENT`, closed on the scenario's day from
+//! 15:00 to 18:00 `+08:00` and announced at 14:00 `+08:00`: the paper's "sports events"
+//! case. It closes no station (the nearest, `S069`, is about 1,510 m from the centre) and 4
+//! corridors: `S066-S069`, `S069-S070`, `S069-S076` and `S071-S076` (the last two also
+//! cross the CBD zone). Its file, `scenarios/singapore-77/stadium_zone.geojson`, is
+//! hand-written, not generated ([`STADIUM_ZONE_GEOJSON`]).
+//!
 //! # Land
 //!
 //! [`planning_areas`] / [`singapore_land`]: the 55 planning areas; a point is on land when
@@ -91,7 +103,9 @@
 //! [`singapore_77`] (Monday 2026-01-05, `+08:00`); a test checks that rebuilding them from
 //! the source data gives the same bytes. Building takes a few milliseconds. After a
 //! deliberate change of the rule, regenerate them with `muse airspace build` or
-//! `cargo test -p muse-scenario -- --ignored write_files`.
+//! `cargo test -p muse-scenario -- --ignored write_files`. The announced zone's file,
+//! `scenarios/singapore-77/stadium_zone.geojson`, is hand-written and embedded as
+//! [`STADIUM_ZONE_GEOJSON`]; nothing regenerates it.
 
 pub mod carparks;
 pub mod land;
@@ -102,8 +116,9 @@ pub mod synthetic;
 
 pub use land::{PlanningArea, planning_areas, singapore_land};
 pub use singapore::{
-    BuiltFiles, CBD_ZONE_ID, CBD_ZONE_NAME, KMEANS_SEED, SINGAPORE_77, STATION_COUNT, Scenario,
-    build_singapore_77, build_singapore_77_airspace, cbd_zone, singapore_77, station_nodes,
+    BuiltFiles, CBD_ZONE_ID, CBD_ZONE_NAME, KMEANS_SEED, SINGAPORE_77, STADIUM_ZONE_ID,
+    STATION_COUNT, Scenario, build_singapore_77, build_singapore_77_airspace, cbd_zone,
+    singapore_77, stadium_zone, station_nodes,
 };
 pub use singapore_all::{
     AllStations, DroppedCarPark, SINGAPORE_ALL, SINGAPORE_ALL_DROPPED, all_stations,
@@ -125,6 +140,11 @@ pub const AIRSPACE_GEOJSON: &str = include_str!("../../../scenarios/singapore-77
 
 /// The committed `scenarios/singapore-77/cbd_zone.geojson` (ED-318), embedded.
 pub const CBD_ZONE_GEOJSON: &str = include_str!("../../../scenarios/singapore-77/cbd_zone.geojson");
+
+/// The committed `scenarios/singapore-77/stadium_zone.geojson` (ED-318), embedded: the
+/// announced National Stadium event zone ([`stadium_zone`]). Hand-written, not generated.
+pub const STADIUM_ZONE_GEOJSON: &str =
+    include_str!("../../../scenarios/singapore-77/stadium_zone.geojson");
 
 /// The embedded source data (copies of the repository's `data/` files) and their names.
 pub mod data {

@@ -12,7 +12,7 @@ use muse_model::{
 use crate::carparks::multi_storey_car_parks;
 use crate::land::downtown_core;
 use crate::stations::select_stations;
-use crate::{AIRSPACE_GEOJSON, CBD_ZONE_GEOJSON, ScenarioError};
+use crate::{AIRSPACE_GEOJSON, CBD_ZONE_GEOJSON, STADIUM_ZONE_GEOJSON, ScenarioError};
 
 /// The scenario's name, also the folder of its files: `scenarios/singapore-77/`.
 pub const SINGAPORE_77: &str = "singapore-77";
@@ -37,6 +37,12 @@ pub const AIRSPACE_FILE: &str = "airspace.geojson";
 
 /// File name of the generated zone file inside `scenarios/singapore-77/`.
 pub const CBD_ZONE_FILE: &str = "cbd_zone.geojson";
+
+/// Identifier of the announced National Stadium event zone ([`stadium_zone`]).
+pub const STADIUM_ZONE_ID: &str = "SG-NATIONAL-STADIUM-EVENT";
+
+/// File name of the hand-written stadium zone file inside `scenarios/singapore-77/`.
+pub const STADIUM_ZONE_FILE: &str = "stadium_zone.geojson";
 
 /// The generated files of a scenario, as text (each ends with a newline).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -135,6 +141,33 @@ pub fn cbd_zone() -> Result<Zone, ScenarioError> {
     Ok(muse_formats::zones::normalize(&zone))
 }
 
+/// The announced National Stadium event zone, parsed from the embedded
+/// `scenarios/singapore-77/stadium_zone.geojson` ([`STADIUM_ZONE_GEOJSON`]): a circle of
+/// 1.5 km around the National Stadium, Singapore Sports Hub (lon 103.874222, lat 1.300694),
+/// restriction `PROHIBITED`, closed on the scenario's day 2026-01-05 from 15:00 to 18:00
+/// `+08:00` and announced at 14:00 `+08:00` (SPEC §11). It is not one of
+/// [`singapore_77`]'s zones: it is offered as a zone to announce during the day.
+///
+/// ```
+/// use muse_model::{Instant, ZoneArea};
+/// let zone = muse_scenario::stadium_zone().unwrap();
+/// assert_eq!(zone.id, muse_scenario::STADIUM_ZONE_ID);
+/// assert_eq!(zone.announced, Some(Instant::parse_rfc3339("2026-01-05T14:00:00+08:00").unwrap()));
+/// assert!(matches!(zone.area, Some(ZoneArea::Circle { radius_m, .. }) if radius_m == 1_500.0));
+/// assert!(!muse_scenario::singapore_77().zones.contains(&zone));
+/// ```
+pub fn stadium_zone() -> Result<Zone, ScenarioError> {
+    let file = format!("scenarios/{SINGAPORE_77}/{STADIUM_ZONE_FILE}");
+    let mut zones = muse_formats::zones::read_zones(STADIUM_ZONE_GEOJSON, &file)?;
+    match zones.pop() {
+        Some(zone) if zones.is_empty() => Ok(zone),
+        _ => Err(ScenarioError::Geo {
+            file,
+            message: "expected exactly one zone".to_owned(),
+        }),
+    }
+}
+
 /// Builds the files of `scenarios/singapore-77/` from the embedded source data (what
 /// `muse airspace build` writes). The result is byte-identical to the committed files
 /// ([`AIRSPACE_GEOJSON`], [`CBD_ZONE_GEOJSON`]); a test checks it.
@@ -189,7 +222,8 @@ pub fn singapore_77() -> Scenario {
 #[cfg(test)]
 mod tests {
     use geo::Intersects;
-    use muse_model::{NodeId, Svy21};
+    use muse_airspace::closures::{Window, closed_elements, resolve, zone_windows};
+    use muse_model::{Instant, Millis, NodeId, Svy21};
 
     use super::*;
     use crate::land::planning_areas;
@@ -365,5 +399,112 @@ mod tests {
         assert_eq!(zone.restriction, "PROHIBITED");
         assert_eq!(zone.name, CBD_ZONE_NAME);
         assert_eq!(zone.id, CBD_ZONE_ID);
+    }
+
+    fn t(s: &str) -> Instant {
+        Instant::parse_rfc3339(s).unwrap()
+    }
+
+    /// The scenario's day, `[00:00, 24:00)` local.
+    fn scenario_day(s: &Scenario) -> (Instant, Instant) {
+        let from = Instant::at_local(s.date, Millis::ZERO, s.offset);
+        (from, from + Millis(86_400_000))
+    }
+
+    #[test]
+    fn stadium_zone_parses_with_its_announcement_and_window() {
+        let zone = stadium_zone().unwrap();
+        assert_eq!(zone.id, STADIUM_ZONE_ID);
+        assert_eq!(
+            zone.name,
+            "National Stadium event zone (1.5 km), 15:00–18:00"
+        );
+        assert_eq!(zone.restriction, "PROHIBITED");
+        assert_eq!(
+            zone.area,
+            Some(ZoneArea::Circle {
+                centre: STADIUM,
+                radius_m: 1_500.0
+            })
+        );
+        assert!(zone.node_ids.is_empty() && zone.edge_ids.is_empty());
+        assert_eq!(zone.announced, Some(t("2026-01-05T14:00:00+08:00")));
+        assert_eq!(
+            zone.periods,
+            [Period {
+                start: Some(t("2026-01-05T15:00:00+08:00")),
+                end: Some(t("2026-01-05T18:00:00+08:00")),
+                daily: vec![],
+            }]
+        );
+        // On the scenario's day: one window, 15:00-18:00 +08:00 = 07:00-10:00 UTC.
+        let s = singapore_77();
+        let (from, to) = scenario_day(&s);
+        assert_eq!(
+            zone_windows(&zone, from, to).unwrap(),
+            [Window::new(
+                t("2026-01-05T07:00:00Z"),
+                t("2026-01-05T10:00:00Z")
+            )]
+        );
+        // Canonical: the ED-318 writer's output reads back to the same zone.
+        assert_eq!(muse_formats::zones::normalize(&zone), zone);
+        let written = muse_formats::zones::write_ed318(std::slice::from_ref(&zone));
+        assert_eq!(
+            muse_formats::zones::read_zones(&written, "written").unwrap(),
+            [zone]
+        );
+        // Offered as an announced zone: the default scenario keeps the CBD zone alone.
+        let ids: Vec<&str> = s.zones.iter().map(|z| z.id.as_str()).collect();
+        assert_eq!(ids, [CBD_ZONE_ID]);
+    }
+
+    /// The stadium's position (`data/SOURCES.md`, "Points of interest").
+    const STADIUM: LonLat = LonLat {
+        lon: 103.874_222,
+        lat: 1.300_694,
+    };
+
+    #[test]
+    fn stadium_zone_closes_four_corridors_and_no_station() {
+        let s = singapore_77();
+        let zone = stadium_zone().unwrap();
+        let (nodes, edges) = closed_elements(&s.airspace, &zone).unwrap();
+        assert_eq!((nodes.len(), edges.len()), (0, 4));
+        let ids: Vec<&str> = edges
+            .iter()
+            .map(|&e| s.airspace.edge(e).id.as_str())
+            .collect();
+        assert_eq!(ids, ["S066-S069", "S069-S070", "S069-S076", "S071-S076"]);
+        // The nearest station, S069 (KM4 BLK 49A JALAN TIGA), lies just outside the circle.
+        let (d, nearest) = s
+            .airspace
+            .nodes()
+            .iter()
+            .map(|n| (STADIUM.geodesic_distance_m(n.pos), n.id.as_str()))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .unwrap();
+        assert_eq!(nearest, "S069");
+        assert!((1_505.0..1_515.0).contains(&d), "{d}");
+
+        // With the CBD zone: resolving both is adding the two resolutions.
+        let (from, to) = scenario_day(&s);
+        let mut c = resolve(&s.airspace, &s.zones, from, to).unwrap();
+        c.add(&resolve(&s.airspace, std::slice::from_ref(&zone), from, to).unwrap());
+        let both: Vec<Zone> = s.zones.iter().cloned().chain([zone]).collect();
+        assert_eq!(c, resolve(&s.airspace, &both, from, to).unwrap());
+        assert_eq!(c.closed_node_count(), 0);
+        let at = |from: &str, to: &str| Window::new(t(from), t(to));
+        let cbd = at("2026-01-05T10:00:00+08:00", "2026-01-05T12:00:00+08:00");
+        let event = at("2026-01-05T15:00:00+08:00", "2026-01-05T18:00:00+08:00");
+        for (e, id) in edges.iter().zip(ids) {
+            // The two corridors to S076 (Kreta Ayer) also cross the Downtown Core.
+            let want = if id.ends_with("S076") {
+                vec![cbd, event]
+            } else {
+                vec![event]
+            };
+            assert_eq!(c.edge(*e), want, "{id}");
+        }
     }
 }

@@ -206,7 +206,7 @@ fn recover(
             if plan.landing() >= live.now() {
                 restored.booked += 1;
             }
-            live.restore(entry.seq, plan);
+            live.restore(entry.seq, &entry.request, plan);
         }
         restored.flights += 1;
         index.put(Arc::new(entry));
@@ -370,9 +370,17 @@ impl Engine<'_, '_> {
             }
             Status::Planned => {}
         }
-        let plan = known.booked_plan().expect("a planned flight has a plan");
-        match self.live.cancel(known.seq, plan) {
-            Ok(()) => {}
+        // A flight that has landed is no longer held by the live schedule; it took off.
+        let took_off = known
+            .booked_plan()
+            .is_some_and(|p| p.takeoff() <= self.live.now());
+        let cancelled = if took_off {
+            Err(CancelError::TookOff)
+        } else {
+            self.live.cancel(known.seq)
+        };
+        match cancelled {
+            Ok(_) => {}
             Err(CancelError::TookOff) => {
                 metrics.count_cancel(false);
                 return CancelReply::TookOff(known);

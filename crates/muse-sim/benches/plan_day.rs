@@ -10,7 +10,7 @@ use std::sync::Once;
 use divan::Bencher;
 use muse_model::{FlightParams, Instant, Millis};
 use muse_sim::day::{DayRun, plan_requests};
-use muse_sim::demand::{DemandSpec, OdRule, generate};
+use muse_sim::demand::{BookingLead, DemandSpec, OdRule, generate};
 
 fn main() {
     divan::main();
@@ -26,6 +26,7 @@ fn day(count: usize) -> Vec<muse_model::Request> {
         end: twenty,
         seed: 1,
         od: OdRule::Uniform,
+        booking_lead: BookingLead::NONE,
     };
     generate(&s.airspace, &spec).expect("demand")
 }
@@ -83,6 +84,7 @@ fn singapore_all_in_range(bencher: Bencher, count: usize) {
         end: twenty,
         seed: 1,
         od,
+        booking_lead: BookingLead::NONE,
     };
     let requests = generate(&s.airspace, &spec).expect("demand");
     let run = plan_requests(&s.airspace, &s.zones, params, requests.clone(), |_| {}).unwrap();

@@ -18,7 +18,7 @@ pub enum DayError {
 /// The result of planning a day.
 #[derive(Debug)]
 pub struct DayRun {
-    /// The requests in planning order `(departure, id)`.
+    /// The requests in planning order `(submitted, id)`.
     pub requests: Vec<Request>,
     /// One outcome per request, in the same order.
     pub outcomes: Vec<Outcome>,
@@ -29,12 +29,13 @@ pub struct DayRun {
 }
 
 /// The range of instants whose zone closures can matter to `requests`: from a day before the
-/// first departure to a day after the last possible landing.
+/// first submission (a request booked ahead is planned from then on; without bookings ahead
+/// this is the first departure) to a day after the last possible landing.
 pub fn closure_range(requests: &[Request], params: &FlightParams) -> (Instant, Instant) {
     let day = Millis::from_secs(86_400);
     let first = requests
         .iter()
-        .map(|r| r.departure)
+        .map(|r| r.submitted.min(r.departure))
         .min()
         .unwrap_or_default();
     let last = requests
@@ -48,9 +49,9 @@ pub fn closure_range(requests: &[Request], params: &FlightParams) -> (Instant, I
     )
 }
 
-/// Plans `requests` (in any order: they are sorted by `(departure, id)` first) on `airspace`
-/// with `zones`, each accepted plan reserved before the next request. `progress` is called
-/// with the number of requests done.
+/// Plans `requests` (in any order: they are sorted into planning order `(submitted, id)` first,
+/// SPEC §5) on `airspace` with `zones`, each accepted plan reserved before the next request.
+/// `progress` is called with the number of requests done.
 pub fn plan_requests(
     airspace: &Airspace,
     zones: &[Zone],
@@ -84,4 +85,137 @@ pub fn plan_sorted(
     let started = std::time::Instant::now();
     let outcomes = plan_day(planner, &mut schedule, requests, &mut scratch, progress);
     (outcomes, started.elapsed())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use muse_model::{Edge, LonLat, Node, NodeId, NodeKind, Plan, RejectReason};
+
+    /// Two stations one kilometre apart: two minutes of flight at 30 km/h.
+    fn pair() -> Airspace {
+        let n = |id: &str, lon| Node {
+            id: id.into(),
+            kind: NodeKind::Station,
+            name: String::new(),
+            pos: LonLat::new(lon, 1.3),
+        };
+        Airspace::new(
+            vec![n("A", 103.8), n("B", 103.81)],
+            vec![Edge {
+                id: "A-B".into(),
+                from: NodeId(0),
+                to: NodeId(1),
+                length_m: 1_000.0,
+            }],
+        )
+        .unwrap()
+    }
+
+    fn request(id: &str, from: u32, departure_min: i64, submitted_min: i64) -> Request {
+        Request {
+            id: id.into(),
+            origin: NodeId(from),
+            destination: NodeId(1 - from),
+            departure: Instant(departure_min * 60_000),
+            submitted: Instant(submitted_min * 60_000),
+        }
+    }
+
+    /// The take-off of each request by id, or its rejection.
+    fn outcome(run: &DayRun) -> Vec<(String, Result<Instant, RejectReason>)> {
+        let mut v: Vec<_> = run
+            .requests
+            .iter()
+            .zip(&run.outcomes)
+            .map(|(r, o)| {
+                (
+                    r.id.clone(),
+                    o.result.as_ref().map(Plan::takeoff).map_err(|e| *e),
+                )
+            })
+            .collect();
+        v.sort_by(|a, b| a.0.cmp(&b.0));
+        v
+    }
+
+    #[test]
+    fn submission_order_decides_who_gets_a_contested_slot() {
+        // `early` flies A→B departing at minute 600, `late` B→A at minute 601: the corridor
+        // (exclusive, two minutes) cannot carry both, and without ground delay neither can wait
+        // on the ground. Whoever is planned first gets it.
+        let air = pair();
+        let params = FlightParams::default();
+        let plan = |requests| plan_requests(&air, &[], params, requests, |_| {}).unwrap();
+
+        // Submitted at departure (the paper): first come by departure, `early` wins.
+        let run = plan(vec![
+            request("late", 1, 601, 601),
+            request("early", 0, 600, 600),
+        ]);
+        assert_eq!(
+            run.requests
+                .iter()
+                .map(|r| r.id.as_str())
+                .collect::<Vec<_>>(),
+            ["early", "late"]
+        );
+        assert_eq!(
+            outcome(&run),
+            [
+                ("early".into(), Ok(Instant(600 * 60_000))),
+                ("late".into(), Err(RejectReason::NoFeasiblePlan)),
+            ]
+        );
+
+        // `late` booked an hour ahead: it is planned first and takes the corridor, although it
+        // departs a minute after `early`.
+        let run = plan(vec![
+            request("early", 0, 600, 600),
+            request("late", 1, 601, 541),
+        ]);
+        assert_eq!(
+            run.requests
+                .iter()
+                .map(|r| r.id.as_str())
+                .collect::<Vec<_>>(),
+            ["late", "early"]
+        );
+        assert_eq!(
+            outcome(&run),
+            [
+                ("early".into(), Err(RejectReason::NoFeasiblePlan)),
+                ("late".into(), Ok(Instant(601 * 60_000))),
+            ]
+        );
+
+        // Booked ahead but after `early` was submitted: departure order again.
+        let run = plan(vec![
+            request("early", 0, 600, 590),
+            request("late", 1, 601, 595),
+        ]);
+        assert_eq!(
+            outcome(&run)[0],
+            ("early".into(), Ok(Instant(600 * 60_000)))
+        );
+        assert_eq!(
+            outcome(&run)[1],
+            ("late".into(), Err(RejectReason::NoFeasiblePlan))
+        );
+    }
+
+    #[test]
+    fn closure_range_starts_a_day_before_the_first_submission() {
+        let params = FlightParams::default();
+        let day = Millis::from_secs(86_400);
+        let reqs = [request("a", 0, 600, 600), request("b", 1, 700, 300)];
+        let (from, to) = closure_range(&reqs, &params);
+        assert_eq!(from, Instant(300 * 60_000) - day);
+        assert_eq!(to, Instant(700 * 60_000) + params.max_flight + day);
+        let at_departure = [request("a", 0, 600, 600), request("b", 1, 700, 700)];
+        assert_eq!(
+            closure_range(&at_departure, &params).0,
+            Instant(600 * 60_000) - day
+        );
+    }
 }

@@ -5,6 +5,12 @@
 //! machine. Request `i` (0-based) draws its departure (a uniform whole millisecond in
 //! `[start, end)`) and then its pair; ids are `r` followed by `i + 1` zero-padded to the width
 //! of the count (`r0001` … `r5000`).
+//!
+//! With a [`BookingLead`], each request is also booked ahead of its departure: its lead is a
+//! uniform whole millisecond in `[min, max]`, drawn from a second `ChaCha8` stream of the same
+//! seed (stream [`LEAD_STREAM`]), and `submitted = departure − lead`. Departures and pairs come
+//! from the first stream alone, so a seed gives the same departures and pairs whatever the
+//! lead, and with no lead (the paper) exactly the requests it always gave.
 
 use muse_airspace::shortest::Dijkstra;
 use muse_model::{Airspace, Instant, Millis, NodeId, Request, Speed};
@@ -25,6 +31,57 @@ pub enum OdRule {
     },
 }
 
+/// How far ahead of its departure each request is booked (SPEC §5 `submitted`): a lead drawn
+/// uniformly in `[min, max]` (whole milliseconds, both ends included). [`BookingLead::NONE`],
+/// the default, books every request at its departure (the paper).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BookingLead {
+    /// Shortest lead (at least zero).
+    pub min: Millis,
+    /// Longest lead (at least `min`).
+    pub max: Millis,
+}
+
+impl BookingLead {
+    /// No booking ahead: every request is submitted at its departure.
+    pub const NONE: BookingLead = BookingLead {
+        min: Millis::ZERO,
+        max: Millis::ZERO,
+    };
+
+    /// A lead uniform in `[min, max]`, checked: `0 ≤ min ≤ max`.
+    ///
+    /// ```
+    /// use muse_model::Millis;
+    /// use muse_sim::demand::BookingLead;
+    /// let lead = BookingLead::new(Millis::ZERO, Millis::from_mins(120)).unwrap();
+    /// assert!(!lead.is_none());
+    /// assert!(BookingLead::new(Millis::from_mins(5), Millis::from_mins(1)).is_err());
+    /// assert!(BookingLead::new(Millis::ZERO, Millis::ZERO).unwrap().is_none());
+    /// ```
+    pub fn new(min: Millis, max: Millis) -> Result<Self, DemandError> {
+        let lead = BookingLead { min, max };
+        lead.check()?;
+        Ok(lead)
+    }
+
+    /// Whether every request is submitted at its departure (`max` is zero).
+    pub fn is_none(&self) -> bool {
+        self.max == Millis::ZERO
+    }
+
+    fn check(&self) -> Result<(), DemandError> {
+        if self.min < Millis::ZERO || self.max < self.min {
+            return Err(DemandError::BookingLead(*self));
+        }
+        Ok(())
+    }
+}
+
+/// The `ChaCha8` stream of a seed that booking leads are drawn from (departures and pairs use
+/// stream 0).
+pub const LEAD_STREAM: u64 = 1;
+
 /// What to generate.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct DemandSpec {
@@ -38,6 +95,8 @@ pub struct DemandSpec {
     pub seed: u64,
     /// Origin–destination rule.
     pub od: OdRule,
+    /// How far ahead of departure requests are booked ([`BookingLead::NONE`]: at departure).
+    pub booking_lead: BookingLead,
 }
 
 /// Why demand cannot be generated.
@@ -49,6 +108,14 @@ pub enum DemandError {
     /// No pair of stations satisfies the rule.
     #[error("no origin-destination pair satisfies the rule ({0} stations)")]
     NoPairs(usize),
+    /// The booking lead is negative or its bounds are the wrong way round.
+    #[error(
+        "the booking lead {} s to {} s is invalid: it must be at least 0 and its lower bound \
+         at most its upper bound",
+        .0.min.as_secs_f64(),
+        .0.max.as_secs_f64()
+    )]
+    BookingLead(BookingLead),
 }
 
 /// The ordered station pairs a rule allows, in a fixed order (origin, then destination index).
@@ -88,18 +155,31 @@ pub fn allowed_pairs(airspace: &Airspace, od: OdRule) -> Vec<(NodeId, NodeId)> {
 /// #     let n = |id: &str, lon| Node { id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.3) };
 /// #     Airspace::new(vec![n("A", 103.8), n("B", 103.81), n("C", 103.82)], vec![]).unwrap()
 /// # }
-/// use muse_model::Instant;
-/// use muse_sim::demand::{generate, DemandSpec, OdRule};
-/// let spec = DemandSpec { count: 3, start: Instant(0), end: Instant(3_600_000), seed: 1, od: OdRule::Uniform };
+/// use muse_model::{Instant, Millis};
+/// use muse_sim::demand::{generate, BookingLead, DemandSpec, OdRule};
+/// let spec = DemandSpec {
+///     count: 3, start: Instant(0), end: Instant(3_600_000), seed: 1, od: OdRule::Uniform,
+///     booking_lead: BookingLead::NONE,
+/// };
 /// let a = generate(&air, &spec).unwrap();
 /// assert_eq!(a, generate(&air, &spec).unwrap()); // same seed, same requests
 /// assert_eq!(a[2].id, "r3");
 /// assert!(a.iter().all(|r| r.origin != r.destination && r.departure < Instant(3_600_000)));
+/// assert!(a.iter().all(|r| r.submitted == r.departure));
+///
+/// // Booked 10 to 60 minutes ahead: the same departures and pairs, submitted earlier.
+/// let lead = BookingLead::new(Millis::from_mins(10), Millis::from_mins(60)).unwrap();
+/// let b = generate(&air, &DemandSpec { booking_lead: lead, ..spec }).unwrap();
+/// for (a, b) in a.iter().zip(&b) {
+///     assert_eq!((a.departure, a.origin, a.destination), (b.departure, b.origin, b.destination));
+///     assert!((Millis::from_mins(10)..=Millis::from_mins(60)).contains(&(b.departure - b.submitted)));
+/// }
 /// ```
 pub fn generate(airspace: &Airspace, spec: &DemandSpec) -> Result<Vec<Request>, DemandError> {
     if spec.end <= spec.start {
         return Err(DemandError::EmptyWindow);
     }
+    spec.booking_lead.check()?;
     let pairs = allowed_pairs(airspace, spec.od);
     if pairs.is_empty() && spec.count > 0 {
         return Err(DemandError::NoPairs(airspace.stations().count()));
@@ -107,10 +187,18 @@ pub fn generate(airspace: &Airspace, spec: &DemandSpec) -> Result<Vec<Request>, 
     let width = spec.count.to_string().len();
     let span = spec.end.0 - spec.start.0;
     let mut rng = ChaCha8Rng::seed_from_u64(spec.seed);
+    let mut lead_rng = ChaCha8Rng::seed_from_u64(spec.seed);
+    lead_rng.set_stream(LEAD_STREAM);
+    let BookingLead { min, max } = spec.booking_lead;
     Ok((0..spec.count)
         .map(|i| {
             let departure = Instant(spec.start.0 + rng.random_range(0..span));
-            draw_request(&mut rng, &pairs, format!("r{:0width$}", i + 1), departure)
+            let mut request =
+                draw_request(&mut rng, &pairs, format!("r{:0width$}", i + 1), departure);
+            if !spec.booking_lead.is_none() {
+                request.submitted = departure - Millis(lead_rng.random_range(min.0..=max.0));
+            }
+            request
         })
         .collect())
 }
@@ -184,6 +272,7 @@ mod tests {
             end: Instant(61_000),
             seed: 42,
             od: OdRule::Uniform,
+            booking_lead: BookingLead::NONE,
         };
         let a = generate(&air, &spec).unwrap();
         assert_eq!(a, generate(&air, &spec).unwrap());
@@ -237,6 +326,7 @@ mod tests {
             end: Instant(3_600_000),
             seed: 9,
             od: OdRule::Uniform,
+            booking_lead: BookingLead::NONE,
         };
         let day = generate(&air, &spec).unwrap();
         let pairs = allowed_pairs(&air, spec.od);
@@ -264,6 +354,7 @@ mod tests {
             end: Instant(5),
             seed: 1,
             od: OdRule::Uniform,
+            booking_lead: BookingLead::NONE,
         };
         assert_eq!(generate(&air, &spec), Err(DemandError::EmptyWindow));
         let od = OdRule::InRange {
@@ -276,5 +367,100 @@ mod tests {
             ..spec
         };
         assert_eq!(generate(&air, &spec), Err(DemandError::NoPairs(3)));
+        let backwards = BookingLead {
+            min: Millis::from_mins(5),
+            max: Millis::from_mins(1),
+        };
+        let spec = DemandSpec {
+            od: OdRule::Uniform,
+            booking_lead: backwards,
+            ..spec
+        };
+        assert_eq!(
+            generate(&air, &spec),
+            Err(DemandError::BookingLead(backwards))
+        );
+        let negative = BookingLead {
+            min: Millis(-1),
+            max: Millis::ZERO,
+        };
+        assert_eq!(
+            BookingLead::new(negative.min, negative.max),
+            Err(DemandError::BookingLead(negative))
+        );
+        assert_eq!(
+            DemandError::BookingLead(backwards).to_string(),
+            "the booking lead 300 s to 60 s is invalid: it must be at least 0 and its lower \
+             bound at most its upper bound"
+        );
+    }
+
+    #[test]
+    fn booking_lead_keeps_departures_and_pairs_and_stays_in_bounds() {
+        let air = line_airspace();
+        let spec = DemandSpec {
+            count: 3_000,
+            start: Instant(0),
+            end: Instant(43_200_000),
+            seed: 5,
+            od: OdRule::Uniform,
+            booking_lead: BookingLead::NONE,
+        };
+        let paper = generate(&air, &spec).unwrap();
+        assert!(paper.iter().all(|r| r.submitted == r.departure));
+        // The paper's requests are the first stream alone: departure, then pair.
+        let mut rng = ChaCha8Rng::seed_from_u64(spec.seed);
+        let pairs = allowed_pairs(&air, spec.od);
+        for r in &paper {
+            let departure = Instant(rng.random_range(0..spec.end.0));
+            assert_eq!(&draw_request(&mut rng, &pairs, r.id.clone(), departure), r);
+        }
+        let (lo, hi) = (Millis::from_mins(30), Millis::from_mins(120));
+        let lead = BookingLead::new(lo, hi).unwrap();
+        let booked = generate(
+            &air,
+            &DemandSpec {
+                booking_lead: lead,
+                ..spec
+            },
+        )
+        .unwrap();
+        assert_eq!(
+            booked,
+            generate(
+                &air,
+                &DemandSpec {
+                    booking_lead: lead,
+                    ..spec
+                }
+            )
+            .unwrap(),
+            "reproducible"
+        );
+        let leads: Vec<Millis> = booked.iter().map(|r| r.departure - r.submitted).collect();
+        for (p, b) in paper.iter().zip(&booked) {
+            let same = Request {
+                submitted: b.departure,
+                ..b.clone()
+            };
+            assert_eq!(&same, p, "only `submitted` differs");
+        }
+        assert!(leads.iter().all(|l| (lo..=hi).contains(l)));
+        // Uniform: the mean is near the middle, both ends are approached.
+        let mean = leads.iter().map(|l| l.0 as f64).sum::<f64>() / leads.len() as f64;
+        assert!((mean / 60_000.0 - 75.0).abs() < 2.0, "mean lead {mean} ms");
+        assert!(leads.iter().any(|l| *l < lo + Millis::from_mins(1)));
+        assert!(leads.iter().any(|l| *l > hi - Millis::from_mins(1)));
+        // A fixed lead.
+        let fixed = BookingLead::new(lo, lo).unwrap();
+        let fixed = generate(
+            &air,
+            &DemandSpec {
+                booking_lead: fixed,
+                ..spec
+            },
+        )
+        .unwrap();
+        assert!(fixed.iter().all(|r| r.departure - r.submitted == lo));
     }
 }

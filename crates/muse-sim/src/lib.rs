@@ -2,6 +2,8 @@
 //!
 //! - [`demand`]: seeded, reproducible request generation (SPEC §8);
 //! - [`day`]: planning a day of requests first come, first served;
+//! - [`replay`](mod@replay): a day as it unfolds: requests at their submission instants, zones
+//!   announced at theirs, and the flights each announcement replans (SPEC §11);
 //! - [`sweep`]: the paper's experiment, counts × repetitions × variants in parallel;
 //! - [`bench`](mod@bench): scaling benchmarks (`muse bench`): case measurements, peak memory, growth
 //!   exponents, table and CSV;
@@ -13,5 +15,6 @@ pub mod bench;
 pub mod day;
 pub mod demand;
 pub mod metrics;
+pub mod replay;
 pub mod stats;
 pub mod sweep;

@@ -5,6 +5,8 @@ use std::collections::BTreeMap;
 use muse_model::{EdgeRule, FlightParams, Millis, Plan, RejectReason};
 use serde::Serialize;
 
+use crate::demand::BookingLead;
+
 /// Mean, median, 95th percentile and maximum of a sample, in seconds. Percentiles use the
 /// nearest-rank definition on the sorted sample (the median of an even sample is the lower of
 /// the two middle values), so each figure is a value that occurred. All zero for an empty
@@ -68,6 +70,29 @@ pub struct ParamsRecord {
     pub headway_s: Option<f64>,
     /// Maximum ground delay, seconds.
     pub max_ground_delay_s: f64,
+    /// How far ahead of departure generated requests were booked, minutes (`from` = `to` = 0:
+    /// at departure, the paper). Absent when the requests were read from a file, whose
+    /// `submitted` column gives each request's own booking instant.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub booking_lead_min: Option<BookingLeadRecord>,
+}
+
+/// A booking lead as recorded in a summary: uniform in `[from, to]` minutes.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct BookingLeadRecord {
+    /// Shortest lead, minutes.
+    pub from: f64,
+    /// Longest lead, minutes.
+    pub to: f64,
+}
+
+impl From<BookingLead> for BookingLeadRecord {
+    fn from(lead: BookingLead) -> Self {
+        BookingLeadRecord {
+            from: lead.min.as_secs_f64() / 60.0,
+            to: lead.max.as_secs_f64() / 60.0,
+        }
+    }
 }
 
 impl From<&FlightParams> for ParamsRecord {
@@ -82,6 +107,7 @@ impl From<&FlightParams> for ParamsRecord {
                 EdgeRule::Headway(h) => Some(h.as_secs_f64()),
             },
             max_ground_delay_s: p.max_ground_delay.as_secs_f64(),
+            booking_lead_min: None,
         }
     }
 }
@@ -219,6 +245,24 @@ impl Summary {
             parameters: params.into(),
             provenance,
         }
+    }
+
+    /// Records the booking lead of generated demand in the parameters.
+    ///
+    /// ```
+    /// use muse_model::{FlightParams, Millis};
+    /// use muse_sim::demand::BookingLead;
+    /// use muse_sim::metrics::{Provenance, Summary};
+    /// let s = Summary::compute([], &FlightParams::default(), Default::default(), Provenance::default());
+    /// assert!(!s.to_json().contains("booking_lead_min"));
+    /// let lead = BookingLead::new(Millis::ZERO, Millis::from_mins(120)).unwrap();
+    /// let s = s.with_booking_lead(lead);
+    /// assert!(s.to_json().contains("\"booking_lead_min\": {\n      \"from\": 0.0,\n      \"to\": 120.0\n    }"));
+    /// ```
+    #[must_use]
+    pub fn with_booking_lead(mut self, lead: BookingLead) -> Summary {
+        self.parameters.booking_lead_min = Some(lead.into());
+        self
     }
 
     /// The summary as pretty JSON with a trailing newline.

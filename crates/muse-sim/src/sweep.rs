@@ -3,7 +3,8 @@
 //!
 //! Run `i` of count index `c` uses seed `base_seed + c · reps + i`: every run of a sweep has
 //! a distinct seed, and every variant is run on the same seeds, so differences between
-//! variants are the policy's effect, not sampling noise.
+//! variants are the policy's effect, not sampling noise. Every run's demand is booked ahead by
+//! the sweep's [`BookingLead`] (none by default: the paper).
 
 use std::fmt::Write as _;
 
@@ -14,7 +15,7 @@ use muse_planner::Planner;
 use rayon::prelude::*;
 
 use crate::day::plan_sorted;
-use crate::demand::{DemandError, DemandSpec, OdRule, generate};
+use crate::demand::{BookingLead, DemandError, DemandSpec, OdRule, generate};
 use crate::stats::MeanCi;
 
 /// One scenario variant of a sweep.
@@ -43,6 +44,8 @@ pub struct SweepSpec {
     pub end: Instant,
     /// Origin–destination rule.
     pub od: OdRule,
+    /// How far ahead of departure requests are booked.
+    pub booking_lead: BookingLead,
     /// Variants (at least one).
     pub variants: Vec<Variant>,
 }
@@ -91,6 +94,8 @@ pub struct RunRecord {
     pub rep: usize,
     /// Demand seed.
     pub seed: u64,
+    /// How far ahead of departure the run's requests were booked.
+    pub booking_lead: BookingLead,
     /// Accepted.
     pub planned: usize,
     /// Rejected: out of range.
@@ -118,15 +123,16 @@ pub fn run_sweep(
     tick: impl Fn() + Sync,
 ) -> Result<Vec<RunRecord>, SweepError> {
     let day = Millis::from_secs(86_400);
+    // From a day before the earliest possible submission (see `day::closure_range`).
+    let from = spec.start - spec.booking_lead.max - day;
     let mut prepared = Vec::with_capacity(spec.variants.len());
     for v in &spec.variants {
         let to = spec.end + v.params.max_ground_delay + v.params.max_flight + day;
-        let closures = resolve(airspace, &v.zones, spec.start - day, to).map_err(|source| {
-            SweepError::Zones {
+        let closures =
+            resolve(airspace, &v.zones, from, to).map_err(|source| SweepError::Zones {
                 variant: v.name.clone(),
                 source,
-            }
-        })?;
+            })?;
         prepared.push((v, Planner::new(airspace, v.params), closures));
     }
     // Demand once per (count, rep), shared by the variants.
@@ -142,6 +148,7 @@ pub fn run_sweep(
                 end: spec.end,
                 seed: spec.seed(c, r),
                 od: spec.od,
+                booking_lead: spec.booking_lead,
             };
             let mut reqs = generate(airspace, &d)?;
             sort_for_planning(&mut reqs);
@@ -156,7 +163,8 @@ pub fn run_sweep(
         .map(|&(v, j)| {
             let (variant, planner, closures) = &prepared[v];
             let (c, r) = jobs[j];
-            let rec = run_one(variant, planner, closures, &demands[j], spec.seed(c, r), r);
+            let (seed, lead) = (spec.seed(c, r), spec.booking_lead);
+            let rec = run_one(variant, planner, closures, &demands[j], seed, lead, r);
             tick();
             rec
         })
@@ -170,6 +178,7 @@ fn run_one(
     closures: &Closures,
     requests: &[muse_model::Request],
     seed: u64,
+    booking_lead: BookingLead,
     rep: usize,
 ) -> RunRecord {
     let (outcomes, wall) = plan_sorted(planner, closures, requests, |_| {});
@@ -178,6 +187,7 @@ fn run_one(
         count: requests.len(),
         rep,
         seed,
+        booking_lead,
         planned: 0,
         out_of_range: 0,
         unreachable: 0,
@@ -268,15 +278,16 @@ pub fn summarize(records: &[RunRecord]) -> Vec<SummaryRow> {
         .collect()
 }
 
-/// `sweep.csv`: one row per run.
+/// `sweep.csv`: one row per run; the last two columns are the run's booking lead (uniform in
+/// `[from, to]` minutes; `0,0` for requests submitted at departure).
 pub fn runs_csv(records: &[RunRecord]) -> String {
     let mut out = String::from(
-        "variant,count,rep,seed,planned,out_of_range,unreachable,no_feasible_plan,success_rate,mean_air_delay_s,mean_ground_delay_s,planner_ms,expanded_per_request\n",
+        "variant,count,rep,seed,planned,out_of_range,unreachable,no_feasible_plan,success_rate,mean_air_delay_s,mean_ground_delay_s,planner_ms,expanded_per_request,booking_lead_min_from,booking_lead_min_to\n",
     );
     for r in records {
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{:.6},{:.3},{:.3},{:.3},{:.3}",
+            "{},{},{},{},{},{},{},{},{:.6},{:.3},{:.3},{:.3},{:.3},{},{}",
             csv_text(&r.variant),
             r.count,
             r.rep,
@@ -289,7 +300,9 @@ pub fn runs_csv(records: &[RunRecord]) -> String {
             r.mean_air_delay_s,
             r.mean_ground_delay_s,
             r.planner_ms,
-            r.expanded_per_request
+            r.expanded_per_request,
+            r.booking_lead.min.as_secs_f64() / 60.0,
+            r.booking_lead.max.as_secs_f64() / 60.0
         );
     }
     out

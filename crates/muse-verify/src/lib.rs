@@ -1,5 +1,5 @@
-//! An independent checker of planned flights against SPEC §3 (flight model and separation)
-//! and §4 (no-fly zones).
+//! An independent checker of planned flights against SPEC §3 (flight model and separation),
+//! §4 (no-fly zones) and §11 (zones announced during the day).
 //!
 //! The verifier is deliberately simple: every rule is written out as the SPEC states it, on
 //! plain integer milliseconds, and it shares no interval or search code with the planner. It
@@ -26,7 +26,16 @@
 //! - [`Rule::GroundDelay`]: `departure <= takeoff <= departure + G_max`.
 //! - [`Rule::Zone`]: a stay `[a, d]` at a closed node, or a traversal `[s, f]` of a closed
 //!   edge, shares no instant with a closure window `[start, end)`: `d < start` or `a >= end`.
-//!   Origin and destination are no exception.
+//!   Origin and destination are no exception. With zones announced during the day
+//!   ([`verify_known`]), a zone announced at `n` (and withdrawn at `m`, if it was) binds only
+//!   the stays and traversals that begin in `[n, m)`: one that begins before `n` is exempt.
+//!
+//! A replanned flight (SPEC §11) is checked like any other; a [diverted](Ending::Diverted)
+//! one must end at some station rather than its destination; a flight left in
+//! [contingency](Ending::Committed) is its committed part, ending with its arrival at the
+//! node where it is stranded. It cannot comply with the zones (that is what a contingency
+//! is), so the zone rule does not apply to it; every other rule does (others must keep
+//! their separation from it), except landing at a station.
 //!
 //! ```
 //! use muse_airspace::closures::Closures;
@@ -49,8 +58,8 @@
 //! let (r1, r2) = (request("r1", 0), request("r2", 60_000));
 //! let (p1, p2) = (plan(0), plan(60_000));
 //! let flights = [
-//!     Flight { id: "r1", request: &r1, plan: &p1 },
-//!     Flight { id: "r2", request: &r2, plan: &p2 },
+//!     Flight::new("r1", &r1, &p1),
+//!     Flight::new("r2", &r2, &p2),
 //! ];
 //! let violations = verify(&airspace, &Closures::none(&airspace), &params, &flights);
 //! // Both drones are on A-B between 60 s and 120 s.
@@ -61,6 +70,7 @@
 
 use std::fmt;
 
+use muse_airspace::announced::{Announced, KnownZones};
 use muse_airspace::closures::{Closures, Window};
 use muse_model::{
     Airspace, EdgeId, EdgeRule, FlightParams, Instant, Millis, NodeId, Plan, Request,
@@ -75,6 +85,39 @@ pub struct Flight<'a> {
     pub request: &'a Request,
     /// The plan.
     pub plan: &'a Plan,
+    /// How the plan must end.
+    pub ending: Ending,
+}
+
+impl<'a> Flight<'a> {
+    /// A flight that must land at its request's destination.
+    pub fn new(id: &'a str, request: &'a Request, plan: &'a Plan) -> Self {
+        Flight {
+            id,
+            request,
+            plan,
+            ending: Ending::Destination,
+        }
+    }
+
+    /// The same flight with another ending.
+    #[must_use]
+    pub fn ending(self, ending: Ending) -> Self {
+        Flight { ending, ..self }
+    }
+}
+
+/// How a plan must end (SPEC §3, §11).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Ending {
+    /// Landing at the request's destination (planned and replanned flights).
+    #[default]
+    Destination,
+    /// Landing at some station (a flight diverted after a zone announcement).
+    Diverted,
+    /// Not landing: the committed part of a flight left in contingency, ending with its
+    /// arrival at the node where it is stranded; exempt from the zone rule.
+    Committed,
 }
 
 /// The rule a [`Violation`] breaks.
@@ -145,6 +188,58 @@ pub fn verify(
     params: &FlightParams,
     flights: &[Flight<'_>],
 ) -> Vec<Violation> {
+    check(airspace, closures, &[], params, flights)
+}
+
+/// [`verify`] with zones announced during the day (SPEC §11): the zones known from the start
+/// bind every stay and traversal; an announced zone binds those that begin while it is
+/// announced (see [`Announced::binds`]).
+///
+/// ```
+/// use muse_airspace::announced::{Announced, KnownZones};
+/// use muse_airspace::closures::resolve;
+/// use muse_model::{Airspace, Edge, FlightParams, Instant, LonLat, Node, NodeId, NodeKind, Period, Plan, Request, Stay, Zone};
+/// use muse_verify::{Flight, verify_known};
+/// let node = |id: &str, lon| Node {
+///     id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.3),
+/// };
+/// let airspace = Airspace::new(
+///     vec![node("A", 103.80), node("B", 103.81)],
+///     vec![Edge { id: "A-B".into(), from: NodeId(0), to: NodeId(1), length_m: 1_000.0 }],
+/// ).unwrap();
+/// // A-B closed from 60 s, announced at 30 s.
+/// let zone = Zone { id: "Z".into(), name: String::new(), restriction: String::new(), area: None,
+///     node_ids: vec![], edge_ids: vec!["A-B".into()], announced: Some(Instant(30_000)),
+///     periods: vec![Period { start: Some(Instant(60_000)), end: None, daily: vec![] }] };
+/// let known = KnownZones::resolve(&airspace, &[zone], Instant(0), Instant(86_400_000)).unwrap();
+/// let r = |t| Request { id: "r".into(), origin: NodeId(0), destination: NodeId(1),
+///                       departure: Instant(t), submitted: Instant(t) };
+/// let plan = |t: i64| Plan { path: vec![
+///     Stay { node: NodeId(0), arrive: Instant(t), depart: Instant(t) },
+///     Stay { node: NodeId(1), arrive: Instant(t + 120_000), depart: Instant(t + 120_000) },
+/// ] };
+/// let params = FlightParams::default();
+/// // Entering A-B at 0 s, before the announcement: exempt. At 40 s: bound, and closed at 60 s.
+/// let (r0, p0, r1, p1) = (r(0), plan(0), r(40_000), plan(40_000));
+/// assert!(verify_known(&airspace, &known, &params, &[Flight::new("a", &r0, &p0)]).is_empty());
+/// assert_eq!(verify_known(&airspace, &known, &params, &[Flight::new("b", &r1, &p1)]).len(), 1);
+/// ```
+pub fn verify_known(
+    airspace: &Airspace,
+    zones: &KnownZones,
+    params: &FlightParams,
+    flights: &[Flight<'_>],
+) -> Vec<Violation> {
+    check(airspace, &zones.base, &zones.announced, params, flights)
+}
+
+fn check(
+    airspace: &Airspace,
+    closures: &Closures,
+    announced: &[Announced],
+    params: &FlightParams,
+    flights: &[Flight<'_>],
+) -> Vec<Violation> {
     let mut out = Vec::new();
     let mut stays: Vec<Vec<Occupation>> = vec![Vec::new(); airspace.node_count()];
     let mut traversals: Vec<Vec<Occupation>> = vec![Vec::new(); airspace.edge_count()];
@@ -166,7 +261,7 @@ pub fn verify(
         edge_rule(airspace, params, flights, EdgeId(e as u32), list, &mut out);
     }
     for flight in flights {
-        zone_rule(airspace, closures, params, flight, &mut out);
+        zone_rule(airspace, closures, announced, params, flight, &mut out);
     }
     out
 }
@@ -267,7 +362,20 @@ fn check_flight(
             ),
         ));
     }
-    if last.node != request.destination {
+    let stranded = flight.ending == Ending::Committed;
+    if flight.ending == Ending::Diverted
+        && (last.node.index() >= airspace.node_count() || !airspace.is_station(last.node))
+    {
+        out.push(one(
+            Rule::Path,
+            node_name(airspace, last.node),
+            format!(
+                "the diverted plan ends at `{}`, which is not a station",
+                node_name(airspace, last.node)
+            ),
+        ));
+    }
+    if flight.ending == Ending::Destination && last.node != request.destination {
         out.push(one(
             Rule::Path,
             node_name(airspace, last.node),
@@ -300,11 +408,16 @@ fn check_flight(
     }
     check_legs(airspace, params, flight, out);
     if last.depart != last.arrive {
+        let what = if stranded {
+            "a committed part must end with its arrival"
+        } else {
+            "the last stay must end at landing"
+        };
         out.push(one(
             Rule::Path,
             node_name(airspace, last.node),
             format!(
-                "the last stay must end at landing: it arrives at {} and departs at {}",
+                "{what}: it arrives at {} and departs at {}",
                 secs(last.arrive),
                 secs(last.depart)
             ),
@@ -549,37 +662,56 @@ fn shares_instant(w: Window, a: Instant, d: Instant) -> bool {
 fn zone_rule(
     airspace: &Airspace,
     closures: &Closures,
+    announced: &[Announced],
     params: &FlightParams,
     flight: &Flight<'_>,
     out: &mut Vec<Violation>,
 ) {
-    let mut push = |element: String, what: &str, a: Instant, d: Instant, w: Window| {
+    let mut push = |element: String, what: &str, a: Instant, d: Instant, w: Window, by: &str| {
         out.push(Violation {
             rule: Rule::Zone,
             flights: vec![flight.id.to_string()],
             element,
             detail: format!(
-                "{what} {} shares an instant with the closure [{}, {})",
+                "{what} {} shares an instant with the closure [{}, {}){by}",
                 span(a, d),
                 secs(w.start),
                 secs(w.end)
             ),
         });
     };
+    // The zones that bind an occupation beginning at `t`: those known from the start, and
+    // the announced ones announced by then (SPEC §11).
+    let binding = |t: Instant| {
+        std::iter::once((closures, String::new())).chain(
+            announced.iter().filter(move |a| a.binds(t)).map(|a| {
+                (
+                    &a.closures,
+                    format!(" of zone `{}` announced at {}", a.zone, secs(a.at)),
+                )
+            }),
+        )
+    };
+    if flight.ending == Ending::Committed {
+        return; // a contingency: see the crate docs
+    }
     let path = &flight.plan.path;
     for stay in path {
         if stay.node.index() >= airspace.node_count() {
             continue;
         }
-        for &w in closures.node(stay.node) {
-            if shares_instant(w, stay.arrive, stay.depart) {
-                push(
-                    node_name(airspace, stay.node),
-                    "stay",
-                    stay.arrive,
-                    stay.depart,
-                    w,
-                );
+        for (layer, by) in binding(stay.arrive) {
+            for &w in layer.node(stay.node) {
+                if shares_instant(w, stay.arrive, stay.depart) {
+                    push(
+                        node_name(airspace, stay.node),
+                        "stay",
+                        stay.arrive,
+                        stay.depart,
+                        w,
+                        &by,
+                    );
+                }
             }
         }
     }
@@ -589,9 +721,11 @@ fn zone_rule(
         };
         let s = pair[0].depart;
         let f = s + traversal_time(airspace, params, e);
-        for &w in closures.edge(e) {
-            if shares_instant(w, s, f) {
-                push(airspace.edge(e).id.clone(), "traversal", s, f, w);
+        for (layer, by) in binding(s) {
+            for &w in layer.edge(e) {
+                if shares_instant(w, s, f) {
+                    push(airspace.edge(e).id.clone(), "traversal", s, f, w, &by);
+                }
             }
         }
     }
@@ -688,7 +822,7 @@ mod tests {
             .iter()
             .zip(&requests)
             .zip(&ids)
-            .map(|((plan, request), id)| Flight { id, request, plan })
+            .map(|((plan, request), id)| Flight::new(id, request, plan))
             .collect();
         verify(&a, closures, params, &flights)
     }
@@ -718,11 +852,7 @@ mod tests {
                 &a,
                 &Closures::none(&a),
                 &pr,
-                &[Flight {
-                    id: "x",
-                    request,
-                    plan,
-                }],
+                &[Flight::new("x", request, plan)],
             )
         };
         let req = request(&a, &good, 0);
@@ -958,11 +1088,7 @@ mod tests {
                 &a,
                 &Closures::none(&a),
                 &pr,
-                &[Flight {
-                    id: "x",
-                    request: &request,
-                    plan: &flight,
-                }],
+                &[Flight::new("x", &request, &flight)],
             )
         };
         assert_eq!(one(1_000), []);
@@ -982,11 +1108,7 @@ mod tests {
             &a,
             &Closures::none(&a),
             &no_delay,
-            &[Flight {
-                id: "x",
-                request: &request,
-                plan: &flight,
-            }],
+            &[Flight::new("x", &request, &flight)],
         );
         assert_eq!(rules(&v), [Rule::GroundDelay]);
     }

@@ -3,10 +3,11 @@
 use muse_model::{LonLat, Zone};
 use serde_json::Value;
 
-use super::{
-    Ctx, Part, assemble, expect_object, join, list_of, member, parse_common, parse_identifier,
-    parse_multipolygon, parse_polygon, parse_position, parse_radius, show,
+use super::geometry::{
+    Part, assemble, parse_multipolygon, parse_polygon, parse_position, parse_radius,
 };
+use super::properties::parse_common;
+use super::{Ctx, expect_object, join, list_of, member, parse_identifier, show};
 use crate::InputError;
 
 /// Reads one ED-269 zone (usually one [`Zone`]; see [`assemble`]).

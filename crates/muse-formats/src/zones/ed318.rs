@@ -5,10 +5,11 @@ use muse_model::{DailyWindow, Millis, UtcOffset, Weekday, Zone, ZoneArea};
 use serde::Serialize;
 use serde_json::{Map, Value};
 
-use super::{
-    Ctx, Part, assemble, expect_object, join, member, normalize, parse_common, parse_identifier,
-    parse_multipolygon, parse_polygon, parse_position, parse_radius, round_degrees, show,
+use super::geometry::{
+    Part, assemble, parse_multipolygon, parse_polygon, parse_position, parse_radius,
 };
+use super::properties::parse_common;
+use super::{Ctx, expect_object, join, member, normalize, parse_identifier, round_degrees, show};
 use crate::InputError;
 
 /// Reads one ED-318 feature (usually one zone; see [`assemble`]).
@@ -147,11 +148,13 @@ fn circle_extent(ctx: &Ctx<'_>, v: &Value, field: &str) -> Result<f64, InputErro
 ///
 /// Per zone: `identifier`, `name` (as the ED-318 list `[{"text", "lang": "en"}]`, omitted when
 /// empty), `type` (the zone's restriction), `variant: "COMMON"`, `limitedApplicability` (omitted
-/// for a permanent zone) and the MUSE extension lists `nodes` / `edges` (omitted when empty); the
-/// geometry is a `Polygon`, a `MultiPolygon`, a `Point` with a circle `extent` (radius in
-/// metres), or `null` for a zone with explicit elements only. Date-times are written in the
-/// offset of the period's first daily window (UTC when it has none), clock times as
-/// `HH:MM:SS[.mmm]` with their offset, all seven days as `["ANY"]`.
+/// for a permanent zone), the MUSE extensions `announced` (omitted for a zone known from the
+/// start) and `nodes` / `edges` (omitted when empty); the geometry is a `Polygon`, a
+/// `MultiPolygon`, a `Point` with a circle `extent` (radius in metres), or `null` for a zone
+/// with explicit elements only. Date-times are written in the offset of the period's first
+/// daily window (UTC when it has none; `announced` in the offset of the zone's first daily
+/// window, else UTC), clock times as `HH:MM:SS[.mmm]` with their offset, all seven days as
+/// `["ANY"]`.
 ///
 /// What is written is each zone's [`normalize`]d form: coordinates rounded to 7 decimals of a
 /// degree (about 1 cm, see [`COORDINATE_DECIMALS`](super::COORDINATE_DECIMALS)), days sorted,

@@ -278,7 +278,12 @@ pub fn solve(
         },
         traffic,
         weights,
-        request,
+        from: From::Ground {
+            origin: request.origin,
+            earliest: request.departure.0,
+            latest: request.departure.0 + params.max_ground_delay.0,
+        },
+        goal: Goal::Node(request.destination),
     };
     match search.run() {
         Some(plan) => Answer {
@@ -290,6 +295,81 @@ pub fn solve(
     }
 }
 
+/// Where a search starts: on the ground (take-off window) or in the air at a node.
+#[derive(Clone, Copy, Debug)]
+enum From {
+    Ground {
+        origin: NodeId,
+        earliest: i64,
+        latest: i64,
+    },
+    Air {
+        node: NodeId,
+        at: i64,
+        takeoff: i64,
+    },
+}
+
+/// Where a search may end: one station, or any station (the lowest index among the earliest).
+#[derive(Clone, Copy, Debug)]
+pub enum Goal {
+    /// This node.
+    Node(NodeId),
+    /// Any station.
+    AnyStation,
+}
+
+/// Plans the rest of a flight in the air (SPEC §11): it arrives at `node` at `at` (any
+/// millisecond), took off at `takeoff`, and must land at `goal` within `T_max` of take-off:
+/// the plan with the earliest landing (any station: the lowest node index among the
+/// earliest), starting with the stay at `node`, or `None`.
+///
+/// The grid argument holds with `at`'s offset added: it is a lower bound (the stay at `node`
+/// begins then), and the battery is an upper bound, which only decides feasibility.
+#[allow(clippy::too_many_arguments)]
+pub fn solve_airborne(
+    airspace: &Airspace,
+    params: &FlightParams,
+    closures: &RawClosures,
+    others: &[&Plan],
+    node: NodeId,
+    at: Instant,
+    takeoff: Instant,
+    goal: Goal,
+    unit: i64,
+) -> Option<Plan> {
+    let weights: Vec<i64> = airspace
+        .edges()
+        .iter()
+        .map(|e| params.speed.traversal_time(e.length_m).0)
+        .collect();
+    assert!(weights.iter().all(|&w| w > 0 && w % unit == 0));
+    let traffic = Traffic::new(airspace, params, others);
+    let mut offsets = traffic.offsets(unit);
+    offsets.push(at.0.rem_euclid(unit));
+    offsets.sort_unstable();
+    offsets.dedup();
+    let search = Search {
+        airspace,
+        params,
+        closures,
+        grid: Grid {
+            base: at.0 - at.0.rem_euclid(unit),
+            unit,
+            offsets,
+        },
+        traffic,
+        weights,
+        from: From::Air {
+            node,
+            at: at.0,
+            takeoff: takeoff.0,
+        },
+        goal,
+    };
+    search.run()
+}
+
 /// One search: everything fixed for a request.
 struct Search<'a> {
     airspace: &'a Airspace,
@@ -298,33 +378,63 @@ struct Search<'a> {
     grid: Grid,
     traffic: Traffic,
     weights: Vec<i64>,
-    request: &'a Request,
+    from: From,
+    goal: Goal,
 }
 
 impl Search<'_> {
+    /// The origin and the grid indices of the first and last take-off (none in the air).
+    fn takeoffs(&self) -> (Option<NodeId>, usize, usize) {
+        let grid = &self.grid;
+        match self.from {
+            From::Ground {
+                origin,
+                earliest,
+                latest,
+            } => (
+                Some(origin),
+                grid.floor(earliest) + usize::from(grid.time(grid.floor(earliest)) < earliest),
+                grid.floor(latest),
+            ),
+            From::Air { .. } => (None, 1, 0),
+        }
+    }
+
     /// An optimal plan, if any.
     fn run(&self) -> Option<Plan> {
         let grid = &self.grid;
         let per_unit = grid.offsets.len();
         let unit = grid.unit;
         let t_max = self.params.max_flight.0;
-        let g_max = self.params.max_ground_delay.0;
-        // Every instant of a plan lies in [departure, departure + G_max + T_max].
-        let points = ((g_max + t_max) / unit) as usize * per_unit + 1;
+        // Every instant of a plan lies in [base, latest take-off + T_max].
+        let end = match self.from {
+            From::Ground { latest, .. } => latest + t_max,
+            From::Air { takeoff, .. } => takeoff + t_max,
+        };
+        let points = ((end - grid.base).max(0) / unit) as usize * per_unit + per_unit;
         let nodes = self.airspace.node_count();
         // Arrivals: latest take-off reaching (node, index), and how.
         let mut arrival = vec![NONE; nodes * points];
         let mut pred: Vec<Option<Pred>> = vec![None; nodes * points];
         // Stays in progress per node: (take-off, arrival index, last allowed departure index).
         let mut active: Vec<Vec<(i64, usize, usize)>> = vec![Vec::new(); nodes];
-        let last_takeoff = grid.floor(self.request.departure.0 + g_max);
+        // Take-offs: indices [first_takeoff, last_takeoff] at the origin.
+        let (origin, first_takeoff, last_takeoff) = self.takeoffs();
         // The last index with an arrival scheduled.
         let mut pending = 0;
+        if let From::Air { node, at, takeoff } = self.from {
+            let i = grid.floor(at);
+            assert_eq!(grid.time(i), at, "`at` is on the grid");
+            arrival[node.index() * points + i] = takeoff;
+            pending = i;
+        }
 
         for i in 0..points {
             let now = grid.time(i);
-            if i <= last_takeoff {
-                let at = self.request.origin.index() * points + i;
+            if let Some(origin) = origin
+                && (first_takeoff..=last_takeoff).contains(&i)
+            {
+                let at = origin.index() * points + i;
                 if arrival[at] < now {
                     arrival[at] = now;
                     pred[at] = None;
@@ -341,7 +451,11 @@ impl Search<'_> {
                 let Some(last) = dmax(node, now, tau, &self.traffic, self.closures) else {
                     continue;
                 };
-                if node == self.request.destination {
+                let done = match self.goal {
+                    Goal::Node(d) => node == d,
+                    Goal::AnyStation => self.airspace.is_station(node),
+                };
+                if done {
                     return Some(rebuild(grid, &pred, points, node, i));
                 }
                 let until = if last >= grid.time(points - 1) {
@@ -351,7 +465,7 @@ impl Search<'_> {
                 };
                 stays.push((takeoff, i, until));
             }
-            let mut alive = i < last_takeoff;
+            let mut alive = origin.is_some() && i < last_takeoff;
             for (v, stays) in active.iter_mut().enumerate() {
                 stays.retain(|&(takeoff, _, until)| until >= i && now - takeoff <= t_max);
                 let Some(&(takeoff, arrived, _)) = stays.iter().max_by_key(|x| x.0) else {

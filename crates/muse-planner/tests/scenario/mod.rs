@@ -18,6 +18,8 @@ use proptest::test_runner::{Config, RngAlgorithm, RngSeed, TestRunner};
 
 use crate::oracle::{self, RawClosures};
 
+pub mod announce;
+
 /// 36 km/h = 10 m/s = 1 cm/ms: an edge of `k` cm takes exactly `k` ms.
 pub fn speed() -> Speed {
     Speed::from_kmh(36.0).unwrap()
@@ -490,12 +492,16 @@ pub fn run_online(instance: &Instance) -> Result<Tally, String> {
         let k = accepted.len() / 2;
         let (j, plan) = accepted[k].clone();
         let took_off = plan.takeoff() <= live.now();
-        match (live.cancel(j as u64, &plan), took_off) {
-            (Ok(()), false) => {
+        match (live.cancel(j as u64), took_off) {
+            (Ok(held), false) if held == plan => {
                 accepted.remove(k);
                 tally.cancelled += 1;
             }
             (Err(CancelError::TookOff), true) => tally.cancel_refused += 1,
+            // Landed, and dropped from the live schedule at the last sweep.
+            (Err(CancelError::NotHeld), true) if plan.landing() < live.now() => {
+                tally.cancel_refused += 1;
+            }
             (other, _) => {
                 return Err(format!(
                     "cancel of {} (take-off {}, now {}): {other:?}",
@@ -514,11 +520,7 @@ pub fn run_online(instance: &Instance) -> Result<Tally, String> {
 fn check_all(b: &Built, accepted: &[(usize, Plan)]) -> Result<(), String> {
     let flights: Vec<Flight<'_>> = accepted
         .iter()
-        .map(|(i, plan)| Flight {
-            id: &b.requests[*i].id,
-            request: &b.requests[*i],
-            plan,
-        })
+        .map(|(i, plan)| Flight::new(&b.requests[*i].id, &b.requests[*i], plan))
         .collect();
     let violations = verify(&b.airspace, &b.closures, &b.params, &flights);
     if violations.is_empty() {
@@ -636,17 +638,9 @@ pub fn check_valid(
 ) -> Result<(), String> {
     let mut flights: Vec<Flight<'_>> = accepted
         .iter()
-        .map(|(i, p)| Flight {
-            id: &b.requests[*i].id,
-            request: &b.requests[*i],
-            plan: p,
-        })
+        .map(|(i, p)| Flight::new(&b.requests[*i].id, &b.requests[*i], p))
         .collect();
-    flights.push(Flight {
-        id: &request.id,
-        request,
-        plan,
-    });
+    flights.push(Flight::new(&request.id, request, plan));
     let violations = verify(&b.airspace, &b.closures, &b.params, &flights);
     if violations.is_empty() {
         Ok(())

@@ -1,0 +1,283 @@
+//! Replanning the flights a newly announced zone hits (SPEC §11).
+//!
+//! A zone announced at instant `n` binds every stay and traversal that *begins* at or after
+//! `n`. The accepted flights that would break it are *affected*; [`replan`] then, exactly as
+//! the SPEC states:
+//!
+//! 1. takes every affected flight out of the schedule; an airborne one (take-off before `n`)
+//!    keeps its *committed part*: its path up to the first node it reaches at or after `n` —
+//!    it cannot turn inside a corridor — including the arrival there (a stay of zero length,
+//!    so that others keep their separation from it);
+//! 2. replans them one at a time in order of original take-off, then request id, each against
+//!    the schedule as it then stands (which already holds the new zone's closures):
+//!    - not yet taken off: the plan of SPEC §6 for its request with take-off in
+//!      `[max(departure, n), max(departure + G_max, n)]`; if none exists it is
+//!      [cancelled](Fate::Cancelled);
+//!    - airborne: from the committed node at its arrival instant with the battery it has left,
+//!      to its destination ([replanned](Fate::Replanned)); if that is impossible, to the
+//!      station where it can land earliest ([diverted](Fate::Diverted)); if neither exists,
+//!      it is a [contingency](Fate::Contingency): its committed part stays reserved and it
+//!      is reported. A committed part that itself breaks the zone (a drone hovering at a node
+//!      at `n` is committed to the corridor it leaves by, which begins at or after `n`) leaves
+//!      no plan that complies: a contingency too.
+//!
+//! Both searches are the planner's own, exact ([`Planner::plan_within`],
+//! [`Planner::continue_from`]). A stay or traversal that begins before `n` is exempt from the
+//! zone, so flights whose every violation begins before `n` (landed, or past the zone) are
+//! not affected.
+
+use std::collections::HashMap;
+use std::hash::BuildHasher;
+
+use muse_airspace::closures::Closures;
+use muse_model::{Airspace, Instant, NodeId, Plan, Request, Stay};
+
+use crate::planner::{Landing, Planner};
+use crate::schedule::{FlightId, Schedule};
+use crate::sipp::Scratch;
+
+/// A flight a live schedule holds: its request and its current plan.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Booking {
+    /// The request it was planned for.
+    pub request: Request,
+    /// Its plan as it stands (after any replanning).
+    pub plan: Plan,
+}
+
+/// What became of an affected flight.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Fate {
+    /// A new plan to its destination.
+    Replanned(Plan),
+    /// Airborne, and its destination could not be reached: a plan to the station where it can
+    /// land earliest.
+    Diverted(Plan),
+    /// Not taken off, and no plan exists: cancelled (reason `zone_announced`).
+    Cancelled,
+    /// Airborne, and no station can be reached: the committed part (ending with the arrival
+    /// at the node it reaches at or after the announcement), which stays reserved.
+    Contingency(Plan),
+}
+
+impl Fate {
+    /// The status spelling used in files: `replanned`, `diverted`, `cancelled`,
+    /// `contingency`.
+    pub const fn as_str(&self) -> &'static str {
+        match self {
+            Fate::Replanned(_) => "replanned",
+            Fate::Diverted(_) => "diverted",
+            Fate::Cancelled => "cancelled",
+            Fate::Contingency(_) => "contingency",
+        }
+    }
+
+    /// The flight's plan after replanning, if it still lands somewhere.
+    pub fn plan(&self) -> Option<&Plan> {
+        match self {
+            Fate::Replanned(p) | Fate::Diverted(p) => Some(p),
+            Fate::Cancelled | Fate::Contingency(_) => None,
+        }
+    }
+}
+
+/// One affected flight and its fate.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Affected {
+    /// The flight.
+    pub flight: FlightId,
+    /// Its plan before the announcement.
+    pub before: Plan,
+    /// Whether it had taken off at the announcement.
+    pub airborne: bool,
+    /// What became of it.
+    pub fate: Fate,
+    /// Search effort spent on it (labels expanded).
+    pub expanded: u64,
+}
+
+/// Whether `plan` would break `zone` announced at `at`: some stay or traversal that begins
+/// at or after `at` shares an instant with one of the zone's windows.
+///
+/// ```
+/// use muse_airspace::closures::resolve;
+/// use muse_model::{Airspace, Edge, Instant, LonLat, Node, NodeId, NodeKind, Period, Plan, Stay, Zone};
+/// use muse_planner::replan::breaks;
+/// let node = |id: &str, lon| Node { id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.3) };
+/// let airspace = Airspace::new(
+///     vec![node("A", 103.80), node("B", 103.81)],
+///     vec![Edge { id: "A-B".into(), from: NodeId(0), to: NodeId(1), length_m: 1_000.0 }],
+/// ).unwrap();
+/// let zone = Zone { id: "Z".into(), name: String::new(), restriction: String::new(), area: None,
+///     node_ids: vec!["B".into()], edge_ids: vec![], announced: None,
+///     periods: vec![Period { start: Some(Instant(0)), end: Some(Instant(1_000_000)), daily: vec![] }] };
+/// let closed = resolve(&airspace, &[zone], Instant(0), Instant(86_400_000)).unwrap();
+/// let stay = |n, a, d| Stay { node: NodeId(n), arrive: Instant(a), depart: Instant(d) };
+/// let plan = Plan { path: vec![stay(0, 0, 0), stay(1, 120_000, 120_000)] };
+/// assert!(breaks(&airspace, &closed, &plan, Instant(100_000)), "it lands in B after the announcement");
+/// assert!(!breaks(&airspace, &closed, &plan, Instant(120_001)), "it landed before the announcement");
+/// ```
+pub fn breaks(airspace: &Airspace, zone: &Closures, plan: &Plan, at: Instant) -> bool {
+    let w = |a: &Stay, b: &Stay| b.arrive - a.depart;
+    plan.path.iter().enumerate().any(|(k, stay)| {
+        let here = stay.arrive >= at
+            && zone
+                .node_conflict(stay.node, stay.arrive, stay.depart)
+                .is_some();
+        let onward = plan.path.get(k + 1).is_some_and(|next| {
+            stay.depart >= at
+                && airspace
+                    .edge_between(stay.node, next.node)
+                    .is_some_and(|e| {
+                        zone.edge_conflict(e, stay.depart, stay.depart + w(stay, next))
+                            .is_some()
+                    })
+        });
+        here || onward
+    })
+}
+
+/// The committed part of a flight airborne at `at`: its stays before the first one it
+/// arrives at at or after `at`, then that arrival as a stay of zero length. `None` if the
+/// plan ends before `at`.
+///
+/// ```
+/// use muse_model::{Instant, NodeId, Plan, Stay};
+/// use muse_planner::replan::committed_part;
+/// let stay = |n, a, d| Stay { node: NodeId(n), arrive: Instant(a), depart: Instant(d) };
+/// let plan = Plan { path: vec![stay(0, 0, 10), stay(1, 50, 70), stay(2, 90, 90)] };
+/// // At 60 it hovers at node 1 (arrived at 50): it is committed to flying on to node 2.
+/// assert_eq!(committed_part(&plan, Instant(60)).unwrap().path,
+///            vec![stay(0, 0, 10), stay(1, 50, 70), stay(2, 90, 90)]);
+/// // At 30 it is in the corridor to node 1: committed to arriving there at 50.
+/// assert_eq!(committed_part(&plan, Instant(30)).unwrap().path, vec![stay(0, 0, 10), stay(1, 50, 50)]);
+/// ```
+pub fn committed_part(plan: &Plan, at: Instant) -> Option<Plan> {
+    let k = plan.path.iter().position(|s| s.arrive >= at)?;
+    let mut path = plan.path[..=k].to_vec();
+    path[k].depart = path[k].arrive;
+    Some(Plan { path })
+}
+
+/// Replans the flights `zone` (announced at `at`) affects, as SPEC §11 states (see the module
+/// docs). `schedule` must hold every booking's plan and already include the zone's closures;
+/// `bookings` is updated: replanned and diverted flights get their new plan, cancelled and
+/// contingency flights are removed (a contingency's committed part stays in the schedule).
+/// Returns the affected flights in the order they were replanned.
+pub fn replan<S: BuildHasher>(
+    planner: &Planner<'_>,
+    schedule: &mut Schedule,
+    bookings: &mut HashMap<FlightId, Booking, S>,
+    zone: &Closures,
+    at: Instant,
+    scratch: &mut Scratch,
+) -> Vec<Affected> {
+    let airspace = planner.airspace();
+    let mut hit: Vec<(Instant, &str, FlightId)> = bookings
+        .iter()
+        .filter(|(_, b)| breaks(airspace, zone, &b.plan, at))
+        .map(|(&f, b)| (b.plan.takeoff(), b.request.id.as_str(), f))
+        .collect();
+    hit.sort_unstable();
+    let order: Vec<FlightId> = hit.into_iter().map(|(_, _, f)| f).collect();
+
+    // 1. Everything affected out; the committed parts of airborne flights back in.
+    let mut committed: HashMap<FlightId, Plan> = HashMap::default();
+    for &f in &order {
+        let plan = &bookings[&f].plan;
+        schedule.release(airspace, f, plan);
+        if plan.takeoff() < at {
+            let part = committed_part(plan, at).expect("an affected flight ends after `at`");
+            schedule.insert(airspace, f, &part);
+            committed.insert(f, part);
+        }
+    }
+
+    // 2. One at a time, in order of original take-off, then id.
+    let params = *planner.params();
+    let mut out = Vec::with_capacity(order.len());
+    for f in order {
+        let booking = &bookings[&f];
+        let before = booking.plan.clone();
+        let (fate, expanded) = match committed.remove(&f) {
+            None => {
+                let r = &booking.request;
+                let earliest = r.departure.max(at);
+                let latest = (r.departure + params.max_ground_delay).max(at);
+                let outcome = planner.plan_within(schedule, r, earliest, latest, scratch);
+                let fate = outcome.result.map_or(Fate::Cancelled, Fate::Replanned);
+                (fate, outcome.expanded)
+            }
+            Some(part) => {
+                schedule.release(airspace, f, &part);
+                let destination = booking.request.destination;
+                fly_on(planner, schedule, zone, at, part, destination, scratch)
+            }
+        };
+        match &fate {
+            Fate::Replanned(plan) | Fate::Diverted(plan) => {
+                schedule.insert(airspace, f, plan);
+                bookings.get_mut(&f).expect("booked").plan = plan.clone();
+            }
+            Fate::Contingency(part) => {
+                schedule.insert(airspace, f, part);
+                bookings.remove(&f);
+            }
+            Fate::Cancelled => {
+                bookings.remove(&f);
+            }
+        }
+        out.push(Affected {
+            flight: f,
+            airborne: before.takeoff() < at,
+            before,
+            fate,
+            expanded,
+        });
+    }
+    out
+}
+
+/// The fate of an airborne flight whose committed part is `part` (taken out of `schedule`).
+fn fly_on(
+    planner: &Planner<'_>,
+    schedule: &Schedule,
+    zone: &Closures,
+    at: Instant,
+    part: Plan,
+    destination: NodeId,
+    scratch: &mut Scratch,
+) -> (Fate, u64) {
+    // Committed to a stay or traversal the zone closes: nothing can comply.
+    if breaks(planner.airspace(), zone, &part, at) {
+        return (Fate::Contingency(part), 0);
+    }
+    let last = *part.path.last().expect("a committed part is not empty");
+    let mut fly = |to| {
+        planner.continue_from(
+            schedule,
+            last.node,
+            last.arrive,
+            part.takeoff(),
+            to,
+            scratch,
+        )
+    };
+    let (home, e1) = fly(Landing::At(destination));
+    if let Some(rest) = home {
+        return (Fate::Replanned(join(&part, rest)), e1);
+    }
+    let (other, e2) = fly(Landing::AnyStation);
+    match other {
+        Some(rest) => (Fate::Diverted(join(&part, rest)), e1 + e2),
+        None => (Fate::Contingency(part), e1 + e2),
+    }
+}
+
+/// The committed part (ending with a zero-length stay at its last node) followed by the rest
+/// planned from that node (which starts with the stay there).
+fn join(part: &Plan, rest: Plan) -> Plan {
+    let mut path = part.path[..part.path.len() - 1].to_vec();
+    path.extend(rest.path);
+    Plan { path }
+}

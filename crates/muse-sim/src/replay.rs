@@ -1,0 +1,212 @@
+//! A day as it unfolds (SPEC §5, §11): requests reach the planner at their submission
+//! instants, zones are announced at theirs, and every announcement replans the flights it
+//! hits.
+//!
+//! Events are taken in time order: requests by `(submitted, id)`, each zone at its
+//! announcement instant (zones announced at the same instant by id), and an announcement
+//! before a request at the same instant. The planner is the online one ([`Live`]) with the
+//! clock at each event's instant, so a request is planned against every flight accepted
+//! before it and every zone known by then, and an announcement replans exactly as
+//! [`muse_planner::replan`] states.
+
+use std::time::{Duration, Instant as WallInstant};
+
+use muse_airspace::announced::KnownZones;
+use muse_model::{Instant, Plan, Request};
+use muse_planner::online::ZoneError;
+use muse_planner::replan::Fate;
+use muse_planner::{FlightId, Live, Outcome, Planner};
+
+/// What one announcement did to one flight.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Change {
+    /// The zone announced.
+    pub zone: String,
+    /// When.
+    pub at: Instant,
+    /// The flight's plan before.
+    pub before: Plan,
+    /// Whether it was airborne then.
+    pub airborne: bool,
+    /// What became of it.
+    pub fate: Fate,
+}
+
+/// One request's story: how it was first answered, and what announcements did to it since.
+#[derive(Clone, Debug)]
+pub struct Story {
+    /// The first answer (plan or rejection), as planned at submission.
+    pub first: Outcome,
+    /// Changes by announcements, in order.
+    pub changes: Vec<Change>,
+}
+
+impl Story {
+    /// The final plan, if the flight still lands somewhere (planned, replanned or diverted).
+    pub fn final_plan(&self) -> Option<&Plan> {
+        match self.changes.last() {
+            None => self.first.result.as_ref().ok(),
+            Some(c) => c.fate.plan(),
+        }
+    }
+
+    /// The last fate, if an announcement changed the flight.
+    pub fn fate(&self) -> Option<&Fate> {
+        self.changes.last().map(|c| &c.fate)
+    }
+}
+
+/// The result of replaying a day.
+#[derive(Debug)]
+pub struct Replay {
+    /// One story per request, in planning order (the order of `requests` given).
+    pub stories: Vec<Story>,
+    /// Zones announced, with the number of flights each affected.
+    pub announced: Vec<(String, Instant, usize)>,
+    /// Wall time of planning and replanning (no I/O).
+    pub planner_wall: Duration,
+    /// Search effort of replanning, labels expanded.
+    pub replan_expanded: u64,
+}
+
+/// Replays `requests` (in planning order, `(submitted, id)`) against `zones`: those known
+/// from the start from the beginning, announced ones at their instants. `progress` is called
+/// with the number of requests done.
+///
+/// Errors: two announced zones with the same id.
+pub fn replay(
+    planner: Planner<'_>,
+    zones: &KnownZones,
+    requests: &[Request],
+    mut progress: impl FnMut(usize),
+) -> Result<Replay, ZoneError> {
+    let start = requests.first().map_or(Instant(0), |r| r.submitted);
+    let start = zones.announced.first().map_or(start, |a| a.at.min(start));
+    let mut live = Live::new(planner, &zones.base, start);
+    let mut stories: Vec<Story> = Vec::with_capacity(requests.len());
+    let mut announced = Vec::with_capacity(zones.announced.len());
+    let mut replan_expanded = 0;
+    let mut next_zone = 0;
+    let started = WallInstant::now();
+    let mut announce_until = |t: Option<Instant>,
+                              live: &mut Live<'_>,
+                              stories: &mut Vec<Story>|
+     -> Result<(), ZoneError> {
+        while let Some(a) = zones.announced.get(next_zone) {
+            if t.is_some_and(|t| a.at > t) {
+                break;
+            }
+            next_zone += 1;
+            live.advance(a.at);
+            let affected = live.announce(&a.zone, a.closures.clone())?;
+            announced.push((a.zone.clone(), a.at, affected.len()));
+            for x in affected {
+                replan_expanded += x.expanded;
+                stories[x.flight as usize].changes.push(Change {
+                    zone: a.zone.clone(),
+                    at: a.at,
+                    before: x.before,
+                    airborne: x.airborne,
+                    fate: x.fate,
+                });
+            }
+        }
+        Ok(())
+    };
+    for (i, r) in requests.iter().enumerate() {
+        announce_until(Some(r.submitted), &mut live, &mut stories)?;
+        live.advance(r.submitted);
+        let first = live.book(i as FlightId, r);
+        stories.push(Story {
+            first,
+            changes: Vec::new(),
+        });
+        progress(i + 1);
+    }
+    announce_until(None, &mut live, &mut stories)?;
+    Ok(Replay {
+        stories,
+        announced,
+        planner_wall: started.elapsed(),
+        replan_expanded,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use muse_airspace::announced::KnownZones;
+    use muse_model::{
+        Airspace, Edge, FlightParams, Instant, LonLat, Millis, Node, NodeId, NodeKind, Period,
+        Request, Zone,
+    };
+    use muse_planner::Planner;
+    use muse_planner::replan::Fate;
+
+    use super::replay;
+
+    /// `A - B`, 1 km (120 s at 30 km/h).
+    fn airspace() -> Airspace {
+        let node = |id: &str, lon| Node {
+            id: id.into(),
+            kind: NodeKind::Station,
+            name: String::new(),
+            pos: LonLat::new(lon, 1.3),
+        };
+        Airspace::new(
+            vec![node("A", 103.80), node("B", 103.81)],
+            vec![Edge {
+                id: "A-B".into(),
+                from: NodeId(0),
+                to: NodeId(1),
+                length_m: 1_000.0,
+            }],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn an_announcement_replans_the_flights_booked_before_it_only() {
+        let a = airspace();
+        let params = FlightParams {
+            max_ground_delay: Millis::from_mins(30),
+            ..FlightParams::default()
+        };
+        // B closed 10:00–10:10 (ms since 0), announced at 09:00.
+        let min = |m: i64| Instant(m * 60_000);
+        let zone = Zone {
+            id: "Z".into(),
+            name: String::new(),
+            restriction: String::new(),
+            area: None,
+            node_ids: vec!["B".into()],
+            edge_ids: vec![],
+            announced: Some(min(540)),
+            periods: vec![Period {
+                start: Some(min(600)),
+                end: Some(min(610)),
+                daily: vec![],
+            }],
+        };
+        let known = KnownZones::resolve(&a, &[zone], Instant(0), min(1440)).unwrap();
+        let r = |id: &str, dep: i64, sub: i64| Request {
+            id: id.into(),
+            origin: NodeId(0),
+            destination: NodeId(1),
+            departure: min(dep),
+            submitted: min(sub),
+        };
+        // Booked at 08:00 and at 09:30, both departing 09:59.
+        let requests = [r("early", 599, 480), r("late", 599, 570)];
+        let run = replay(Planner::new(&a, params), &known, &requests, |_| {}).unwrap();
+        assert_eq!(run.announced, [("Z".to_owned(), min(540), 1)]);
+        let early = &run.stories[0];
+        assert_eq!(early.first.result.as_ref().unwrap().takeoff(), min(599));
+        // Replanned to land when B opens again, 10:10.
+        assert!(matches!(early.fate(), Some(Fate::Replanned(_))));
+        assert_eq!(early.final_plan().unwrap().landing(), min(610));
+        // The late booking knew the zone: planned around it, never changed, after the other.
+        let late = &run.stories[1];
+        assert!(late.changes.is_empty());
+        assert_eq!(late.final_plan().unwrap().landing(), min(612));
+    }
+}
