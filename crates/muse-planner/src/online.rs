@@ -246,7 +246,7 @@ impl<'a> Live<'a> {
     }
 
     /// Announces a zone now (SPEC §11): its closures bind everything from now on, and the
-    /// flights it hits are replanned ([`replan`](crate::replan::replan)). Returns the
+    /// flights it hits are replanned ([`replan()`]). Returns the
     /// affected flights in the order they were replanned.
     pub fn announce(&mut self, id: &str, zone: Closures) -> Result<Vec<Affected>, ZoneError> {
         if self.announced.iter().any(|(z, _)| z == id) {
