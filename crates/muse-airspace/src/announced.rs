@@ -51,14 +51,6 @@ pub struct KnownZones {
 }
 
 impl KnownZones {
-    /// Every closure known from the start: no announcements.
-    pub fn from_start(base: Closures) -> Self {
-        KnownZones {
-            base,
-            announced: Vec::new(),
-        }
-    }
-
     /// Resolves `zones` over `[from, to)` (as [`resolve`]): zones without
     /// [`Zone::announced`] into the base, each announced zone into its own layer.
     ///
@@ -103,15 +95,5 @@ impl KnownZones {
             .collect::<Result<Vec<_>, ClosureError>>()?;
         announced.sort_by(|a, b| a.at.cmp(&b.at).then_with(|| a.zone.cmp(&b.zone)));
         Ok(KnownZones { base, announced })
-    }
-
-    /// Every closure, announced or not, merged: what a flight planned after every
-    /// announcement must avoid.
-    pub fn all(&self) -> Closures {
-        let mut all = self.base.clone();
-        for a in &self.announced {
-            all.add(&a.closures);
-        }
-        all
     }
 }

@@ -188,26 +188,11 @@ pub fn check(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use muse_model::{Edge, FlightParams, LonLat, Node, NodeId, NodeKind, UtcOffset};
+    use muse_model::{FlightParams, UtcOffset};
 
     /// `A -1 km- B`: 120 s at 30 km/h.
     fn world() -> ServerWorld {
-        let n = |id: &str, lon| Node {
-            id: id.into(),
-            kind: NodeKind::Station,
-            name: String::new(),
-            pos: LonLat::new(lon, 1.3),
-        };
-        let airspace = muse_model::Airspace::new(
-            vec![n("A", 103.8), n("B", 103.81)],
-            vec![Edge {
-                id: "A-B".into(),
-                from: NodeId(0),
-                to: NodeId(1),
-                length_m: 1_000.0,
-            }],
-        )
-        .unwrap();
+        let airspace = muse_model::Airspace::line(&[1_000.0]);
         ServerWorld {
             label: "test".into(),
             airspace,

@@ -164,6 +164,43 @@ pub struct Airspace {
 }
 
 impl Airspace {
+    /// A straight line of stations `A`, `B`, `C`, … joined in order by corridors `A-B`,
+    /// `B-C`, … of the given lengths (metres), eastwards from 103.80° E, 1.30° N in steps of
+    /// 0.01°: the smallest airspaces, for examples and tests.
+    ///
+    /// ```
+    /// use muse_model::{Airspace, NodeId};
+    /// let a = Airspace::line(&[1_000.0, 2_000.0]);
+    /// assert_eq!((a.node_count(), a.node_id("C")), (3, Some(NodeId(2))));
+    /// assert_eq!(a.edge(a.edge_between(NodeId(1), NodeId(2)).unwrap()).id, "B-C");
+    /// ```
+    ///
+    /// # Panics
+    /// With more than 25 lengths (the letters run out) or a length that is not positive.
+    pub fn line(lengths_m: &[f64]) -> Airspace {
+        assert!(lengths_m.len() < 26, "at most 25 corridors in a line");
+        let name = |i: usize| char::from(b'A' + i as u8).to_string();
+        let nodes = (0..=lengths_m.len())
+            .map(|i| Node {
+                id: name(i),
+                kind: NodeKind::Station,
+                name: String::new(),
+                pos: LonLat::new(103.8 + 0.01 * i as f64, 1.3),
+            })
+            .collect();
+        let edges = lengths_m
+            .iter()
+            .enumerate()
+            .map(|(i, &length_m)| Edge {
+                id: format!("{}-{}", name(i), name(i + 1)),
+                from: NodeId(i as u32),
+                to: NodeId(i as u32 + 1),
+                length_m,
+            })
+            .collect();
+        Airspace::new(nodes, edges).expect("a line of positive lengths is a valid airspace")
+    }
+
     /// Validates and indexes nodes and edges.
     ///
     /// ```

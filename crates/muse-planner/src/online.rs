@@ -145,16 +145,6 @@ impl<'a> Live<'a> {
         self.now
     }
 
-    /// The flights held that have not landed (as of the last sweep), with their current plans.
-    pub fn bookings(&self) -> &HashMap<FlightId, Booking> {
-        &self.bookings
-    }
-
-    /// The ids of the zones announced and not withdrawn, in announcement order.
-    pub fn announced(&self) -> impl Iterator<Item = &str> {
-        self.announced.iter().map(|(id, _)| id.as_str())
-    }
-
     /// Moves the clock to `now` (ignored if earlier than the current now) and, every [`FORGET_EVERY`]
     /// of clock time, drops the reservations that ended before it.
     pub fn advance(&mut self, now: Instant) {
@@ -215,14 +205,6 @@ impl<'a> Live<'a> {
                 plan: plan.clone(),
             },
         );
-    }
-
-    /// Reserves the committed part of a flight left in contingency (SPEC §11) when a service
-    /// restarts from its store; it is not a booking (it is never replanned again).
-    pub fn restore_committed(&mut self, flight: FlightId, part: &Plan) {
-        if part.landing() >= self.now {
-            self.schedule.insert(self.planner.airspace(), flight, part);
-        }
     }
 
     /// Cancels a booked flight, freeing its reservations; only before take-off. Returns the
@@ -290,27 +272,11 @@ impl<'a> Live<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use muse_model::{Airspace, Edge, FlightParams, LonLat, Node, NodeId, NodeKind};
+    use muse_model::{Airspace, FlightParams, NodeId};
 
     /// A line of `n` stations 1 km apart.
     fn line(n: u32) -> Airspace {
-        let nodes = (0..n)
-            .map(|i| Node {
-                id: format!("S{i}"),
-                kind: NodeKind::Station,
-                name: String::new(),
-                pos: LonLat::new(103.8 + 0.01 * f64::from(i), 1.3),
-            })
-            .collect();
-        let edges = (1..n)
-            .map(|i| Edge {
-                id: format!("e{i}"),
-                from: NodeId(i - 1),
-                to: NodeId(i),
-                length_m: 1_000.0,
-            })
-            .collect();
-        Airspace::new(nodes, edges).unwrap()
+        Airspace::line(&vec![1_000.0; n as usize - 1])
     }
 
     fn request(id: &str, from: u32, to: u32, t: i64) -> Request {
@@ -365,5 +331,43 @@ mod tests {
             live.book(4, &request("d", 0, 1, 99_999)).result,
             Err(RejectReason::DepartureInPast)
         );
+    }
+
+    #[test]
+    fn an_announced_zone_cancels_what_it_hits_and_a_withdrawn_one_closes_nothing() {
+        let a = line(2);
+        let planner = Planner::new(&a, FlightParams::default());
+        let mut live = Live::new(planner, &Closures::none(&a), Instant(0));
+        assert!(live.book(1, &request("r", 0, 1, 600_000)).result.is_ok());
+        // B closed for the first hour, announced now: the flight cannot land, and has not
+        // taken off: cancelled.
+        let zone = muse_model::Zone {
+            id: "Z".into(),
+            name: String::new(),
+            restriction: String::new(),
+            area: None,
+            node_ids: vec!["B".into()],
+            edge_ids: vec![],
+            announced: None,
+            periods: vec![muse_model::Period {
+                start: Some(Instant(0)),
+                end: Some(Instant(3_600_000)),
+                daily: vec![],
+            }],
+        };
+        let closed =
+            muse_airspace::closures::resolve(&a, &[zone], Instant(0), Instant(86_400_000)).unwrap();
+        let hit = live.announce("Z", closed.clone()).unwrap();
+        assert_eq!(hit.len(), 1);
+        assert_eq!(hit[0].fate, crate::replan::Fate::Cancelled);
+        assert_eq!(live.cancel(1), Err(CancelError::NotHeld));
+        assert!(live.announce("Z", closed).is_err());
+        assert_eq!(
+            live.book(2, &request("s", 0, 1, 600_000)).result,
+            Err(RejectReason::NoFeasiblePlan)
+        );
+        live.withdraw("Z").unwrap();
+        assert!(live.withdraw("Z").is_err());
+        assert!(live.book(3, &request("t", 0, 1, 600_000)).result.is_ok());
     }
 }

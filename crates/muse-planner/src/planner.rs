@@ -71,15 +71,9 @@ impl<'a> Planner<'a> {
     ///
     /// ```
     /// use muse_airspace::closures::Closures;
-    /// use muse_model::{Airspace, Edge, FlightParams, Instant, LonLat, Node, NodeId, NodeKind, Request};
+    /// use muse_model::{Airspace, FlightParams, Instant, NodeId, Request};
     /// use muse_planner::{Planner, Schedule, Scratch};
-    /// let node = |id: &str, lon| Node {
-    ///     id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.3),
-    /// };
-    /// let airspace = Airspace::new(
-    ///     vec![node("A", 103.80), node("B", 103.81)],
-    ///     vec![Edge { id: "A-B".into(), from: NodeId(0), to: NodeId(1), length_m: 1_000.0 }],
-    /// ).unwrap();
+    /// let airspace = Airspace::line(&[1_000.0]);
     /// let planner = Planner::new(&airspace, FlightParams::default());
     /// let schedule = Schedule::new(&airspace, planner.params(), &Closures::none(&airspace));
     /// let r = Request { id: "r".into(), origin: NodeId(0), destination: NodeId(1),

@@ -61,17 +61,6 @@ pub enum Fate {
 }
 
 impl Fate {
-    /// The status spelling used in files: `replanned`, `diverted`, `cancelled`,
-    /// `contingency`.
-    pub const fn as_str(&self) -> &'static str {
-        match self {
-            Fate::Replanned(_) => "replanned",
-            Fate::Diverted(_) => "diverted",
-            Fate::Cancelled => "cancelled",
-            Fate::Contingency(_) => "contingency",
-        }
-    }
-
     /// The flight's plan after replanning, if it still lands somewhere.
     pub fn plan(&self) -> Option<&Plan> {
         match self {
@@ -101,13 +90,9 @@ pub struct Affected {
 ///
 /// ```
 /// use muse_airspace::closures::resolve;
-/// use muse_model::{Airspace, Edge, Instant, LonLat, Node, NodeId, NodeKind, Period, Plan, Stay, Zone};
+/// use muse_model::{Airspace, Instant, NodeId, Period, Plan, Stay, Zone};
 /// use muse_planner::replan::breaks;
-/// let node = |id: &str, lon| Node { id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.3) };
-/// let airspace = Airspace::new(
-///     vec![node("A", 103.80), node("B", 103.81)],
-///     vec![Edge { id: "A-B".into(), from: NodeId(0), to: NodeId(1), length_m: 1_000.0 }],
-/// ).unwrap();
+/// let airspace = Airspace::line(&[1_000.0]);
 /// let zone = Zone { id: "Z".into(), name: String::new(), restriction: String::new(), area: None,
 ///     node_ids: vec!["B".into()], edge_ids: vec![], announced: None,
 ///     periods: vec![Period { start: Some(Instant(0)), end: Some(Instant(1_000_000)), daily: vec![] }] };

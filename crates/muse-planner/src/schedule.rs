@@ -583,26 +583,11 @@ fn slot<const N: usize>(views: &[View<'_>; N], t: i64) -> NodeSlot {
 mod tests {
     use super::*;
     use muse_airspace::closures::resolve;
-    use muse_model::{Edge, Instant, LonLat, Millis, Node, NodeKind, Period, Stay, Zone};
+    use muse_model::{Instant, Millis, Period, Stay, Zone};
 
     /// A — B, 1 km (120 s at 30 km/h).
     fn line() -> Airspace {
-        let n = |id: &str, lon| Node {
-            id: id.into(),
-            kind: NodeKind::Station,
-            name: String::new(),
-            pos: LonLat::new(lon, 1.3),
-        };
-        Airspace::new(
-            vec![n("A", 103.8), n("B", 103.81)],
-            vec![Edge {
-                id: "A-B".into(),
-                from: NodeId(0),
-                to: NodeId(1),
-                length_m: 1_000.0,
-            }],
-        )
-        .unwrap()
+        Airspace::line(&[1_000.0])
     }
 
     fn plan(stays: &[(u32, i64, i64)]) -> Plan {

@@ -90,26 +90,11 @@ pub fn plan_sorted(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use muse_model::{Edge, LonLat, Node, NodeId, NodeKind, Plan, RejectReason};
+    use muse_model::{NodeId, Plan, RejectReason};
 
     /// Two stations one kilometre apart: two minutes of flight at 30 km/h.
     fn pair() -> Airspace {
-        let n = |id: &str, lon| Node {
-            id: id.into(),
-            kind: NodeKind::Station,
-            name: String::new(),
-            pos: LonLat::new(lon, 1.3),
-        };
-        Airspace::new(
-            vec![n("A", 103.8), n("B", 103.81)],
-            vec![Edge {
-                id: "A-B".into(),
-                from: NodeId(0),
-                to: NodeId(1),
-                length_m: 1_000.0,
-            }],
-        )
-        .unwrap()
+        Airspace::line(&[1_000.0])
     }
 
     fn request(id: &str, from: u32, departure_min: i64, submitted_min: i64) -> Request {

@@ -135,10 +135,7 @@ pub fn replay(
 #[cfg(test)]
 mod tests {
     use muse_airspace::announced::KnownZones;
-    use muse_model::{
-        Airspace, Edge, FlightParams, Instant, LonLat, Millis, Node, NodeId, NodeKind, Period,
-        Request, Zone,
-    };
+    use muse_model::{Airspace, FlightParams, Instant, Millis, NodeId, Period, Request, Zone};
     use muse_planner::Planner;
     use muse_planner::replan::Fate;
 
@@ -146,22 +143,7 @@ mod tests {
 
     /// `A - B`, 1 km (120 s at 30 km/h).
     fn airspace() -> Airspace {
-        let node = |id: &str, lon| Node {
-            id: id.into(),
-            kind: NodeKind::Station,
-            name: String::new(),
-            pos: LonLat::new(lon, 1.3),
-        };
-        Airspace::new(
-            vec![node("A", 103.80), node("B", 103.81)],
-            vec![Edge {
-                id: "A-B".into(),
-                from: NodeId(0),
-                to: NodeId(1),
-                length_m: 1_000.0,
-            }],
-        )
-        .unwrap()
+        Airspace::line(&[1_000.0])
     }
 
     #[test]

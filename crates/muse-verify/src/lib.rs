@@ -20,7 +20,8 @@
 //! - [`Rule::Node`]: stays `[a1, d1]`, `[a2, d2]` of different flights at the same node satisfy
 //!   `a2 >= d1 + tau` or `a1 >= d2 + tau`.
 //! - [`Rule::Edge`]: traversals `[s, s + w(e)]` of the same edge by different flights satisfy,
-//!   under [`EdgeRule::Exclusive`] (and in opposite directions under [`EdgeRule::Headway`]),
+//!   under [`EdgeRule::Exclusive`](muse_model::EdgeRule::Exclusive) (and in opposite directions
+//!   under [`EdgeRule::Headway`](muse_model::EdgeRule::Headway)),
 //!   `s2 >= f1` or `s1 >= f2`; in the same direction under `Headway(h)`, `|s2 - s1| >= h`.
 //! - [`Rule::Battery`]: `landing - takeoff <= T_max`.
 //! - [`Rule::GroundDelay`]: `departure <= takeoff <= departure + G_max`.
@@ -70,11 +71,17 @@
 
 use std::fmt;
 
+mod path;
+mod separation;
+mod zones;
+
+use path::check_flight;
+use separation::{Occupation, collect, edge_rule, node_rule};
+use zones::zone_rule;
+
 use muse_airspace::announced::{Announced, KnownZones};
-use muse_airspace::closures::{Closures, Window};
-use muse_model::{
-    Airspace, EdgeId, EdgeRule, FlightParams, Instant, Millis, NodeId, Plan, Request,
-};
+use muse_airspace::closures::Closures;
+use muse_model::{Airspace, EdgeId, FlightParams, Instant, Millis, NodeId, Plan, Request};
 
 /// One flight to check: its request and its plan.
 #[derive(Clone, Copy, Debug)]
@@ -196,17 +203,10 @@ pub fn verify(
 /// announced (see [`Announced::binds`]).
 ///
 /// ```
-/// use muse_airspace::announced::{Announced, KnownZones};
-/// use muse_airspace::closures::resolve;
-/// use muse_model::{Airspace, Edge, FlightParams, Instant, LonLat, Node, NodeId, NodeKind, Period, Plan, Request, Stay, Zone};
+/// use muse_airspace::announced::KnownZones;
+/// use muse_model::{Airspace, FlightParams, Instant, NodeId, Period, Plan, Request, Stay, Zone};
 /// use muse_verify::{Flight, verify_known};
-/// let node = |id: &str, lon| Node {
-///     id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.3),
-/// };
-/// let airspace = Airspace::new(
-///     vec![node("A", 103.80), node("B", 103.81)],
-///     vec![Edge { id: "A-B".into(), from: NodeId(0), to: NodeId(1), length_m: 1_000.0 }],
-/// ).unwrap();
+/// let airspace = Airspace::line(&[1_000.0]);
 /// // A-B closed from 60 s, announced at 30 s.
 /// let zone = Zone { id: "Z".into(), name: String::new(), restriction: String::new(), area: None,
 ///     node_ids: vec![], edge_ids: vec!["A-B".into()], announced: Some(Instant(30_000)),
@@ -266,17 +266,6 @@ fn check(
     out
 }
 
-/// A stay `[start, end]` at a node, or a traversal `[start, end]` of an edge.
-#[derive(Clone, Copy, Debug)]
-struct Occupation {
-    /// Index into the `flights` slice.
-    flight: usize,
-    start: Instant,
-    end: Instant,
-    /// For traversals: whether the edge is flown from `Edge::from` to `Edge::to`.
-    forward: bool,
-}
-
 /// Names the element in a message (nothing for a whole-flight violation).
 fn at(element: &str) -> String {
     if element.is_empty() {
@@ -333,408 +322,10 @@ fn single(rule: Rule, flight: &Flight<'_>, element: String, detail: String) -> V
     }
 }
 
-/// Path rules of one flight, then its battery and ground-delay rules.
-fn check_flight(
-    airspace: &Airspace,
-    params: &FlightParams,
-    flight: &Flight<'_>,
-    out: &mut Vec<Violation>,
-) {
-    let one = |rule, element: String, detail: String| single(rule, flight, element, detail);
-    let path = &flight.plan.path;
-    let (Some(first), Some(last)) = (path.first(), path.last()) else {
-        out.push(one(
-            Rule::Path,
-            String::new(),
-            "the plan has no stays".into(),
-        ));
-        return;
-    };
-    let request = flight.request;
-    if first.node != request.origin {
-        out.push(one(
-            Rule::Path,
-            node_name(airspace, first.node),
-            format!(
-                "the plan starts at `{}`, the request's origin is `{}`",
-                node_name(airspace, first.node),
-                node_name(airspace, request.origin)
-            ),
-        ));
-    }
-    let stranded = flight.ending == Ending::Committed;
-    if flight.ending == Ending::Diverted
-        && (last.node.index() >= airspace.node_count() || !airspace.is_station(last.node))
-    {
-        out.push(one(
-            Rule::Path,
-            node_name(airspace, last.node),
-            format!(
-                "the diverted plan ends at `{}`, which is not a station",
-                node_name(airspace, last.node)
-            ),
-        ));
-    }
-    if flight.ending == Ending::Destination && last.node != request.destination {
-        out.push(one(
-            Rule::Path,
-            node_name(airspace, last.node),
-            format!(
-                "the plan ends at `{}`, the request's destination is `{}`",
-                node_name(airspace, last.node),
-                node_name(airspace, request.destination)
-            ),
-        ));
-    }
-    for (i, stay) in path.iter().enumerate() {
-        if stay.node.index() >= airspace.node_count() {
-            out.push(one(
-                Rule::Path,
-                stay.node.to_string(),
-                format!("stay {i} is at a node that is not in the airspace"),
-            ));
-        }
-        if stay.arrive > stay.depart {
-            out.push(one(
-                Rule::Path,
-                node_name(airspace, stay.node),
-                format!(
-                    "stay {i} arrives at {} after it departs at {}",
-                    secs(stay.arrive),
-                    secs(stay.depart)
-                ),
-            ));
-        }
-    }
-    check_legs(airspace, params, flight, out);
-    if last.depart != last.arrive {
-        let what = if stranded {
-            "a committed part must end with its arrival"
-        } else {
-            "the last stay must end at landing"
-        };
-        out.push(one(
-            Rule::Path,
-            node_name(airspace, last.node),
-            format!(
-                "{what}: it arrives at {} and departs at {}",
-                secs(last.arrive),
-                secs(last.depart)
-            ),
-        ));
-    }
-    check_times(params, flight, first.arrive, last.depart, out);
-}
-
-/// Path rules between consecutive stays: joined by an edge, `arrive_{i+1} = depart_i + w(e)`.
-fn check_legs(
-    airspace: &Airspace,
-    params: &FlightParams,
-    flight: &Flight<'_>,
-    out: &mut Vec<Violation>,
-) {
-    let one = |rule, element: String, detail: String| single(rule, flight, element, detail);
-    for (i, pair) in flight.plan.path.windows(2).enumerate() {
-        let (x, y) = (pair[0], pair[1]);
-        let Some(e) = edge_of(airspace, x.node, y.node) else {
-            out.push(one(
-                Rule::Path,
-                format!(
-                    "{}-{}",
-                    node_name(airspace, x.node),
-                    node_name(airspace, y.node)
-                ),
-                format!("stays {i} and {} are not joined by an edge", i + 1),
-            ));
-            continue;
-        };
-        let w = traversal_time(airspace, params, e);
-        if y.arrive != x.depart + w {
-            out.push(one(
-                Rule::Path,
-                airspace.edge(e).id.clone(),
-                format!(
-                    "departs `{}` at {} and arrives at `{}` at {}; the traversal takes {}, so the arrival must be {}",
-                    node_name(airspace, x.node),
-                    secs(x.depart),
-                    node_name(airspace, y.node),
-                    secs(y.arrive),
-                    dur(w),
-                    secs(x.depart + w)
-                ),
-            ));
-        }
-    }
-}
-
-/// Battery and ground-delay rules of one flight.
-fn check_times(
-    params: &FlightParams,
-    flight: &Flight<'_>,
-    takeoff: Instant,
-    landing: Instant,
-    out: &mut Vec<Violation>,
-) {
-    let one = |rule, detail: String| Violation {
-        rule,
-        flights: vec![flight.id.to_string()],
-        element: String::new(),
-        detail,
-    };
-    let request = flight.request;
-    if landing - takeoff > params.max_flight {
-        out.push(one(
-            Rule::Battery,
-            format!(
-                "airborne {} (take-off {}, landing {}), more than T_max = {}",
-                dur(landing - takeoff),
-                secs(takeoff),
-                secs(landing),
-                dur(params.max_flight)
-            ),
-        ));
-    }
-    let latest = request.departure + params.max_ground_delay;
-    if takeoff < request.departure || takeoff > latest {
-        out.push(one(
-            Rule::GroundDelay,
-            format!(
-                "take-off at {} is outside [{}, {}] (departure {}, G_max = {})",
-                secs(takeoff),
-                secs(request.departure),
-                secs(latest),
-                secs(request.departure),
-                dur(params.max_ground_delay)
-            ),
-        ));
-    }
-}
-
-/// Stays per node and traversals per edge of one plan.
-fn collect(
-    airspace: &Airspace,
-    params: &FlightParams,
-    flight: usize,
-    plan: &Plan,
-    stays: &mut [Vec<Occupation>],
-    traversals: &mut [Vec<Occupation>],
-) {
-    for stay in &plan.path {
-        if let Some(list) = stays.get_mut(stay.node.index()) {
-            list.push(Occupation {
-                flight,
-                start: stay.arrive,
-                end: stay.depart,
-                forward: true,
-            });
-        }
-    }
-    for pair in plan.path.windows(2) {
-        if let Some(e) = edge_of(airspace, pair[0].node, pair[1].node) {
-            let s = pair[0].depart;
-            let forward = airspace.edge(e).from == pair[0].node;
-            traversals[e.index()].push(Occupation {
-                flight,
-                start: s,
-                end: s + traversal_time(airspace, params, e),
-                forward,
-            });
-        }
-    }
-}
-
-fn sort(list: &mut [Occupation]) {
-    list.sort_by_key(|o| (o.start, o.end, o.flight));
-}
-
-fn pair_names(flights: &[Flight<'_>], x: &Occupation, y: &Occupation) -> Vec<String> {
-    vec![
-        flights[x.flight].id.to_string(),
-        flights[y.flight].id.to_string(),
-    ]
-}
-
-/// Node rule at one node: `a2 >= d1 + tau || a1 >= d2 + tau` for stays of different flights.
-fn node_rule(
-    airspace: &Airspace,
-    params: &FlightParams,
-    flights: &[Flight<'_>],
-    n: NodeId,
-    list: &mut [Occupation],
-    out: &mut Vec<Violation>,
-) {
-    let tau = params.node_separation;
-    sort(list);
-    for (i, x) in list.iter().enumerate() {
-        // Sorted by arrival: once `a_j >= d_i + tau`, no later stay can conflict with `x`.
-        for y in list[i + 1..].iter().take_while(|y| y.start < x.end + tau) {
-            if y.flight == x.flight || x.start >= y.end + tau {
-                continue;
-            }
-            out.push(Violation {
-                rule: Rule::Node,
-                flights: pair_names(flights, x, y),
-                element: node_name(airspace, n),
-                detail: format!(
-                    "stays {} and {} are less than tau = {} apart",
-                    span(x.start, x.end),
-                    span(y.start, y.end),
-                    dur(tau)
-                ),
-            });
-        }
-    }
-}
-
-/// Edge rule on one edge: exclusive, or headway in the same direction.
-fn edge_rule(
-    airspace: &Airspace,
-    params: &FlightParams,
-    flights: &[Flight<'_>],
-    e: EdgeId,
-    list: &mut [Occupation],
-    out: &mut Vec<Violation>,
-) {
-    sort(list);
-    let edge = airspace.edge(e);
-    let direction = |o: &Occupation| {
-        let (a, b) = if o.forward {
-            (edge.from, edge.to)
-        } else {
-            (edge.to, edge.from)
-        };
-        format!("{}->{}", node_name(airspace, a), node_name(airspace, b))
-    };
-    for (i, x) in list.iter().enumerate() {
-        // Sorted by entry: once `s_j >= f_i` (and `s_j >= s_i + h` under headway), no later
-        // traversal can conflict with `x`.
-        let horizon = match params.edge_rule {
-            EdgeRule::Exclusive => x.end,
-            EdgeRule::Headway(h) => x.end.max(x.start + h),
-        };
-        for y in list[i + 1..].iter().take_while(|y| y.start < horizon) {
-            if y.flight == x.flight {
-                continue;
-            }
-            let detail = match params.edge_rule {
-                EdgeRule::Headway(h) if x.forward == y.forward => {
-                    if (y.start - x.start).0.abs() >= h.0 {
-                        continue;
-                    }
-                    format!(
-                        "same-direction traversals ({}) enter at {} and {}, less than the headway {} apart",
-                        direction(x),
-                        secs(x.start),
-                        secs(y.start),
-                        dur(h)
-                    )
-                }
-                _ => {
-                    if y.start >= x.end || x.start >= y.end {
-                        continue;
-                    }
-                    format!(
-                        "traversals {} ({}) and {} ({}) overlap",
-                        span(x.start, x.end),
-                        direction(x),
-                        span(y.start, y.end),
-                        direction(y)
-                    )
-                }
-            };
-            out.push(Violation {
-                rule: Rule::Edge,
-                flights: pair_names(flights, x, y),
-                element: edge.id.clone(),
-                detail,
-            });
-        }
-    }
-}
-
-/// Whether an occupation `[a, d]` shares an instant with the window `[start, end)`:
-/// it is allowed only when `d < start` or `a >= end` (SPEC §4).
-fn shares_instant(w: Window, a: Instant, d: Instant) -> bool {
-    !(d < w.start || a >= w.end)
-}
-
-/// Zone rule for every stay and traversal of one flight.
-fn zone_rule(
-    airspace: &Airspace,
-    closures: &Closures,
-    announced: &[Announced],
-    params: &FlightParams,
-    flight: &Flight<'_>,
-    out: &mut Vec<Violation>,
-) {
-    let mut push = |element: String, what: &str, a: Instant, d: Instant, w: Window, by: &str| {
-        out.push(Violation {
-            rule: Rule::Zone,
-            flights: vec![flight.id.to_string()],
-            element,
-            detail: format!(
-                "{what} {} shares an instant with the closure [{}, {}){by}",
-                span(a, d),
-                secs(w.start),
-                secs(w.end)
-            ),
-        });
-    };
-    // The zones that bind an occupation beginning at `t`: those known from the start, and
-    // the announced ones announced by then (SPEC §11).
-    let binding = |t: Instant| {
-        std::iter::once((closures, String::new())).chain(
-            announced.iter().filter(move |a| a.binds(t)).map(|a| {
-                (
-                    &a.closures,
-                    format!(" of zone `{}` announced at {}", a.zone, secs(a.at)),
-                )
-            }),
-        )
-    };
-    if flight.ending == Ending::Committed {
-        return; // a contingency: see the crate docs
-    }
-    let path = &flight.plan.path;
-    for stay in path {
-        if stay.node.index() >= airspace.node_count() {
-            continue;
-        }
-        for (layer, by) in binding(stay.arrive) {
-            for &w in layer.node(stay.node) {
-                if shares_instant(w, stay.arrive, stay.depart) {
-                    push(
-                        node_name(airspace, stay.node),
-                        "stay",
-                        stay.arrive,
-                        stay.depart,
-                        w,
-                        &by,
-                    );
-                }
-            }
-        }
-    }
-    for pair in path.windows(2) {
-        let Some(e) = edge_of(airspace, pair[0].node, pair[1].node) else {
-            continue;
-        };
-        let s = pair[0].depart;
-        let f = s + traversal_time(airspace, params, e);
-        for (layer, by) in binding(s) {
-            for &w in layer.edge(e) {
-                if shares_instant(w, s, f) {
-                    push(airspace.edge(e).id.clone(), "traversal", s, f, w, &by);
-                }
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use muse_airspace::closures::resolve;
-    use muse_model::{Edge, LonLat, Node, NodeKind, Period, Speed, Stay, Zone};
+    use muse_model::{Edge, EdgeRule, LonLat, Node, NodeKind, Period, Speed, Stay, Zone};
 
     use super::*;
 

@@ -1,0 +1,184 @@
+//! The rules of one flight alone: its path (SPEC §3), battery and ground delay.
+
+use muse_model::{Airspace, FlightParams, Instant};
+
+use crate::{
+    Ending, Flight, Rule, Violation, dur, edge_of, node_name, secs, single, traversal_time,
+};
+
+/// Path rules of one flight, then its battery and ground-delay rules.
+pub(crate) fn check_flight(
+    airspace: &Airspace,
+    params: &FlightParams,
+    flight: &Flight<'_>,
+    out: &mut Vec<Violation>,
+) {
+    let one = |rule, element: String, detail: String| single(rule, flight, element, detail);
+    let path = &flight.plan.path;
+    let (Some(first), Some(last)) = (path.first(), path.last()) else {
+        out.push(one(
+            Rule::Path,
+            String::new(),
+            "the plan has no stays".into(),
+        ));
+        return;
+    };
+    let request = flight.request;
+    if first.node != request.origin {
+        out.push(one(
+            Rule::Path,
+            node_name(airspace, first.node),
+            format!(
+                "the plan starts at `{}`, the request's origin is `{}`",
+                node_name(airspace, first.node),
+                node_name(airspace, request.origin)
+            ),
+        ));
+    }
+    let stranded = flight.ending == Ending::Committed;
+    if flight.ending == Ending::Diverted
+        && (last.node.index() >= airspace.node_count() || !airspace.is_station(last.node))
+    {
+        out.push(one(
+            Rule::Path,
+            node_name(airspace, last.node),
+            format!(
+                "the diverted plan ends at `{}`, which is not a station",
+                node_name(airspace, last.node)
+            ),
+        ));
+    }
+    if flight.ending == Ending::Destination && last.node != request.destination {
+        out.push(one(
+            Rule::Path,
+            node_name(airspace, last.node),
+            format!(
+                "the plan ends at `{}`, the request's destination is `{}`",
+                node_name(airspace, last.node),
+                node_name(airspace, request.destination)
+            ),
+        ));
+    }
+    for (i, stay) in path.iter().enumerate() {
+        if stay.node.index() >= airspace.node_count() {
+            out.push(one(
+                Rule::Path,
+                stay.node.to_string(),
+                format!("stay {i} is at a node that is not in the airspace"),
+            ));
+        }
+        if stay.arrive > stay.depart {
+            out.push(one(
+                Rule::Path,
+                node_name(airspace, stay.node),
+                format!(
+                    "stay {i} arrives at {} after it departs at {}",
+                    secs(stay.arrive),
+                    secs(stay.depart)
+                ),
+            ));
+        }
+    }
+    check_legs(airspace, params, flight, out);
+    if last.depart != last.arrive {
+        let what = if stranded {
+            "a committed part must end with its arrival"
+        } else {
+            "the last stay must end at landing"
+        };
+        out.push(one(
+            Rule::Path,
+            node_name(airspace, last.node),
+            format!(
+                "{what}: it arrives at {} and departs at {}",
+                secs(last.arrive),
+                secs(last.depart)
+            ),
+        ));
+    }
+    check_times(params, flight, first.arrive, last.depart, out);
+}
+
+/// Path rules between consecutive stays: joined by an edge, `arrive_{i+1} = depart_i + w(e)`.
+fn check_legs(
+    airspace: &Airspace,
+    params: &FlightParams,
+    flight: &Flight<'_>,
+    out: &mut Vec<Violation>,
+) {
+    let one = |rule, element: String, detail: String| single(rule, flight, element, detail);
+    for (i, pair) in flight.plan.path.windows(2).enumerate() {
+        let (x, y) = (pair[0], pair[1]);
+        let Some(e) = edge_of(airspace, x.node, y.node) else {
+            out.push(one(
+                Rule::Path,
+                format!(
+                    "{}-{}",
+                    node_name(airspace, x.node),
+                    node_name(airspace, y.node)
+                ),
+                format!("stays {i} and {} are not joined by an edge", i + 1),
+            ));
+            continue;
+        };
+        let w = traversal_time(airspace, params, e);
+        if y.arrive != x.depart + w {
+            out.push(one(
+                Rule::Path,
+                airspace.edge(e).id.clone(),
+                format!(
+                    "departs `{}` at {} and arrives at `{}` at {}; the traversal takes {}, so the arrival must be {}",
+                    node_name(airspace, x.node),
+                    secs(x.depart),
+                    node_name(airspace, y.node),
+                    secs(y.arrive),
+                    dur(w),
+                    secs(x.depart + w)
+                ),
+            ));
+        }
+    }
+}
+
+/// Battery and ground-delay rules of one flight.
+fn check_times(
+    params: &FlightParams,
+    flight: &Flight<'_>,
+    takeoff: Instant,
+    landing: Instant,
+    out: &mut Vec<Violation>,
+) {
+    let one = |rule, detail: String| Violation {
+        rule,
+        flights: vec![flight.id.to_string()],
+        element: String::new(),
+        detail,
+    };
+    let request = flight.request;
+    if landing - takeoff > params.max_flight {
+        out.push(one(
+            Rule::Battery,
+            format!(
+                "airborne {} (take-off {}, landing {}), more than T_max = {}",
+                dur(landing - takeoff),
+                secs(takeoff),
+                secs(landing),
+                dur(params.max_flight)
+            ),
+        ));
+    }
+    let latest = request.departure + params.max_ground_delay;
+    if takeoff < request.departure || takeoff > latest {
+        out.push(one(
+            Rule::GroundDelay,
+            format!(
+                "take-off at {} is outside [{}, {}] (departure {}, G_max = {})",
+                secs(takeoff),
+                secs(request.departure),
+                secs(latest),
+                secs(request.departure),
+                dur(params.max_ground_delay)
+            ),
+        ));
+    }
+}
