@@ -5,11 +5,11 @@ use std::process::ExitCode;
 
 use anyhow::Context as _;
 use clap::Args;
-use muse_formats::plans::{PlanRecord, write_plan_line};
+use muse_formats::plans::{ChangeNote, PlanRecord, write_plan_line};
 use muse_formats::requests::{LocalDay, read_requests_file};
 use muse_sim::day::{DayRun, plan_requests};
 use muse_sim::demand::BookingLead;
-use muse_sim::metrics::{Provenance, RunItem, Summary};
+use muse_sim::metrics::{Provenance, ReplanSummary, RunItem, Summary};
 
 use super::common::{FlightArgs, World, WorldArgs, write_atomically};
 
@@ -45,6 +45,9 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         seed: None,
     };
     let summary = write_outputs(&world, &run, &params, provenance, None, &args.out)?;
+    if let Some(r) = &summary.replanning {
+        println!("{}", replanning_line(r));
+    }
     println!(
         "planned {} of {} requests ({:.1}%) in {:.1} ms ({:.1} µs and {:.1} expanded labels per request); wrote {}",
         summary.planned,
@@ -71,15 +74,27 @@ pub fn write_outputs(
 ) -> anyhow::Result<Summary> {
     let a = &world.airspace;
     let mut text = String::with_capacity(run.requests.len() * 400);
-    for (r, o) in run.requests.iter().zip(&run.outcomes) {
+    for (i, (r, o)) in run.requests.iter().zip(&run.outcomes).enumerate() {
         let record = PlanRecord {
-            request: r.id.clone(),
-            origin: a.node(r.origin).id.clone(),
-            destination: a.node(r.destination).id.clone(),
-            requested_departure: r.departure,
-            result: o.result.clone(),
-            free_flow: o.free_flow,
-            expanded: o.expanded,
+            changes: run.changes[i]
+                .iter()
+                .map(|c| ChangeNote {
+                    zone: c.zone.clone(),
+                    announced: c.at,
+                    airborne: c.airborne,
+                    outcome: c.fate.kind(),
+                })
+                .collect(),
+            fate: run.fate(i).cloned(),
+            ..PlanRecord::first(
+                r.id.clone(),
+                a.node(r.origin).id.clone(),
+                a.node(r.destination).id.clone(),
+                r.departure,
+                o.result.clone(),
+                o.free_flow,
+                o.expanded,
+            )
         };
         write_plan_line(&mut text, a, world.offset, &record);
     }
@@ -97,8 +112,37 @@ pub fn write_outputs(
     if let Some(lead) = booking_lead {
         summary = summary.with_booking_lead(lead);
     }
+    if !run.zones.announced.is_empty() {
+        summary = summary.with_replanning(ReplanSummary::of(run, world.offset));
+    }
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     write_atomically(&out.join("plans.jsonl"), &text)?;
     write_atomically(&out.join("summary.json"), &summary.to_json())?;
     Ok(summary)
+}
+
+/// One line on what zone announcements did, for the terminal.
+pub fn replanning_line(r: &ReplanSummary) -> String {
+    let zones: Vec<String> = r
+        .zones
+        .iter()
+        .map(|z| format!("{} at {} hit {}", z.zone, z.announced, z.affected))
+        .collect();
+    format!(
+        "{} zone(s) announced ({}); {} flights affected ({} airborne): {} replanned, {} diverted, \
+         {} cancelled, {} contingency; extra delay of replanned flights mean {:.1} s, max {:.1} s; \
+         {} of the requests delivered to their destination ({:.1}%)",
+        r.zones_announced,
+        zones.join("; "),
+        r.flights_affected,
+        r.airborne_affected,
+        r.replanned,
+        r.diverted,
+        r.cancelled,
+        r.contingency,
+        r.extra_delay_s.mean,
+        r.extra_delay_s.max,
+        r.delivered,
+        100.0 * r.delivery_rate
+    )
 }

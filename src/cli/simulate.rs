@@ -12,7 +12,7 @@ use muse_model::Request;
 use muse_sim::day::plan_requests;
 use muse_sim::demand::generate;
 use muse_sim::metrics::{Provenance, Summary};
-use muse_verify::{Flight, verify};
+use muse_verify::{Flight, verify_known};
 
 use super::common::{FlightArgs, World, WorldArgs, render_world_map, write_atomically};
 use super::demand::DemandArgs;
@@ -82,14 +82,10 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         .requests
         .iter()
         .zip(&run.outcomes)
-        .filter_map(|(r, o)| {
-            o.result
-                .as_ref()
-                .ok()
-                .map(|plan| Flight::new(&r.id, r, plan))
-        })
+        .enumerate()
+        .filter_map(|(i, (r, o))| Flight::last(&r.id, r, o.result.as_ref().ok(), run.fate(i)))
         .collect();
-    let violations = verify(&world.airspace, &run.closures, &params, &flights);
+    let violations = verify_known(&world.airspace, &run.zones, &params, &flights);
 
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
@@ -111,8 +107,9 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         .requests
         .iter()
         .zip(&run.outcomes)
-        .filter_map(|(r, o)| {
-            o.result.as_ref().ok().map(|plan| FlightFeature {
+        .enumerate()
+        .filter_map(|(i, (r, o))| {
+            run.final_plan(i).map(|plan| FlightFeature {
                 request: &r.id,
                 plan,
                 requested_departure: r.departure,
@@ -202,6 +199,37 @@ fn report(
     };
     let _ = writeln!(o, "  air delay     {}", d(s.air_delay_s));
     let _ = writeln!(o, "  ground delay  {}", d(s.ground_delay_s));
+    if let Some(r) = &s.replanning {
+        for z in &r.zones {
+            let _ = writeln!(
+                o,
+                "  announced     {} at {}: {} flights affected",
+                z.zone, z.announced, z.affected
+            );
+        }
+        let _ = writeln!(
+            o,
+            "  replanning    {} affected ({} airborne): {} replanned, {} diverted, {} cancelled, {} contingency",
+            r.flights_affected,
+            r.airborne_affected,
+            r.replanned,
+            r.diverted,
+            r.cancelled,
+            r.contingency
+        );
+        let _ = writeln!(
+            o,
+            "  extra delay   {} (replanned flights, final − first landing)",
+            d(r.extra_delay_s)
+        );
+        let _ = writeln!(
+            o,
+            "  delivered     {} of {} ({:.1}%) to their destination after replanning",
+            r.delivered,
+            s.requests,
+            100.0 * r.delivery_rate
+        );
+    }
     let _ = writeln!(
         o,
         "  planner       {:.1} ms in all, {:.2} µs and {:.2} expanded labels per request",

@@ -4,10 +4,10 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Args;
-use muse_airspace::closures::resolve;
+use muse_airspace::announced::KnownZones;
 use muse_formats::plans::read_plans_file;
 use muse_model::{Millis, Request};
-use muse_verify::{Flight, verify};
+use muse_verify::{Flight, verify_known};
 
 use super::common::{FlightArgs, WorldArgs};
 
@@ -54,12 +54,7 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<ExitCode> {
     let flights: Vec<Flight<'_>> = records
         .iter()
         .zip(&requests)
-        .filter_map(|(r, q)| {
-            r.result
-                .as_ref()
-                .ok()
-                .map(|plan| Flight::new(&r.request, q, plan))
-        })
+        .filter_map(|(r, q)| Flight::last(&r.request, q, r.result.as_ref().ok(), r.fate.as_ref()))
         .collect();
     let day = Millis::from_secs(86_400);
     let from = flights
@@ -74,11 +69,26 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<ExitCode> {
         .max()
         .unwrap_or_default()
         + day;
-    let closures = resolve(a, &world.zones, from, to)?;
-    let violations = verify(a, &closures, &params, &flights);
+    let from = world
+        .zones
+        .iter()
+        .filter_map(|z| z.announced)
+        .min()
+        .map_or(from, |n| n.min(from));
+    let zones = KnownZones::resolve(a, &world.zones, from, to)?;
+    let violations = verify_known(a, &zones, &params, &flights);
     if violations.is_empty() {
+        let changed = records.iter().filter(|r| r.fate.is_some()).count();
+        let announced = if zones.announced.is_empty() {
+            String::new()
+        } else {
+            format!(
+                ", {} announced during the day; {changed} flights changed by announcements",
+                zones.announced.len()
+            )
+        };
         println!(
-            "OK: {} planned flights of {} requests satisfy every rule ({}; {} zone(s))",
+            "OK: {} flights of {} requests satisfy every rule ({}; {} zone(s){announced})",
             flights.len(),
             records.len(),
             params.edge_rule.name(),

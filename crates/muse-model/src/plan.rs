@@ -41,6 +41,90 @@ impl Plan {
     }
 }
 
+/// What became of an accepted flight that a zone announced later would break (SPEC §11).
+///
+/// ```
+/// use muse_model::plan::{Fate, FateKind};
+/// use muse_model::Plan;
+/// assert_eq!(Fate::Cancelled.kind().as_str(), "cancelled");
+/// assert!(Fate::Replanned(Plan::default()).plan().is_some());
+/// assert_eq!(FateKind::parse("diverted"), Some(FateKind::Diverted));
+/// ```
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Fate {
+    /// A new plan to its destination.
+    Replanned(Plan),
+    /// Airborne, and its destination could not be reached: a plan to the station where it can
+    /// land earliest.
+    Diverted(Plan),
+    /// Not taken off, and no plan exists: cancelled (reason `zone_announced`).
+    Cancelled,
+    /// Airborne, and no station can be reached: the committed part (ending with the arrival
+    /// at the node it reaches at or after the announcement), which stays reserved.
+    Contingency(Plan),
+}
+
+impl Fate {
+    /// The flight's plan after replanning, if it still lands somewhere.
+    pub fn plan(&self) -> Option<&Plan> {
+        match self {
+            Fate::Replanned(p) | Fate::Diverted(p) => Some(p),
+            Fate::Cancelled | Fate::Contingency(_) => None,
+        }
+    }
+
+    /// Which fate, without its plan.
+    pub fn kind(&self) -> FateKind {
+        match self {
+            Fate::Replanned(_) => FateKind::Replanned,
+            Fate::Diverted(_) => FateKind::Diverted,
+            Fate::Cancelled => FateKind::Cancelled,
+            Fate::Contingency(_) => FateKind::Contingency,
+        }
+    }
+}
+
+/// The kind of a [`Fate`]: the status a replanned flight is reported with.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum FateKind {
+    /// See [`Fate::Replanned`].
+    Replanned,
+    /// See [`Fate::Diverted`].
+    Diverted,
+    /// See [`Fate::Cancelled`].
+    Cancelled,
+    /// See [`Fate::Contingency`].
+    Contingency,
+}
+
+impl FateKind {
+    /// All kinds, in report order.
+    pub const ALL: [FateKind; 4] = [
+        FateKind::Replanned,
+        FateKind::Diverted,
+        FateKind::Cancelled,
+        FateKind::Contingency,
+    ];
+
+    /// The status spelling used in files and answers.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            FateKind::Replanned => "replanned",
+            FateKind::Diverted => "diverted",
+            FateKind::Cancelled => "cancelled",
+            FateKind::Contingency => "contingency",
+        }
+    }
+
+    /// Parses the status spelling.
+    pub fn parse(text: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| k.as_str() == text)
+    }
+}
+
+/// The reason a flight cancelled by a zone announcement is given (SPEC §11).
+pub const ZONE_ANNOUNCED: &str = "zone_announced";
+
 /// Why a request was rejected (SPEC §6).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum RejectReason {

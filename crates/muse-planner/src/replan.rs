@@ -30,6 +30,7 @@ use std::collections::HashMap;
 use std::hash::BuildHasher;
 
 use muse_airspace::closures::Closures;
+pub use muse_model::plan::{Fate, FateKind};
 use muse_model::{Airspace, Instant, NodeId, Plan, Request, Stay};
 
 use crate::planner::{Landing, Planner};
@@ -43,31 +44,6 @@ pub struct Booking {
     pub request: Request,
     /// Its plan as it stands (after any replanning).
     pub plan: Plan,
-}
-
-/// What became of an affected flight.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Fate {
-    /// A new plan to its destination.
-    Replanned(Plan),
-    /// Airborne, and its destination could not be reached: a plan to the station where it can
-    /// land earliest.
-    Diverted(Plan),
-    /// Not taken off, and no plan exists: cancelled (reason `zone_announced`).
-    Cancelled,
-    /// Airborne, and no station can be reached: the committed part (ending with the arrival
-    /// at the node it reaches at or after the announcement), which stays reserved.
-    Contingency(Plan),
-}
-
-impl Fate {
-    /// The flight's plan after replanning, if it still lands somewhere.
-    pub fn plan(&self) -> Option<&Plan> {
-        match self {
-            Fate::Replanned(p) | Fate::Diverted(p) => Some(p),
-            Fate::Cancelled | Fate::Contingency(_) => None,
-        }
-    }
 }
 
 /// One affected flight and its fate.

@@ -103,6 +103,8 @@ impl FlightEntry {
             result: self.result.clone(),
             free_flow: self.free_flow,
             expanded: self.expanded,
+            changes: Vec::new(),
+            fate: None,
         };
         let mut line = plan_line(airspace, offset, &record);
         if self.cancelled_at.is_some() {

@@ -1,11 +1,17 @@
-//! Planning a day: requests in first-come-first-served order against one schedule.
+//! Planning a day: requests in first-come-first-served order against one schedule, and the
+//! zones announced during it (SPEC §5, §11).
 
 use std::time::Duration;
 
-use muse_airspace::closures::{ClosureError, Closures, resolve};
+use muse_airspace::announced::KnownZones;
+use muse_airspace::closures::{ClosureError, Closures};
+use muse_model::plan::Fate;
 use muse_model::request::sort_for_planning;
-use muse_model::{Airspace, FlightParams, Instant, Millis, Request, Zone};
+use muse_model::{Airspace, FlightParams, Instant, Millis, Plan, Request, Zone};
+use muse_planner::online::ZoneError;
 use muse_planner::{Outcome, Planner, Schedule, Scratch, plan_day};
+
+use crate::replay::{Announcement, Change, replay};
 
 /// Errors of a planning run.
 #[derive(Debug, thiserror::Error)]
@@ -13,6 +19,9 @@ pub enum DayError {
     /// A zone could not be resolved against the airspace.
     #[error(transparent)]
     Zones(#[from] ClosureError),
+    /// Two announced zones share an id.
+    #[error(transparent)]
+    Announced(#[from] ZoneError),
 }
 
 /// The result of planning a day.
@@ -20,12 +29,35 @@ pub enum DayError {
 pub struct DayRun {
     /// The requests in planning order `(submitted, id)`.
     pub requests: Vec<Request>,
-    /// One outcome per request, in the same order.
+    /// The first answer to each request, in the same order.
     pub outcomes: Vec<Outcome>,
-    /// Wall time of the planning loop alone (no I/O, no zone resolution).
+    /// What zone announcements did to each request's flight, in order (same indexing; all
+    /// empty when no zone is announced).
+    pub changes: Vec<Vec<Change>>,
+    /// The zones announced during the day, in order.
+    pub announcements: Vec<Announcement>,
+    /// Wall time of the planning loop alone (no I/O, no zone resolution), replanning included.
     pub planner_wall: Duration,
-    /// The zone closures planned against.
-    pub closures: Closures,
+    /// Search effort of replanning, labels expanded (not in the outcomes' counts).
+    pub replan_expanded: u64,
+    /// The zones planned against: known from the start, and announced.
+    pub zones: KnownZones,
+}
+
+impl DayRun {
+    /// The last fate of request `i`'s flight, if an announcement changed it.
+    pub fn fate(&self, i: usize) -> Option<&Fate> {
+        self.changes[i].last().map(|c| &c.fate)
+    }
+
+    /// The final plan of request `i`, if its flight lands somewhere: its first plan, or the plan
+    /// the last announcement replanned or diverted it to.
+    pub fn final_plan(&self, i: usize) -> Option<&Plan> {
+        match self.fate(i) {
+            None => self.outcomes[i].result.as_ref().ok(),
+            Some(f) => f.plan(),
+        }
+    }
 }
 
 /// The range of instants whose zone closures can matter to `requests`: from a day before the
@@ -51,7 +83,9 @@ pub fn closure_range(requests: &[Request], params: &FlightParams) -> (Instant, I
 
 /// Plans `requests` (in any order: they are sorted into planning order `(submitted, id)` first,
 /// SPEC §5) on `airspace` with `zones`, each accepted plan reserved before the next request.
-/// `progress` is called with the number of requests done.
+/// When some zone carries an announcement instant, the day is [replayed](replay): each
+/// announcement is made at its instant between the requests and replans the flights it hits
+/// (SPEC §11). `progress` is called with the number of requests done.
 pub fn plan_requests(
     airspace: &Airspace,
     zones: &[Zone],
@@ -61,14 +95,34 @@ pub fn plan_requests(
 ) -> Result<DayRun, DayError> {
     sort_for_planning(&mut requests);
     let (from, to) = closure_range(&requests, &params);
-    let closures = resolve(airspace, zones, from, to)?;
+    let announced_from = zones
+        .iter()
+        .filter_map(|z| z.announced)
+        .min()
+        .map_or(from, |n| n.min(from));
+    let known = KnownZones::resolve(airspace, zones, announced_from, to)?;
     let planner = Planner::new(airspace, params);
-    let (outcomes, planner_wall) = plan_sorted(&planner, &closures, &requests, progress);
+    if known.announced.is_empty() {
+        let (outcomes, planner_wall) = plan_sorted(&planner, &known.base, &requests, progress);
+        return Ok(DayRun {
+            changes: vec![Vec::new(); requests.len()],
+            requests,
+            outcomes,
+            announcements: Vec::new(),
+            planner_wall,
+            replan_expanded: 0,
+            zones: known,
+        });
+    }
+    let run = replay(planner, &known, &requests, progress)?;
     Ok(DayRun {
         requests,
-        outcomes,
-        planner_wall,
-        closures,
+        outcomes: run.outcomes,
+        changes: run.changes,
+        announcements: run.announcements,
+        planner_wall: run.planner_wall,
+        replan_expanded: run.replan_expanded,
+        zones: known,
     })
 }
 

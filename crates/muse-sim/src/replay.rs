@@ -12,9 +12,9 @@
 use std::time::{Duration, Instant as WallInstant};
 
 use muse_airspace::announced::KnownZones;
+use muse_model::plan::Fate;
 use muse_model::{Instant, Plan, Request};
 use muse_planner::online::ZoneError;
-use muse_planner::replan::Fate;
 use muse_planner::{FlightId, Live, Outcome, Planner};
 
 /// What one announcement did to one flight.
@@ -32,37 +32,27 @@ pub struct Change {
     pub fate: Fate,
 }
 
-/// One request's story: how it was first answered, and what announcements did to it since.
-#[derive(Clone, Debug)]
-pub struct Story {
-    /// The first answer (plan or rejection), as planned at submission.
-    pub first: Outcome,
-    /// Changes by announcements, in order.
-    pub changes: Vec<Change>,
-}
-
-impl Story {
-    /// The final plan, if the flight still lands somewhere (planned, replanned or diverted).
-    pub fn final_plan(&self) -> Option<&Plan> {
-        match self.changes.last() {
-            None => self.first.result.as_ref().ok(),
-            Some(c) => c.fate.plan(),
-        }
-    }
-
-    /// The last fate, if an announcement changed the flight.
-    pub fn fate(&self) -> Option<&Fate> {
-        self.changes.last().map(|c| &c.fate)
-    }
+/// One zone announcement of a replayed day.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Announcement {
+    /// The zone's id.
+    pub zone: String,
+    /// When it was announced.
+    pub at: Instant,
+    /// How many accepted flights it affected.
+    pub affected: usize,
 }
 
 /// The result of replaying a day.
 #[derive(Debug)]
 pub struct Replay {
-    /// One story per request, in planning order (the order of `requests` given).
-    pub stories: Vec<Story>,
-    /// Zones announced, with the number of flights each affected.
-    pub announced: Vec<(String, Instant, usize)>,
+    /// The first answer to each request (plan or rejection), as planned at submission, in
+    /// planning order (the order of `requests` given).
+    pub outcomes: Vec<Outcome>,
+    /// What announcements did to each request's flight since, in order (same indexing).
+    pub changes: Vec<Vec<Change>>,
+    /// The zones announced, in order.
+    pub announcements: Vec<Announcement>,
     /// Wall time of planning and replanning (no I/O).
     pub planner_wall: Duration,
     /// Search effort of replanning, labels expanded.
@@ -83,14 +73,15 @@ pub fn replay(
     let start = requests.first().map_or(Instant(0), |r| r.submitted);
     let start = zones.announced.first().map_or(start, |a| a.at.min(start));
     let mut live = Live::new(planner, &zones.base, start);
-    let mut stories: Vec<Story> = Vec::with_capacity(requests.len());
-    let mut announced = Vec::with_capacity(zones.announced.len());
+    let mut outcomes = Vec::with_capacity(requests.len());
+    let mut changes: Vec<Vec<Change>> = Vec::with_capacity(requests.len());
+    let mut announcements = Vec::with_capacity(zones.announced.len());
     let mut replan_expanded = 0;
     let mut next_zone = 0;
     let started = WallInstant::now();
     let mut announce_until = |t: Option<Instant>,
                               live: &mut Live<'_>,
-                              stories: &mut Vec<Story>|
+                              changes: &mut Vec<Vec<Change>>|
      -> Result<(), ZoneError> {
         while let Some(a) = zones.announced.get(next_zone) {
             if t.is_some_and(|t| a.at > t) {
@@ -99,10 +90,14 @@ pub fn replay(
             next_zone += 1;
             live.advance(a.at);
             let affected = live.announce(&a.zone, a.closures.clone())?;
-            announced.push((a.zone.clone(), a.at, affected.len()));
+            announcements.push(Announcement {
+                zone: a.zone.clone(),
+                at: a.at,
+                affected: affected.len(),
+            });
             for x in affected {
                 replan_expanded += x.expanded;
-                stories[x.flight as usize].changes.push(Change {
+                changes[x.flight as usize].push(Change {
                     zone: a.zone.clone(),
                     at: a.at,
                     before: x.before,
@@ -114,19 +109,17 @@ pub fn replay(
         Ok(())
     };
     for (i, r) in requests.iter().enumerate() {
-        announce_until(Some(r.submitted), &mut live, &mut stories)?;
+        announce_until(Some(r.submitted), &mut live, &mut changes)?;
         live.advance(r.submitted);
-        let first = live.book(i as FlightId, r);
-        stories.push(Story {
-            first,
-            changes: Vec::new(),
-        });
+        outcomes.push(live.book(i as FlightId, r));
+        changes.push(Vec::new());
         progress(i + 1);
     }
-    announce_until(None, &mut live, &mut stories)?;
+    announce_until(None, &mut live, &mut changes)?;
     Ok(Replay {
-        stories,
-        announced,
+        outcomes,
+        changes,
+        announcements,
         planner_wall: started.elapsed(),
         replan_expanded,
     })
@@ -139,7 +132,7 @@ mod tests {
     use muse_planner::Planner;
     use muse_planner::replan::Fate;
 
-    use super::replay;
+    use super::{Announcement, replay};
 
     /// `A - B`, 1 km (120 s at 30 km/h).
     fn airspace() -> Airspace {
@@ -180,15 +173,25 @@ mod tests {
         // Booked at 08:00 and at 09:30, both departing 09:59.
         let requests = [r("early", 599, 480), r("late", 599, 570)];
         let run = replay(Planner::new(&a, params), &known, &requests, |_| {}).unwrap();
-        assert_eq!(run.announced, [("Z".to_owned(), min(540), 1)]);
-        let early = &run.stories[0];
-        assert_eq!(early.first.result.as_ref().unwrap().takeoff(), min(599));
+        assert_eq!(
+            run.announcements,
+            [Announcement {
+                zone: "Z".to_owned(),
+                at: min(540),
+                affected: 1
+            }]
+        );
+        assert_eq!(run.outcomes[0].result.as_ref().unwrap().takeoff(), min(599));
         // Replanned to land when B opens again, 10:10.
-        assert!(matches!(early.fate(), Some(Fate::Replanned(_))));
-        assert_eq!(early.final_plan().unwrap().landing(), min(610));
+        let [change] = &run.changes[0][..] else {
+            panic!("one change expected: {:?}", run.changes[0]);
+        };
+        let Fate::Replanned(plan) = &change.fate else {
+            panic!("replanned expected: {change:?}");
+        };
+        assert_eq!(plan.landing(), min(610));
         // The late booking knew the zone: planned around it, never changed, after the other.
-        let late = &run.stories[1];
-        assert!(late.changes.is_empty());
-        assert_eq!(late.final_plan().unwrap().landing(), min(612));
+        assert!(run.changes[1].is_empty());
+        assert_eq!(run.outcomes[1].result.as_ref().unwrap().landing(), min(612));
     }
 }

@@ -81,6 +81,7 @@ use zones::zone_rule;
 
 use muse_airspace::announced::{Announced, KnownZones};
 use muse_airspace::closures::Closures;
+use muse_model::plan::Fate;
 use muse_model::{Airspace, EdgeId, FlightParams, Instant, Millis, NodeId, Plan, Request};
 
 /// One flight to check: its request and its plan.
@@ -105,6 +106,39 @@ impl<'a> Flight<'a> {
             plan,
             ending: Ending::Destination,
         }
+    }
+
+    /// The flight as it finally stands after zone announcements (SPEC §11): its first plan if
+    /// none changed it, else what the last one made of it: a replanned plan (to the
+    /// destination), a diverted one (to some station), or a contingency's committed part.
+    /// `None` if it does not fly: rejected (`first` is `None`) or cancelled.
+    ///
+    /// ```
+    /// use muse_model::plan::Fate;
+    /// use muse_model::{NodeId, Plan, Request, Instant};
+    /// use muse_verify::{Ending, Flight};
+    /// let r = Request { id: "r".into(), origin: NodeId(0), destination: NodeId(1),
+    ///                   departure: Instant(0), submitted: Instant(0) };
+    /// let (first, committed) = (Plan::default(), Plan::default());
+    /// assert!(Flight::last("r", &r, Some(&first), Some(&Fate::Cancelled)).is_none());
+    /// let stranded = Fate::Contingency(committed);
+    /// let f = Flight::last("r", &r, Some(&first), Some(&stranded)).unwrap();
+    /// assert_eq!(f.ending, Ending::Committed);
+    /// ```
+    pub fn last(
+        id: &'a str,
+        request: &'a Request,
+        first: Option<&'a Plan>,
+        fate: Option<&'a Fate>,
+    ) -> Option<Self> {
+        let (plan, ending) = match fate {
+            None => (first?, Ending::Destination),
+            Some(Fate::Replanned(p)) => (p, Ending::Destination),
+            Some(Fate::Diverted(p)) => (p, Ending::Diverted),
+            Some(Fate::Contingency(p)) => (p, Ending::Committed),
+            Some(Fate::Cancelled) => return None,
+        };
+        Some(Flight::new(id, request, plan).ending(ending))
     }
 
     /// The same flight with another ending.

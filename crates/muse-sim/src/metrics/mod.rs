@@ -7,6 +7,10 @@ use serde::Serialize;
 
 use crate::demand::BookingLead;
 
+pub mod replanning;
+
+pub use replanning::ReplanSummary;
+
 /// Mean, median, 95th percentile and maximum of a sample, in seconds. Percentiles use the
 /// nearest-rank definition on the sorted sample (the median of an even sample is the lower of
 /// the two middle values), so each figure is a value that occurred. All zero for an empty
@@ -170,6 +174,11 @@ pub struct Summary {
     pub parameters: ParamsRecord,
     /// Inputs and seed.
     pub provenance: Provenance,
+    /// Zones announced during the day and what became of the flights they hit (only when
+    /// some zone was announced). `planned`, `rejected` and the delays above are the first
+    /// answers, as given at submission.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub replanning: Option<ReplanSummary>,
 }
 
 /// One planned-or-rejected request, as the metrics see it.
@@ -244,6 +253,7 @@ impl Summary {
             search: effort,
             parameters: params.into(),
             provenance,
+            replanning: None,
         }
     }
 
@@ -262,6 +272,13 @@ impl Summary {
     #[must_use]
     pub fn with_booking_lead(mut self, lead: BookingLead) -> Summary {
         self.parameters.booking_lead_min = Some(lead.into());
+        self
+    }
+
+    /// Adds the `replanning` section.
+    #[must_use]
+    pub fn with_replanning(mut self, replanning: ReplanSummary) -> Summary {
+        self.replanning = Some(replanning);
         self
     }
 

@@ -1,0 +1,171 @@
+//! What zone announcements did to a day (SPEC §11), as `summary.json` reports it.
+
+use muse_model::plan::Fate;
+use muse_model::{Millis, Plan, UtcOffset};
+use serde::Serialize;
+
+use super::Distribution;
+use crate::day::DayRun;
+
+/// One announced zone, as reported.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct ZoneAnnounced {
+    /// The zone's id.
+    pub zone: String,
+    /// When it was announced, RFC 3339.
+    pub announced: String,
+    /// Flights it affected.
+    pub affected: usize,
+}
+
+/// The `replanning` section of `summary.json`: the zones announced during the day and what
+/// became of the flights they hit.
+///
+/// A flight hit by several announcements counts once, by its last outcome. `delivered` counts
+/// the requests whose final plan lands at their destination (planned and never changed, or
+/// replanned); `extra_delay_s` is, over replanned flights, final landing minus the landing
+/// first planned.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ReplanSummary {
+    /// Zones announced.
+    pub zones_announced: usize,
+    /// Each announcement, in order.
+    pub zones: Vec<ZoneAnnounced>,
+    /// Flights affected by at least one announcement.
+    pub flights_affected: usize,
+    /// Of those, flights airborne at an announcement that hit them.
+    pub airborne_affected: usize,
+    /// Final outcome `replanned`.
+    pub replanned: usize,
+    /// Final outcome `diverted`.
+    pub diverted: usize,
+    /// Final outcome `cancelled` (reason `zone_announced`).
+    pub cancelled: usize,
+    /// Final outcome `contingency`.
+    pub contingency: usize,
+    /// Requests whose final plan lands at their destination.
+    pub delivered: usize,
+    /// `delivered / requests` (1 for an empty run).
+    pub delivery_rate: f64,
+    /// Replanned flights: final landing minus first planned landing, seconds.
+    pub extra_delay_s: Distribution,
+    /// Search effort of replanning, labels expanded.
+    pub replan_expanded: u64,
+}
+
+impl ReplanSummary {
+    /// The section for `run`, instants written in `offset`.
+    pub fn of(run: &DayRun, offset: UtcOffset) -> Self {
+        let mut s = ReplanSummary {
+            zones_announced: run.announcements.len(),
+            zones: run
+                .announcements
+                .iter()
+                .map(|a| ZoneAnnounced {
+                    zone: a.zone.clone(),
+                    announced: a.at.to_rfc3339(offset),
+                    affected: a.affected,
+                })
+                .collect(),
+            flights_affected: 0,
+            airborne_affected: 0,
+            replanned: 0,
+            diverted: 0,
+            cancelled: 0,
+            contingency: 0,
+            delivered: 0,
+            delivery_rate: 1.0,
+            extra_delay_s: Distribution::default(),
+            replan_expanded: run.replan_expanded,
+        };
+        let mut extra: Vec<Millis> = Vec::new();
+        for (i, (outcome, changes)) in run.outcomes.iter().zip(&run.changes).enumerate() {
+            if changes.is_empty() {
+                s.delivered += usize::from(outcome.result.is_ok());
+                continue;
+            }
+            s.flights_affected += 1;
+            s.airborne_affected += usize::from(changes.iter().any(|c| c.airborne));
+            match run.fate(i) {
+                Some(Fate::Replanned(p)) => {
+                    s.replanned += 1;
+                    s.delivered += 1;
+                    if let Ok(first) = &outcome.result {
+                        extra.push(p.landing() - Plan::landing(first));
+                    }
+                }
+                Some(Fate::Diverted(_)) => s.diverted += 1,
+                Some(Fate::Cancelled) => s.cancelled += 1,
+                Some(Fate::Contingency(_)) | None => s.contingency += 1,
+            }
+        }
+        if !run.outcomes.is_empty() {
+            s.delivery_rate = s.delivered as f64 / run.outcomes.len() as f64;
+        }
+        s.extra_delay_s = Distribution::of(&extra);
+        s
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::float_cmp)] // the values compared are exact by construction
+mod tests {
+    use muse_airspace::announced::KnownZones;
+    use muse_model::{Airspace, FlightParams, Instant, Millis, NodeId, Period, Request, Zone};
+
+    use super::*;
+    use crate::day::plan_requests;
+
+    #[test]
+    fn counts_one_replanned_flight_and_its_extra_delay() {
+        // A - B, 1 km (two minutes). B closed 10:00–10:10, announced 09:00; a flight booked at
+        // 08:00 to land at 10:01 is replanned to land at 10:10 (nine minutes late); one
+        // booked at 09:30 plans around it; one out of range is rejected.
+        let a = Airspace::line(&[1_000.0]);
+        let params = FlightParams {
+            max_ground_delay: Millis::from_mins(30),
+            ..FlightParams::default()
+        };
+        let min = |m: i64| Instant(m * 60_000);
+        let zone = Zone {
+            id: "Z".into(),
+            name: String::new(),
+            restriction: String::new(),
+            area: None,
+            node_ids: vec!["B".into()],
+            edge_ids: vec![],
+            announced: Some(min(540)),
+            periods: vec![Period {
+                start: Some(min(600)),
+                end: Some(min(610)),
+                daily: vec![],
+            }],
+        };
+        let r = |id: &str, dep: i64, sub: i64| Request {
+            id: id.into(),
+            origin: NodeId(0),
+            destination: NodeId(1),
+            departure: min(dep),
+            submitted: min(sub),
+        };
+        let run = plan_requests(
+            &a,
+            &[zone],
+            params,
+            vec![r("early", 599, 480), r("late", 599, 570)],
+            |_| {},
+        )
+        .unwrap();
+        assert_ne!(run.zones, KnownZones::default());
+        let s = ReplanSummary::of(&run, UtcOffset::SINGAPORE);
+        assert_eq!(s.zones_announced, 1);
+        assert_eq!(s.zones[0].announced, "1970-01-01T17:00:00.000+08:00");
+        assert_eq!((s.flights_affected, s.airborne_affected), (1, 0));
+        assert_eq!(
+            (s.replanned, s.diverted, s.cancelled, s.contingency),
+            (1, 0, 0, 0)
+        );
+        assert_eq!((s.delivered, s.delivery_rate), (2, 1.0));
+        assert_eq!(s.extra_delay_s.max, 540.0);
+    }
+}
