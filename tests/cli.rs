@@ -375,6 +375,149 @@ fn simulate_books_ahead_records_the_lead_and_verifies() {
 }
 
 #[test]
+fn simulate_replays_an_announced_zone_and_verify_applies_it() {
+    let dir = scratch_dir("announced");
+    let root = env!("CARGO_MANIFEST_DIR");
+    let cbd = format!("{root}/scenarios/singapore-77/cbd_zone.geojson");
+    let stadium = format!("{root}/scenarios/singapore-77/stadium_zone.geojson");
+    let out = dir.join("sim").display().to_string();
+    let zones = ["--zones", cbd.as_str(), "--zones", stadium.as_str()];
+    let mut args = vec![
+        "simulate",
+        "--count",
+        "10000",
+        "--od",
+        "in-range",
+        "--booking-lead-min",
+        "0:120",
+        "--out",
+        &out,
+    ];
+    args.extend(zones);
+    let o = muse(&args);
+    let text = stdout(&o);
+    assert!(o.status.success(), "{text}{}", stderr(&o));
+    assert!(
+        text.contains("announced     SG-NATIONAL-STADIUM-EVENT at 2026-01-05T14:00:00.000+08:00"),
+        "{text}"
+    );
+    assert!(text.contains("verified      OK"), "{text}");
+
+    // plans.jsonl: every changed flight has its original plan and its outcome; the summary
+    // counts them.
+    let plans = std::fs::read_to_string(dir.join("sim/plans.jsonl")).unwrap();
+    let lines: Vec<serde_json::Value> = plans
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let changed: Vec<&serde_json::Value> =
+        lines.iter().filter(|l| l["original"].is_object()).collect();
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("sim/summary.json")).unwrap())
+            .unwrap();
+    let r = &summary["replanning"];
+    assert_eq!(r["zones_announced"], 1, "{summary}");
+    assert_eq!(r["flights_affected"], changed.len(), "{summary}");
+    assert!(
+        !changed.is_empty(),
+        "the stadium zone hits some of 10,000 flights booked ahead"
+    );
+    for status in ["replanned", "diverted", "cancelled", "contingency"] {
+        let n = changed.iter().filter(|l| l["status"] == status).count();
+        assert_eq!(r[status], n, "{status}: {summary}");
+    }
+    for l in &changed {
+        assert_eq!(l["changes"][0]["zone"], "SG-NATIONAL-STADIUM-EVENT", "{l}");
+        if l["status"] == "cancelled" {
+            assert_eq!(l["reason"], "zone_announced", "{l}");
+            assert!(l.get("path").is_none(), "{l}");
+        }
+    }
+
+    // `muse plan` on the same requests gives the same plans.
+    let requests = dir.join("sim/requests.csv").display().to_string();
+    let planned = dir.join("plan").display().to_string();
+    let mut args = vec!["plan", "--requests", &requests, "--out", &planned];
+    args.extend(zones);
+    let o = muse(&args);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let without_effort = |text: &str| {
+        text.lines()
+            .map(|l| {
+                let mut v: serde_json::Value = serde_json::from_str(l).unwrap();
+                v.as_object_mut().unwrap().remove("expanded");
+                v
+            })
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(
+        without_effort(&std::fs::read_to_string(dir.join("plan/plans.jsonl")).unwrap()),
+        without_effort(&plans)
+    );
+
+    // `muse verify` knows the announcement: the final plans pass...
+    let plans_path = dir.join("sim/plans.jsonl").display().to_string();
+    let mut args = vec!["verify", "--plans", &plans_path];
+    args.extend(zones);
+    let o = muse(&args);
+    assert!(o.status.success(), "{}{}", stdout(&o), stderr(&o));
+    assert!(
+        stdout(&o).contains("1 announced during the day"),
+        "{}",
+        stdout(&o)
+    );
+
+    // ...but a flight that kept its original plan breaks the zone.
+    assert_original_plan_breaks_the_zone(&dir, &plans, changed[0], &zones);
+}
+
+/// Replaces the line of `first` (a flight an announcement changed) in `plans` by one that keeps
+/// its original plan, and checks that `muse verify` with `zones` names the violation.
+fn assert_original_plan_breaks_the_zone(
+    dir: &Path,
+    plans: &str,
+    first: &serde_json::Value,
+    zones: &[&str],
+) {
+    let mut kept = first.clone();
+    let kept_obj = kept.as_object_mut().unwrap();
+    kept_obj.insert("status".into(), "planned".into());
+    kept_obj.insert("reason".into(), serde_json::Value::Null);
+    kept_obj.insert("path".into(), first["original"]["path"].clone());
+    for field in [
+        "original",
+        "changes",
+        "committed",
+        "diverted_to",
+        "extra_delay_s",
+    ] {
+        kept_obj.remove(field);
+    }
+    let id = first["request"].as_str().unwrap();
+    let tampered: String = plans
+        .lines()
+        .map(|l| {
+            let v: serde_json::Value = serde_json::from_str(l).unwrap();
+            if v["request"] == id {
+                format!("{kept}\n")
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
+    let bad = write(dir, "tampered.jsonl", &tampered);
+    let mut args = vec!["verify", "--plans", &bad];
+    args.extend(zones);
+    let o = muse(&args);
+    assert_eq!(o.status.code(), Some(1), "{}", stdout(&o));
+    assert!(
+        stdout(&o).contains("SG-NATIONAL-STADIUM-EVENT") && stdout(&o).contains(id),
+        "{}",
+        stdout(&o)
+    );
+}
+
+#[test]
 fn demand_and_sweep_take_the_booking_lead() {
     let dir = scratch_dir("booking_lead_demand");
     let path = |name: &str| dir.join(name).display().to_string();
@@ -497,6 +640,162 @@ fn sweep_is_deterministic_and_compares_variants() {
         variants.contains("no zone / headway 5 s / G_max 10 min"),
         "{variants:?}"
     );
+}
+
+/// The exact header of `announce_lead.csv`.
+const ANNOUNCE_LEAD_HEADER: &str = "case,lead_min,count,rep,seed,planned_at_booking,delivered,success_rate,affected,airborne_affected,replanned,diverted,cancelled,contingency,mean_extra_delay_s,planner_ms,replan_expanded,booking_lead_min_from,booking_lead_min_to";
+
+#[test]
+fn sweep_announce_lead_writes_runs_summary_and_plots() {
+    let dir = scratch_dir("announce_lead");
+    let out = dir.join("out");
+    let o = muse(&[
+        "sweep",
+        "--vary",
+        "announce-lead",
+        "--counts",
+        "300",
+        "--reps",
+        "2",
+        "--leads",
+        "60,0",
+        "--out",
+        &out.display().to_string(),
+    ]);
+    assert!(o.status.success(), "{}{}", stdout(&o), stderr(&o));
+    let text = stdout(&o);
+    for expected in [
+        "SG-CBD-DOWNTOWN-CORE (first window 10:00) announced 0, 60 min ahead",
+        "4 cases × 1 counts × 2 repetitions = 8 runs, 2400 requests booked 0–120 min ahead (this sweep's default)",
+        "lead min",
+        "   known     300",
+    ] {
+        assert!(text.contains(expected), "{expected}: {text}");
+    }
+    let csv = std::fs::read_to_string(out.join("announce_lead.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next().unwrap(), ANNOUNCE_LEAD_HEADER);
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    // Leads sorted, then the references; the same two seeds in every case.
+    let keys: Vec<(&str, &str, &str, &str)> =
+        rows.iter().map(|r| (r[0], r[1], r[3], r[4])).collect();
+    assert_eq!(
+        keys,
+        [
+            ("announced", "0", "0", "1"),
+            ("announced", "0", "1", "2"),
+            ("announced", "60", "0", "1"),
+            ("announced", "60", "1", "2"),
+            ("known", "", "0", "1"),
+            ("known", "", "1", "2"),
+            ("none", "", "0", "1"),
+            ("none", "", "1", "2"),
+        ]
+    );
+    for r in &rows {
+        assert_eq!(r.len(), 19, "{r:?}");
+        assert_eq!((r[2], r[17], r[18]), ("300", "0", "120"), "{r:?}");
+        let rate: f64 = r[7].parse().unwrap();
+        let delivered: f64 = r[6].parse().unwrap();
+        assert!((rate - delivered / 300.0).abs() < 1e-6, "{r:?}");
+    }
+    let summary = std::fs::read_to_string(out.join("announce_lead_summary.csv")).unwrap();
+    assert!(summary.starts_with(
+        "case,lead_min,count,runs,runs_with_replanned,success_rate_mean,success_rate_ci95_low,success_rate_ci95_high,planned_at_booking_mean,"
+    ));
+    assert_eq!(summary.lines().count(), 1 + 4);
+    assert!(summary.lines().nth(3).unwrap().starts_with("known,,300,2,"));
+    for file in [
+        "announce_lead_success.svg",
+        "announce_lead_outcomes.svg",
+        "announce_lead_extra_delay.svg",
+    ] {
+        let svg = std::fs::read_to_string(out.join(file)).unwrap();
+        assert!(svg.starts_with("<svg"), "{file}");
+        assert!(svg.contains("Announcement lead"), "{file}");
+    }
+    let success = std::fs::read_to_string(out.join("announce_lead_success.svg")).unwrap();
+    assert!(success.contains("known from the start"));
+}
+
+#[test]
+fn sweep_announce_lead_zones_and_errors() {
+    let dir = scratch_dir("announce_lead_zones");
+    let stadium = format!(
+        "{}/scenarios/singapore-77/stadium_zone.geojson",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let o = muse(&[
+        "sweep",
+        "--vary",
+        "announce-lead",
+        "--counts",
+        "100",
+        "--reps",
+        "1",
+        "--leads",
+        "30",
+        "--booking-lead-min",
+        "0:60",
+        "--announce-zones",
+        &stadium,
+        "--out",
+        &dir.join("out").display().to_string(),
+    ]);
+    assert!(o.status.success(), "{}{}", stdout(&o), stderr(&o));
+    assert!(
+        stdout(&o)
+            .contains("SG-NATIONAL-STADIUM-EVENT (first window 15:00) announced 30 min ahead"),
+        "{}",
+        stdout(&o)
+    );
+    assert!(
+        stdout(&o).contains("300 requests booked 0–60 min ahead,"),
+        "{}",
+        stdout(&o)
+    );
+
+    let text = std::fs::read_to_string(&stadium).unwrap();
+    let tomorrow = write(
+        &dir,
+        "z.geojson",
+        &text.replace("2026-01-05T1", "2026-01-06T1"),
+    );
+    for (args, expected) in [
+        (
+            vec!["--vary", "announce-lead", "--vary", "zones"],
+            "--vary announce-lead cannot be combined with other --vary values",
+        ),
+        (
+            vec!["--leads", "0,30"],
+            "--leads and --announce-zones apply only with --vary announce-lead",
+        ),
+        (
+            vec!["--vary", "announce-lead", "--leads", "0,-5"],
+            "--leads `0,-5`: -5 minutes: a lead must be a number of minutes >= 0",
+        ),
+        (
+            vec![
+                "--vary",
+                "announce-lead",
+                "--synthetic",
+                "grid",
+                "--nodes",
+                "16",
+            ],
+            "--vary announce-lead needs a zone to announce",
+        ),
+        (
+            vec!["--vary", "announce-lead", "--announce-zones", &tomorrow],
+            "on the scenario's day 2026-01-05: zone `SG-NATIONAL-STADIUM-EVENT` has no active window starting between 2026-01-05T00:00:00.000+08:00 and 2026-01-06T00:00:00.000+08:00",
+        ),
+    ] {
+        let mut all = vec!["sweep", "--counts", "10", "--reps", "1"];
+        all.extend(args);
+        let o = muse(&all);
+        assert_eq!(o.status.code(), Some(2), "{all:?}");
+        assert!(stderr(&o).contains(expected), "{all:?}: {}", stderr(&o));
+    }
 }
 
 #[test]

@@ -7,9 +7,6 @@
 //! verifier. Bounded: a fixed number of kill cycles, each a fraction of a second of load.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::io::{BufRead as _, BufReader};
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
@@ -20,40 +17,13 @@ use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 
 /// Kill cycles (the issue asks for at least 10).
+mod support;
+use support::{scratch_dir, start};
+
 const CYCLES: usize = 12;
 /// Concurrent clients during each cycle.
 const CLIENTS: usize = 8;
 const SEED: u64 = 0x6b11_1009;
-
-struct Server {
-    child: Child,
-    base: String,
-}
-
-/// Starts `muse serve` on an ephemeral port over `data` and waits for its address.
-fn start(data: &Path) -> Server {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_muse"))
-        .args(["serve", "--listen", "127.0.0.1:0", "--data"])
-        .arg(data)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .expect("muse serve starts");
-    let stdout = child.stdout.take().expect("piped stdout");
-    let mut lines = BufReader::new(stdout).lines();
-    let base = loop {
-        let line = lines
-            .next()
-            .expect("muse serve prints its address")
-            .expect("readable stdout");
-        if let Some(addr) = line.strip_prefix("listening on ") {
-            break addr.trim().to_owned();
-        }
-    };
-    // Keep draining stdout so the server never blocks on a full pipe.
-    std::thread::spawn(move || for _ in lines {});
-    Server { child, base }
-}
 
 /// What the clients learnt, shared between them.
 #[derive(Default)]
@@ -64,12 +34,6 @@ struct Ledger {
     unanswered: BTreeMap<String, Value>,
     /// Planned flights whose cancellation was sent but never answered: either state is right.
     cancel_unanswered: BTreeSet<String>,
-}
-
-fn scratch_dir(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
 }
 
 fn rfc3339_in(ms: i64) -> String {
@@ -279,7 +243,7 @@ async fn acknowledged_flights_survive_sigkill() {
     let ledger = Arc::new(Mutex::new(Ledger::default()));
     let mut rng = ChaCha8Rng::seed_from_u64(SEED);
     for cycle in 0..CYCLES {
-        let mut server = start(&data);
+        let server = start(&data, &[]);
         check_restart(&server.base, &ledger).await;
         let tasks: Vec<_> = (0..CLIENTS)
             .map(|k| {
@@ -293,8 +257,7 @@ async fn acknowledged_flights_survive_sigkill() {
             })
             .collect();
         tokio::time::sleep(Duration::from_millis(rng.random_range(100..800))).await;
-        server.child.kill().expect("SIGKILL");
-        server.child.wait().expect("reaped");
+        server.kill();
         for t in tasks {
             t.await.expect("client task");
         }
@@ -305,7 +268,7 @@ async fn acknowledged_flights_survive_sigkill() {
             l.unanswered.len()
         );
     }
-    let mut server = start(&data);
+    let server = start(&data, &[]);
     check_restart(&server.base, &ledger).await;
     let planned = verify_all(&server.base).await;
     let acked = ledger.lock().unwrap().acked.len();
@@ -316,7 +279,6 @@ async fn acknowledged_flights_survive_sigkill() {
         acked > 1_000 && planned > 100,
         "too little load: {acked} {planned}"
     );
-    server.child.kill().unwrap();
-    server.child.wait().unwrap();
+    server.kill();
     let _ = std::fs::remove_dir_all(&data);
 }

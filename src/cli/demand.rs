@@ -41,15 +41,11 @@ pub struct DemandArgs {
     pub od: OdArg,
     /// Book each request ahead of its departure by a lead uniform in [A, B] minutes (whole
     /// milliseconds): `submitted = departure − lead`. A single number A means exactly A
-    /// minutes; 0 (the default, the paper) books every request at its departure. Departures
-    /// and pairs do not depend on it: a seed gives the same ones with any lead.
-    #[arg(
-        long,
-        value_name = "A[:B]",
-        default_value = "0",
-        value_parser = parse_booking_lead
-    )]
-    pub booking_lead_min: BookingLeadArg,
+    /// minutes; 0 (the default, the paper) books every request at its departure; `muse sweep
+    /// --vary announce-lead` books 0:120 unless given. Departures and pairs do not depend on
+    /// it: a seed gives the same ones with any lead.
+    #[arg(long, value_name = "A[:B]", value_parser = parse_booking_lead)]
+    pub booking_lead_min: Option<BookingLeadArg>,
 }
 
 /// `--booking-lead-min A[:B]`: a booking lead uniform in `[A, B]` minutes.
@@ -71,6 +67,15 @@ impl std::fmt::Display for BookingLeadArg {
         } else {
             write!(f, "{}:{}", self.from_min, self.to_min)
         }
+    }
+}
+
+impl BookingLeadArg {
+    /// `booked A–B min ahead` (or `booked A min ahead`), for messages and plot footnotes;
+    /// `None` when every request is booked at its departure.
+    pub fn note(self) -> Option<String> {
+        (!self.lead.is_none())
+            .then(|| format!("booked {} min ahead", self.to_string().replace(':', "–")))
     }
 }
 
@@ -115,12 +120,12 @@ impl DemandArgs {
     /// `booked A–B min ahead` when requests are booked ahead of departure, for messages and
     /// plot footnotes; `None` for the paper's demand (so those read as they always did).
     pub fn booking_note(&self) -> Option<String> {
-        (!self.booking_lead_min.lead.is_none()).then(|| {
-            format!(
-                "booked {} min ahead",
-                self.booking_lead_min.to_string().replace(':', "–")
-            )
-        })
+        self.booking_lead_min.and_then(BookingLeadArg::note)
+    }
+
+    /// The booking lead given, or none (the paper): every request booked at its departure.
+    pub fn booking_lead(&self) -> BookingLead {
+        self.booking_lead_min.map_or(BookingLead::NONE, |b| b.lead)
     }
 
     /// The generation spec for a world.
@@ -146,7 +151,7 @@ impl DemandArgs {
             end,
             seed: self.seed,
             od,
-            booking_lead: self.booking_lead_min.lead,
+            booking_lead: self.booking_lead(),
         })
     }
 }

@@ -10,6 +10,7 @@ mod progress;
 mod serve;
 mod simulate;
 mod sweep;
+mod sweep_lead;
 mod verify;
 
 use std::process::ExitCode;
@@ -49,7 +50,8 @@ enum Command {
     Serve(serve::ServeArgs),
     /// Simulate a day: generate demand, plan it, verify it, write files and a summary.
     Simulate(simulate::SimulateArgs),
-    /// The paper's experiment: request counts × repetitions × scenario variants, with plots.
+    /// The paper's experiment: request counts × repetitions × scenario variants, with plots;
+    /// `--vary announce-lead`: how much warning before a temporary zone keeps its cost low.
     Sweep(sweep::SweepArgs),
     /// Check a plans file against every rule, independently of the planner (exit 1 on a violation).
     Verify(verify::VerifyArgs),

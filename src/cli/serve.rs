@@ -1,5 +1,12 @@
 //! `muse serve`: the planning service (SPEC §10) on the embedded Singapore default or any
 //! airspace, zones and parameters `muse plan` takes.
+//!
+//! Routes (see `GET /v1/openapi.json`): `POST|GET /v1/flights`, `GET|DELETE
+//! /v1/flights/{id}` (plan, list, read, cancel); `GET /v1/zones` (every zone, announced ones
+//! with their instants), `POST /v1/zones` and `DELETE /v1/zones/{id}` (the authority
+//! announces a zone now, SPEC §11, and the flights it hits are replanned; or withdraws one);
+//! `GET /v1/events` (the caller's flights' changes as server-sent events, resumable with
+//! `Last-Event-ID`); `GET /v1/airspace`, `/healthz`, `/metrics`.
 
 use std::io::Write as _;
 use std::net::SocketAddr;
@@ -15,8 +22,24 @@ use muse_service::{Options, start};
 
 use super::common::{FlightArgs, WorldArgs};
 
+/// What `muse serve --help` says after the options.
+const ROUTES_HELP: &str = "\
+Routes (JSON; the full description at GET /v1/openapi.json):
+  POST   /v1/flights           plan a request (201 planned, 200 rejected, 409 id taken)
+  GET    /v1/flights           the caller's flights (all for the authority), filtered by status
+                               (planned, rejected, cancelled, replanned, diverted, contingency)
+  GET    /v1/flights/{id}      one flight;  DELETE: cancel it before take-off
+  GET    /v1/zones             every zone (ED-318), announced ones with `announced`/`withdrawn`
+  POST   /v1/zones             authority: announce an ED-318 zone now (SPEC §11); answers with
+                               every flight it replanned, diverted, cancelled or left in contingency
+  DELETE /v1/zones/{id}        authority: withdraw an announced zone (replans nothing)
+  GET    /v1/events            server-sent events of the caller's flights' changes; resume with
+                               Last-Event-ID
+  GET    /v1/airspace, /healthz, /metrics";
+
 /// Arguments of `muse serve`.
 #[derive(Debug, Args)]
+#[command(after_long_help = ROUTES_HELP)]
 pub struct ServeArgs {
     #[command(flatten)]
     world: WorldArgs,
@@ -119,11 +142,15 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         writeln!(out, "MUSE serve — {label}, {stations} stations")?;
         writeln!(
             out,
-            "  store      {}: {} flight(s) restored ({} booked ahead or airborne, {} cancellation(s)){}",
+            "  store      {}: {} flight(s) restored ({} booked ahead or airborne, {} cancellation(s), \
+             {} zone(s) announced, {} withdrawn, {} event(s)){}",
             args.data.join(muse_service::store::LOG_FILE).display(),
             running.restored.flights,
             running.restored.booked,
             running.restored.cancellations,
+            running.restored.zones,
+            running.restored.withdrawn,
+            running.restored.events,
             if r.torn_bytes > 0 {
                 format!(
                     "; dropped a torn tail of {} bytes (unacknowledged; saved as {})",
@@ -139,7 +166,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         if running.open {
             writeln!(
                 out,
-                "  access     OPEN: no --tokens, so anyone on this machine may plan, read and cancel (loopback only)"
+                "  access     OPEN: no --tokens, so anyone on this machine may plan, read and cancel, and announce zones (loopback only)"
             )?;
         } else {
             writeln!(out, "  access     bearer tokens from {}", args.tokens.as_ref().map_or_else(String::new, |p| p.display().to_string()))?;

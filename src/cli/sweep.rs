@@ -1,4 +1,5 @@
-//! `muse sweep`: the paper's experiment — request counts × repetitions × scenario variants.
+//! `muse sweep`: the paper's experiment — request counts × repetitions × scenario variants;
+//! with `--vary announce-lead`, the announcement-lead sweep ([`super::sweep_lead`]).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -25,6 +26,10 @@ pub enum Vary {
     EdgeRule,
     /// No ground delay versus up to 10 minutes.
     GroundDelay,
+    /// How much warning before a zone's first active window it is announced (`--leads`,
+    /// `--announce-zones`); replays each day (SPEC §11) with bookings made 0–120 min ahead
+    /// unless `--booking-lead-min` says otherwise. Not combinable with other `--vary` values.
+    AnnounceLead,
 }
 
 /// Arguments of `muse sweep`.
@@ -32,29 +37,40 @@ pub enum Vary {
 pub struct SweepArgs {
     /// Request counts: `START:END:STEP` or a comma-separated list.
     #[arg(long, default_value = "1000:10000:1000")]
-    counts: String,
+    pub(super) counts: String,
     /// Repetitions per count, each with its own seed.
     #[arg(long, default_value_t = 100)]
-    reps: usize,
-    /// Compare scenarios on the same seeds; repeat to combine.
+    pub(super) reps: usize,
+    /// Compare scenarios on the same seeds; repeat to combine (except `announce-lead`).
     #[arg(long, value_enum)]
-    vary: Vec<Vary>,
+    pub(super) vary: Vec<Vary>,
+    /// `--vary announce-lead`: the leads to compare, minutes between a zone's announcement and
+    /// the start of its first active window on the scenario's day, comma-separated
+    /// [default: 0,15,30,60,120].
+    #[arg(long, value_name = "MIN,...")]
+    pub(super) leads: Option<String>,
+    /// `--vary announce-lead`: zone files (ED-318/ED-269) whose zones are announced, each
+    /// `lead` before its first window (their own announcement instants are replaced); repeat
+    /// for several. Default: the built-in scenario's CBD zone. A base zone (`--zones`) with
+    /// the same id is not also known from the start.
+    #[arg(long, value_name = "FILE")]
+    pub(super) announce_zones: Vec<PathBuf>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
     #[command(flatten)]
-    demand: DemandArgs,
+    pub(super) demand: DemandArgs,
     #[command(flatten)]
-    world: WorldArgs,
+    pub(super) world: WorldArgs,
     #[command(flatten)]
-    flight: FlightArgs,
+    pub(super) flight: FlightArgs,
     /// Output folder.
     #[arg(long, value_name = "DIR", default_value = "out/sweep")]
-    out: PathBuf,
+    pub(super) out: PathBuf,
 }
 
 /// Parses `START:END:STEP` or `a,b,c`.
-fn parse_counts(text: &str) -> anyhow::Result<Vec<usize>> {
+pub(super) fn parse_counts(text: &str) -> anyhow::Result<Vec<usize>> {
     let bad = || {
         anyhow::anyhow!(
             "--counts `{text}`: expected START:END:STEP or a comma-separated list of positive numbers"
@@ -144,6 +160,10 @@ fn options(
                 ),
             ]
         }
+        // Its own sweep (`sweep_lead`), refused in combination before variants are built.
+        Vary::AnnounceLead => {
+            anyhow::bail!("--vary announce-lead cannot be combined with other --vary values")
+        }
         Vary::GroundDelay => [
             (
                 "G_max 0".to_owned(),
@@ -192,11 +212,23 @@ fn variants(world: &World, base: FlightParams, vary: &[Vary]) -> anyhow::Result<
 
 /// Runs `muse sweep`.
 pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
+    let announce_lead = args.vary.contains(&Vary::AnnounceLead);
+    if announce_lead && args.vary.iter().any(|v| *v != Vary::AnnounceLead) {
+        anyhow::bail!(
+            "--vary announce-lead cannot be combined with other --vary values (it is its own sweep: leads × counts × repetitions)"
+        );
+    }
+    if !announce_lead && (args.leads.is_some() || !args.announce_zones.is_empty()) {
+        anyhow::bail!("--leads and --announce-zones apply only with --vary announce-lead");
+    }
     if let Some(n) = args.threads {
         rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build_global()
             .context("--threads")?;
+    }
+    if announce_lead {
+        return super::sweep_lead::run(args);
     }
     let base = args.flight.params()?;
     let world = args.world.load()?;
@@ -226,12 +258,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
         booked.as_deref().map_or(String::new(), |b| format!(" {b}")),
         rayon::current_num_threads()
     );
-    let bar = ProgressBar::new(spec.runs() as u64).with_message("runs");
-    bar.set_style(
-        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} ({elapsed}, ETA {eta})")
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
-    );
+    let bar = runs_bar(spec.runs());
     let started = std::time::Instant::now();
     let records = run_sweep(&world.airspace, &spec, || bar.inc(1))?;
     bar.finish_and_clear();
@@ -250,6 +277,17 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
     );
     print_table(&rows);
     Ok(ExitCode::SUCCESS)
+}
+
+/// The progress bar of a sweep: one step per run.
+pub(super) fn runs_bar(runs: usize) -> ProgressBar {
+    let bar = ProgressBar::new(runs as u64).with_message("runs");
+    bar.set_style(
+        ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} ({elapsed}, ETA {eta})")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    bar
 }
 
 fn series(

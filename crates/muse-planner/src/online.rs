@@ -13,7 +13,9 @@
 //! - a flight can be cancelled before take-off, which frees its reservations;
 //! - zones can be announced while it runs (SPEC §11): [`Live::announce`] closes the airspace
 //!   from now on and [replans](crate::replan) the flights the zone hits; [`Live::withdraw`]
-//!   lifts an announced zone and replans nothing.
+//!   lifts an announced zone and replans nothing. A service restoring from its store puts
+//!   an announcement back without replanning: [`Live::add_announced`] for the zone,
+//!   [`Live::apply_fate`] for what it made of each flight.
 //!
 //! It keeps every flight that has not landed yet (its request and current plan), which is
 //! what replanning needs; landed flights are dropped with the reservations they held.
@@ -57,7 +59,7 @@ use muse_airspace::closures::Closures;
 use muse_model::{Instant, Millis, Plan, RejectReason, Request};
 
 use crate::planner::{Outcome, Planner, plan_and_book};
-use crate::replan::{Affected, Booking, replan};
+use crate::replan::{Affected, Booking, Fate, replan};
 use crate::schedule::{FlightId, Schedule};
 use crate::sipp::Scratch;
 
@@ -247,6 +249,50 @@ impl<'a> Live<'a> {
         ))
     }
 
+    /// Adds an announced zone's closures *without replanning anything*: for a service that
+    /// restores its schedule from a store, where what the announcement did to each flight is
+    /// stored too and is put back with [`Live::apply_fate`]. From then on the zone binds
+    /// planning exactly as after [`Live::announce`], and it can be [withdrawn](Live::withdraw).
+    pub fn add_announced(&mut self, id: &str, zone: Closures) -> Result<(), ZoneError> {
+        if self.announced.iter().any(|(z, _)| z == id) {
+            return Err(ZoneError::Taken(id.to_owned()));
+        }
+        self.announced.push((id.to_owned(), zone));
+        self.schedule.set_closures(&self.known_closures());
+        Ok(())
+    }
+
+    /// Replaces a flight's booking with a known `fate` (what a zone announcement made of it,
+    /// as [`Live::announce`] reported it), without planning: the plan it holds, if any, is
+    /// released; a [replanned](Fate::Replanned) or [diverted](Fate::Diverted) flight is booked
+    /// with its new plan (as [`Live::restore`]: skipped if it landed before now), a
+    /// [contingency](Fate::Contingency) keeps its committed part reserved (not booked: it can
+    /// be neither cancelled nor replanned again), a [cancelled](Fate::Cancelled) one holds
+    /// nothing. `request` is the flight's original request.
+    ///
+    /// [`Fate::Cancelled`] also replays a cancellation by the flight's operator: unlike
+    /// [`Live::cancel`] it does not look at the clock (the cancellation was accepted before
+    /// take-off, whatever the time of the replay).
+    ///
+    /// Applied in announcement order to flights [restored](Live::restore) with their first
+    /// plans, with each zone [added](Live::add_announced) before its outcomes, this rebuilds
+    /// the schedule the announcements left.
+    pub fn apply_fate(&mut self, flight: FlightId, request: &Request, fate: &Fate) {
+        let airspace = self.planner.airspace();
+        if let Some(old) = self.bookings.remove(&flight) {
+            self.schedule.release(airspace, flight, &old.plan);
+        }
+        match fate {
+            Fate::Replanned(plan) | Fate::Diverted(plan) => self.restore(flight, request, plan),
+            Fate::Contingency(part) => {
+                if part.landing() >= self.now {
+                    self.schedule.insert(airspace, flight, part);
+                }
+            }
+            Fate::Cancelled => {}
+        }
+    }
+
     /// Withdraws an announced zone: it closes nothing from now on. Nothing is replanned.
     pub fn withdraw(&mut self, id: &str) -> Result<(), ZoneError> {
         let k = self
@@ -369,5 +415,136 @@ mod tests {
         live.withdraw("Z").unwrap();
         assert!(live.withdraw("Z").is_err());
         assert!(live.book(3, &request("t", 0, 1, 600_000)).result.is_ok());
+    }
+
+    /// A ring `A — B — C — D — A`: `A-B`, `B-C`, `A-D` 1 km, `D-C` 1.5 km, so `A` to `C`
+    /// goes by `B` unless `B` is closed.
+    fn ring() -> Airspace {
+        let node = |id: &str, lon: f64, lat: f64| muse_model::Node {
+            id: id.into(),
+            kind: muse_model::NodeKind::Station,
+            name: String::new(),
+            pos: muse_model::LonLat::new(lon, lat),
+        };
+        let edge = |id: &str, from: u32, to: u32, length_m: f64| muse_model::Edge {
+            id: id.into(),
+            from: NodeId(from),
+            to: NodeId(to),
+            length_m,
+        };
+        Airspace::new(
+            vec![
+                node("A", 103.80, 1.30),
+                node("B", 103.81, 1.30),
+                node("C", 103.81, 1.31),
+                node("D", 103.80, 1.31),
+            ],
+            vec![
+                edge("A-B", 0, 1, 1_000.0),
+                edge("B-C", 1, 2, 1_000.0),
+                edge("A-D", 0, 3, 1_000.0),
+                edge("D-C", 3, 2, 1_500.0),
+            ],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn stored_outcomes_rebuild_the_schedule_an_announcement_left_without_replanning() {
+        let a = ring();
+        let params = FlightParams::default();
+        let closures = Closures::none(&a);
+        let requests = [
+            request("via-b", 0, 2, 600_000), // not taken off: replanned by D
+            request("to-b", 0, 1, 900_000),  // not taken off, B closed: cancelled
+            request("in-a-b", 0, 2, 0),      // in A-B at the announcement: contingency
+            request("d-a-b", 3, 1, 0),       // in D-A: lands at A instead (diverted)
+            request("c-d", 2, 3, 1_200_000), // never near B: unaffected
+        ];
+        let mut live = Live::new(Planner::new(&a, params), &closures, Instant(0));
+        let mut first = Vec::new();
+        for (k, r) in requests.iter().enumerate() {
+            first.push(live.book(k as FlightId, r).result.unwrap());
+        }
+        live.advance(Instant(60_000));
+        let zone = muse_model::Zone {
+            id: "Z".into(),
+            name: String::new(),
+            restriction: String::new(),
+            area: None,
+            node_ids: vec!["B".into()],
+            edge_ids: vec![],
+            announced: None,
+            periods: vec![],
+        };
+        let resolve = || {
+            muse_airspace::closures::resolve(
+                &a,
+                std::slice::from_ref(&zone),
+                Instant(0),
+                Instant(86_400_000),
+            )
+            .unwrap()
+        };
+        let hit = live.announce("Z", resolve()).unwrap();
+        let mut kinds: Vec<(FlightId, &str)> = hit
+            .iter()
+            .map(|h| (h.flight, h.fate.kind().as_str()))
+            .collect();
+        kinds.sort_unstable();
+        assert_eq!(
+            kinds,
+            [
+                (0, "replanned"),
+                (1, "cancelled"),
+                (2, "contingency"),
+                (3, "diverted")
+            ]
+        );
+
+        // A service restarting at the same instant: first plans back, then the zone and the
+        // stored fates, in that order; nothing is planned.
+        let mut back = Live::new(Planner::new(&a, params), &closures, Instant(60_000));
+        for (k, (r, p)) in requests.iter().zip(&first).enumerate() {
+            back.restore(k as FlightId, r, p);
+        }
+        back.add_announced("Z", resolve()).unwrap();
+        assert_eq!(
+            back.add_announced("Z", resolve()),
+            Err(ZoneError::Taken("Z".into()))
+        );
+        for h in &hit {
+            back.apply_fate(h.flight, &requests[h.flight as usize], &h.fate);
+        }
+        assert_eq!(back.schedule().flights(), live.schedule().flights());
+        assert_eq!(back.bookings, live.bookings);
+        // Both answer every later request alike (the contingency's committed part and the
+        // new plans are held, the cancelled flight's slot is free, B is closed) ...
+        let mut n = 10;
+        for from in 0..4 {
+            for to in 0..4 {
+                for t in [60_000, 300_000, 600_000, 900_000] {
+                    if from == to {
+                        continue;
+                    }
+                    let r = request(&format!("p{n}"), from, to, t);
+                    assert_eq!(
+                        back.book(n, &r).result,
+                        live.book(n, &r).result,
+                        "{from} to {to} at {t}"
+                    );
+                    n += 1;
+                }
+            }
+        }
+        // ... and a replanned flight can still be cancelled before its new take-off, in both.
+        let replanned = hit[hit.iter().position(|h| h.flight == 0).unwrap()]
+            .fate
+            .plan()
+            .cloned();
+        assert_eq!(back.cancel(0).ok(), replanned);
+        assert_eq!(live.cancel(0).ok(), replanned);
+        // The restored zone can be withdrawn like an announced one.
+        back.withdraw("Z").unwrap();
     }
 }

@@ -32,7 +32,7 @@ pub const OPEN_OPERATOR: &str = "open";
 pub enum Role {
     /// Plans, reads and cancels its own flights.
     Operator,
-    /// Also reads every operator's flights (and, later, announces zones).
+    /// Also reads every operator's flights and events, and announces and withdraws zones.
     Authority,
 }
 

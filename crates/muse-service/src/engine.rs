@@ -12,22 +12,38 @@
 //! schedule (no double booking under any interleaving), and reads, served from the index,
 //! never wait for planning. A crash at any point loses only unacknowledged work: a group is
 //! a prefix of the log, whole or torn (see [`crate::store`]).
+//!
+//! A zone announcement or withdrawal (SPEC §11, in the `zones` submodule) is a group of its
+//! own: what is pending is committed first, then the zone's record alone (it holds the
+//! outcome of every flight it changed and may be large). Each change of a flight is also an
+//! [`Event`], numbered in log order and published with the index, after the commit.
+//!
+//! At start the log is replayed (the `recover` submodule) into the index, the schedule, the
+//! zones and the event history, without planning anything: a zone's stored outcomes are
+//! applied as they were acknowledged.
+
+mod recover;
+mod zones;
 
 use std::collections::HashMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Arc;
 use std::time::Instant as WallInstant;
 
-use muse_model::{RejectReason, Request};
+use muse_model::{Instant, RejectReason, Request};
 use muse_planner::online::CancelError;
 use muse_planner::{Live, Planner};
 use tokio::sync::{mpsc, oneshot};
 
 use crate::auth::Caller;
+use crate::events::Event;
 use crate::flights::{FlightEntry, Status};
 use crate::metrics::PlanOutcome;
 use crate::state::State;
 use crate::store::{MAX_GROUP_BYTES, Record, Store};
+use crate::zones::{AnnouncedZone, NewZone};
+
+pub use zones::{AnnounceReply, Announcement, WithdrawReply};
 
 /// How far the clock moves between two evictions of ended flights from the index.
 const EVICT_EVERY: muse_model::Millis = muse_model::Millis::from_secs(60);
@@ -57,6 +73,20 @@ pub enum Command {
         id: String,
         /// Where to send the answer.
         reply: oneshot::Sender<CancelReply>,
+    },
+    /// Announce a zone now (SPEC §11); the caller is the authority.
+    Announce {
+        /// The zone, read and checked.
+        zone: NewZone,
+        /// Where to send the answer.
+        reply: oneshot::Sender<AnnounceReply>,
+    },
+    /// Withdraw an announced zone; the caller is the authority.
+    Withdraw {
+        /// The zone's id.
+        id: String,
+        /// Where to send the answer.
+        reply: oneshot::Sender<WithdrawReply>,
     },
 }
 
@@ -99,6 +129,12 @@ pub struct Restored {
     pub booked: usize,
     /// Cancellations read.
     pub cancellations: usize,
+    /// Zone announcements read (their outcomes applied as stored).
+    pub zones: usize,
+    /// Of those, zones withdrawn since.
+    pub withdrawn: usize,
+    /// Events numbered (the id of the last one).
+    pub events: u64,
 }
 
 /// Starts the planner task on its own thread: rebuilds the schedule from `records` (the
@@ -131,10 +167,10 @@ fn run(
     let world = &state.world;
     let planner = Planner::new(&world.airspace, world.params);
     let mut live = Live::new(planner, &world.closures, state.clock.now());
-    let next_seq = match recover(state, &mut live, &records) {
-        Ok((restored, max_seq)) => {
-            let _ = ready.send(Ok(restored));
-            max_seq + 1
+    let recovered = match recover::recover(state, &mut live, &records) {
+        Ok(r) => {
+            let _ = ready.send(Ok(r.restored));
+            r
         }
         Err(e) => {
             let _ = ready.send(Err(e));
@@ -146,7 +182,9 @@ fn run(
     let mut engine = Engine {
         state,
         live,
-        next_seq,
+        next_seq: recovered.max_seq + 1,
+        next_event: recovered.restored.events + 1,
+        events: Vec::new(),
         last_evict: now,
     };
     engine.update_gauges(&store);
@@ -163,70 +201,61 @@ fn run(
     }
 }
 
-/// Replays the store into the index and the schedule; returns what was restored and the
-/// highest sequence number seen.
-fn recover(
-    state: &State,
-    live: &mut Live<'_>,
-    records: &[Record],
-) -> Result<(Restored, u64), String> {
-    let airspace = &state.world.airspace;
-    let mut entries: HashMap<String, FlightEntry> = HashMap::new();
-    let mut order: Vec<String> = Vec::new();
-    let mut restored = Restored::default();
-    let mut max_seq = 0;
-    for record in records {
-        match record {
-            Record::Header { .. } => {}
-            Record::Flight(f) => {
-                let entry = FlightEntry::from_record(airspace, f)
-                    .map_err(|e| format!("restoring from the store: {e}"))?;
-                max_seq = max_seq.max(entry.seq);
-                if entries.insert(f.id.clone(), entry).is_some() {
-                    return Err(format!("restoring from the store: flight `{}` twice", f.id));
-                }
-                order.push(f.id.clone());
-            }
-            Record::Cancel { id, at } => {
-                let entry = entries
-                    .get_mut(id)
-                    .ok_or_else(|| format!("restoring from the store: cancel of unknown `{id}`"))?;
-                entry.cancelled_at = Some(muse_model::Instant(*at));
-                restored.cancellations += 1;
-            }
-        }
-    }
-    let mut index = state
-        .index
-        .write()
-        .unwrap_or_else(std::sync::PoisonError::into_inner);
-    for id in order {
-        let entry = entries.remove(&id).expect("every id was inserted");
-        if let Some(plan) = entry.booked_plan() {
-            if plan.landing() >= live.now() {
-                restored.booked += 1;
-            }
-            live.restore(entry.seq, &entry.request, plan);
-        }
-        restored.flights += 1;
-        index.put(Arc::new(entry));
-    }
-    index.evict_ended_before(live.now() - state.retain);
-    Ok((restored, max_seq))
-}
-
 /// An answer waiting for its group to be durable.
 enum Pending {
     Plan(oneshot::Sender<PlanReply>, PlanReply),
     Cancel(oneshot::Sender<CancelReply>, CancelReply),
+    /// With the zone to record as announced once durable.
+    Announce(
+        oneshot::Sender<AnnounceReply>,
+        AnnounceReply,
+        Option<AnnouncedZone>,
+    ),
+    /// With the withdrawal to record once durable.
+    Withdraw(
+        oneshot::Sender<WithdrawReply>,
+        WithdrawReply,
+        Option<(String, Instant)>,
+    ),
 }
+
+impl Pending {
+    /// Answers that the store failed.
+    fn fail(self, message: &str) {
+        let m = message.to_owned();
+        match self {
+            Pending::Plan(tx, _) => drop(tx.send(PlanReply::Failed(m))),
+            Pending::Cancel(tx, _) => drop(tx.send(CancelReply::Failed(m))),
+            Pending::Announce(tx, _, _) => drop(tx.send(AnnounceReply::Failed(m))),
+            Pending::Withdraw(tx, _, _) => drop(tx.send(WithdrawReply::Failed(m))),
+        }
+    }
+
+    /// Sends the answer (a client that went away no longer waits for it; its work is done).
+    fn send(self) {
+        match self {
+            Pending::Plan(tx, answer) => drop(tx.send(answer)),
+            Pending::Cancel(tx, answer) => drop(tx.send(answer)),
+            Pending::Announce(tx, answer, _) => drop(tx.send(answer)),
+            Pending::Withdraw(tx, answer, _) => drop(tx.send(answer)),
+        }
+    }
+}
+
+/// Entries changed by the current group, by id: visible to its later commands before they
+/// are published.
+type Staged = HashMap<String, Arc<FlightEntry>>;
 
 struct Engine<'s, 'a> {
     state: &'s State,
     live: Live<'a>,
     next_seq: u64,
+    /// The id of the next event.
+    next_event: u64,
+    /// Events of the current group, published after its commit.
+    events: Vec<Arc<Event>>,
     /// When flights were last evicted from the index.
-    last_evict: muse_model::Instant,
+    last_evict: Instant,
 }
 
 impl Engine<'_, '_> {
@@ -240,10 +269,10 @@ impl Engine<'_, '_> {
                 .write()
                 .unwrap_or_else(std::sync::PoisonError::into_inner)
                 .evict_ended_before(now - self.state.retain);
+            self.state.events.forget_before(now - self.state.retain);
             self.last_evict = now;
         }
-        // Entries changed by this group, visible to its later commands before publication.
-        let mut staged: HashMap<String, Arc<FlightEntry>> = HashMap::new();
+        let mut staged = Staged::new();
         let mut answers = Vec::with_capacity(group.len());
         for command in group.drain(..) {
             if store.pending_bytes() > MAX_GROUP_BYTES / 2 {
@@ -263,17 +292,26 @@ impl Engine<'_, '_> {
                     let answer = self.cancel(store, &mut staged, &caller, &id);
                     answers.push(Pending::Cancel(reply, answer));
                 }
+                // Zone changes are groups of their own (see the module docs).
+                Command::Announce { zone, reply } => {
+                    self.commit(store, &mut staged, &mut answers);
+                    let (answer, known) = self.announce(store, &mut staged, zone);
+                    answers.push(Pending::Announce(reply, answer, known));
+                    self.commit(store, &mut staged, &mut answers);
+                }
+                Command::Withdraw { id, reply } => {
+                    self.commit(store, &mut staged, &mut answers);
+                    let (answer, withdrawn) = self.withdraw(store, &id);
+                    answers.push(Pending::Withdraw(reply, answer, withdrawn));
+                    self.commit(store, &mut staged, &mut answers);
+                }
             }
         }
         self.commit(store, &mut staged, &mut answers);
         self.update_gauges(store);
     }
 
-    fn lookup(
-        &self,
-        staged: &HashMap<String, Arc<FlightEntry>>,
-        id: &str,
-    ) -> Option<Arc<FlightEntry>> {
+    fn lookup(&self, staged: &Staged, id: &str) -> Option<Arc<FlightEntry>> {
         staged.get(id).cloned().or_else(|| {
             self.state
                 .index
@@ -287,7 +325,7 @@ impl Engine<'_, '_> {
     fn plan(
         &mut self,
         store: &mut Store,
-        staged: &mut HashMap<String, Arc<FlightEntry>>,
+        staged: &mut Staged,
         caller: &Caller,
         request: Request,
     ) -> PlanReply {
@@ -315,6 +353,8 @@ impl Engine<'_, '_> {
                 expanded: 0,
                 answered: self.live.now(),
                 cancelled_at: None,
+                changes: Vec::new(),
+                fate: None,
             }));
         }
         let seq = self.next_seq;
@@ -341,8 +381,13 @@ impl Engine<'_, '_> {
             expanded: outcome.expanded,
             answered: self.live.now(),
             cancelled_at: None,
+            changes: Vec::new(),
+            fate: None,
         });
         store.append(&Record::Flight(entry.to_record(&self.state.world.airspace)));
+        if entry.result.is_ok() {
+            self.emit("planned", entry.answered, None, &entry);
+        }
         staged.insert(entry.request.id.clone(), Arc::clone(&entry));
         PlanReply::New(entry)
     }
@@ -350,7 +395,7 @@ impl Engine<'_, '_> {
     fn cancel(
         &mut self,
         store: &mut Store,
-        staged: &mut HashMap<String, Arc<FlightEntry>>,
+        staged: &mut Staged,
         caller: &Caller,
         id: &str,
     ) -> CancelReply {
@@ -368,7 +413,12 @@ impl Engine<'_, '_> {
                 metrics.count_cancel(false);
                 return CancelReply::NotPlanned(known);
             }
-            Status::Planned => {}
+            // Airborne when a zone was announced: it took off.
+            Status::Contingency => {
+                metrics.count_cancel(false);
+                return CancelReply::TookOff(known);
+            }
+            Status::Planned | Status::Replanned | Status::Diverted => {}
         }
         // A flight that has landed is no longer held by the live schedule; it took off.
         let took_off = known
@@ -400,36 +450,37 @@ impl Engine<'_, '_> {
         let mut entry = (*known).clone();
         entry.cancelled_at = Some(at);
         let entry = Arc::new(entry);
+        self.emit("cancelled", at, None, &entry);
         staged.insert(id.to_owned(), Arc::clone(&entry));
         CancelReply::Done(entry)
     }
 
-    /// Makes the pending records durable, publishes the staged entries, sends the answers.
-    fn commit(
+    /// Numbers a change of a flight; it is published with the group.
+    fn emit(
         &mut self,
-        store: &mut Store,
-        staged: &mut HashMap<String, Arc<FlightEntry>>,
-        answers: &mut Vec<Pending>,
+        kind: &'static str,
+        at: Instant,
+        zone: Option<&str>,
+        entry: &Arc<FlightEntry>,
     ) {
+        self.events.push(Arc::new(Event {
+            id: self.next_event,
+            kind,
+            at,
+            zone: zone.map(str::to_owned),
+            entry: Arc::clone(entry),
+        }));
+        self.next_event += 1;
+    }
+
+    /// Makes the pending records durable, publishes the staged entries, the zone changes and
+    /// the events, sends the answers.
+    fn commit(&mut self, store: &mut Store, staged: &mut Staged, answers: &mut Vec<Pending>) {
         let records = store.pending_records();
         if records > 0 {
             let started = WallInstant::now();
             if let Err(e) = store.commit() {
-                // After a failed fsync the file's state is unknown: answer nobody as if
-                // stored, and stop so that a restart recovers exactly what is durable.
-                let message = format!("the store failed ({e}); the service stops");
-                eprintln!("muse serve: {message}");
-                for a in answers.drain(..) {
-                    match a {
-                        Pending::Plan(tx, _) => {
-                            let _ = tx.send(PlanReply::Failed(message.clone()));
-                        }
-                        Pending::Cancel(tx, _) => {
-                            let _ = tx.send(CancelReply::Failed(message.clone()));
-                        }
-                    }
-                }
-                std::process::exit(70);
+                store_failed(&e, answers);
             }
             self.state.metrics.store_latency.observe(started.elapsed());
             self.state.metrics.group_size.observe_value(records as f64);
@@ -447,20 +498,36 @@ impl Engine<'_, '_> {
                 index.put(entry);
             }
         }
-        for a in answers.drain(..) {
-            // A client that went away no longer waits for its answer; its work is done.
+        for a in answers.iter_mut() {
             match a {
-                Pending::Plan(tx, answer) => {
-                    let _ = tx.send(answer);
+                Pending::Announce(_, _, known @ Some(_)) => {
+                    let zone = known.take().expect("matched Some");
+                    self.state
+                        .zones
+                        .write()
+                        .unwrap_or_else(std::sync::PoisonError::into_inner)
+                        .announce(zone);
                 }
-                Pending::Cancel(tx, answer) => {
-                    let _ = tx.send(answer);
+                Pending::Withdraw(_, _, withdrawn @ Some(_)) => {
+                    let (id, at) = withdrawn.take().expect("matched Some");
+                    self.state
+                        .zones
+                        .write()
+                        .unwrap_or_else(std::sync::PoisonError::into_inner)
+                        .withdraw(&id, at);
                 }
+                _ => {}
             }
+        }
+        if !self.events.is_empty() {
+            self.state.events.publish(self.events.drain(..));
+        }
+        for a in answers.drain(..) {
+            a.send();
         }
     }
 
-    fn update_gauges(&mut self, store: &Store) {
+    fn update_gauges(&self, store: &Store) {
         let schedule = self.live.schedule();
         let flights = self
             .state
@@ -475,4 +542,15 @@ impl Engine<'_, '_> {
             store.bytes(),
         );
     }
+}
+
+/// After a failed write or fsync the file's state is unknown: answers nobody as if stored,
+/// and stops so that a restart recovers exactly what is durable.
+fn store_failed(e: &crate::store::StoreError, answers: &mut Vec<Pending>) -> ! {
+    let message = format!("the store failed ({e}); the service stops");
+    eprintln!("muse serve: {message}");
+    for a in answers.drain(..) {
+        a.fail(&message);
+    }
+    std::process::exit(70);
 }

@@ -4,7 +4,8 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use muse_formats::plans::{PlanLine, PlanRecord, plan_line};
+use muse_formats::plans::{ChangeNote, PlanLine, PlanRecord, plan_line};
+use muse_model::plan::{Fate, FateKind};
 use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Request, Stay, UtcOffset};
 use serde::Serialize;
 
@@ -30,19 +31,58 @@ pub struct FlightEntry {
     pub expanded: u64,
     /// When it was answered (service clock).
     pub answered: Instant,
-    /// When it was cancelled, if it was.
+    /// When its operator cancelled it, if it did.
     pub cancelled_at: Option<Instant>,
+    /// The zone announcements that changed it, in order (SPEC §11).
+    pub changes: Vec<ChangeNote>,
+    /// What the last of them made of it; `None` if none changed it.
+    pub fate: Option<Fate>,
 }
 
 /// A flight's status.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Status {
-    /// Planned and still booked.
+    /// Planned and still booked as first planned.
     Planned,
     /// Rejected (no plan).
     Rejected,
-    /// Planned, then cancelled by its operator.
+    /// Planned, then cancelled by its operator or by a zone announcement.
     Cancelled,
+    /// Replanned after a zone announcement (a new plan to its destination).
+    Replanned,
+    /// Airborne at a zone announcement and landing at another station.
+    Diverted,
+    /// Airborne at a zone announcement with no station to land at.
+    Contingency,
+}
+
+impl Status {
+    /// Every status, in the order documented.
+    pub const ALL: [Status; 6] = [
+        Status::Planned,
+        Status::Rejected,
+        Status::Cancelled,
+        Status::Replanned,
+        Status::Diverted,
+        Status::Contingency,
+    ];
+
+    /// The spelling in answers (SPEC §7 and §11).
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            Status::Planned => "planned",
+            Status::Rejected => "rejected",
+            Status::Cancelled => "cancelled",
+            Status::Replanned => "replanned",
+            Status::Diverted => "diverted",
+            Status::Contingency => "contingency",
+        }
+    }
+
+    /// Parses the spelling.
+    pub fn parse(text: &str) -> Option<Status> {
+        Status::ALL.into_iter().find(|s| s.as_str() == text)
+    }
 }
 
 /// The SPEC §7 object of a flight as the service answers it: the plan line, plus who owns
@@ -62,19 +102,45 @@ pub struct FlightView {
 impl FlightEntry {
     /// The flight's status.
     pub fn status(&self) -> Status {
-        match (&self.result, self.cancelled_at) {
-            (Err(_), _) => Status::Rejected,
-            (Ok(_), Some(_)) => Status::Cancelled,
-            (Ok(_), None) => Status::Planned,
+        match (&self.result, self.cancelled_at, &self.fate) {
+            (Err(_), _, _) => Status::Rejected,
+            (Ok(_), Some(_), _) => Status::Cancelled,
+            (Ok(_), None, None) => Status::Planned,
+            (Ok(_), None, Some(fate)) => match fate.kind() {
+                FateKind::Replanned => Status::Replanned,
+                FateKind::Diverted => Status::Diverted,
+                FateKind::Cancelled => Status::Cancelled,
+                FateKind::Contingency => Status::Contingency,
+            },
         }
     }
 
-    /// The booked plan, if the flight is planned and not cancelled.
+    /// The plan the flight holds and will land by, if any: its first plan, or the one a zone
+    /// announcement replanned or diverted it to; none once cancelled (by its operator or a
+    /// zone) or left in contingency.
     pub fn booked_plan(&self) -> Option<&Plan> {
-        match (&self.result, self.cancelled_at) {
-            (Ok(plan), None) => Some(plan),
-            _ => None,
+        if self.cancelled_at.is_some() {
+            return None;
         }
+        match &self.fate {
+            None => self.result.as_ref().ok(),
+            Some(fate) => fate.plan(),
+        }
+    }
+
+    /// The flight after a zone announcement at `announced` made `fate` of it (`airborne`:
+    /// it had taken off then).
+    #[must_use]
+    pub fn changed(&self, zone: &str, announced: Instant, airborne: bool, fate: Fate) -> Self {
+        let mut changed = self.clone();
+        changed.changes.push(ChangeNote {
+            zone: zone.to_owned(),
+            announced,
+            airborne,
+            outcome: fate.kind(),
+        });
+        changed.fate = Some(fate);
+        changed
     }
 
     /// Whether `request` asks for the same flight (same stations and departure).
@@ -84,12 +150,17 @@ impl FlightEntry {
             && self.request.departure == request.departure
     }
 
-    /// The instants the flight spans: take-off to landing when planned, else the requested
-    /// departure.
+    /// The instants the flight spans: take-off to landing of its current plan (first,
+    /// replanned or diverted; a contingency's committed part; a cancelled flight's last
+    /// plan), else the requested departure.
     pub fn span(&self) -> (Instant, Instant) {
-        match &self.result {
-            Ok(plan) => (plan.takeoff(), plan.landing()),
-            Err(_) => (self.request.departure, self.request.departure),
+        let current = match &self.fate {
+            Some(Fate::Replanned(p) | Fate::Diverted(p) | Fate::Contingency(p)) => Some(p),
+            Some(Fate::Cancelled) | None => self.result.as_ref().ok(),
+        };
+        match current {
+            Some(plan) => (plan.takeoff(), plan.landing()),
+            None => (self.request.departure, self.request.departure),
         }
     }
 
@@ -103,13 +174,13 @@ impl FlightEntry {
             result: self.result.clone(),
             free_flow: self.free_flow,
             expanded: self.expanded,
-            changes: Vec::new(),
-            fate: None,
+            changes: self.changes.clone(),
+            fate: self.fate.clone(),
         };
         let mut line = plan_line(airspace, offset, &record);
         if self.cancelled_at.is_some() {
             // A cancelled flight holds no reservation: it shows no plan, so that a list of
-            // flights never shows two drones in one slot.
+            // flights never shows two drones in one slot (what zones changed stays listed).
             line.status = "cancelled".into();
             line.reason = Some(CANCELLED_BY_OPERATOR.into());
             line.takeoff = None;
@@ -119,6 +190,8 @@ impl FlightEntry {
             line.ground_delay_s = None;
             line.distance_m = None;
             line.path = None;
+            line.extra_delay_s = None;
+            line.diverted_to = None;
         }
         FlightView {
             line,
@@ -138,12 +211,11 @@ impl FlightEntry {
             destination: node(self.request.destination),
             departure: self.request.departure.0,
             answered: self.answered.0,
-            path: self.result.as_ref().ok().map(|p| {
-                p.path
-                    .iter()
-                    .map(|s| (node(s.node), s.arrive.0, s.depart.0))
-                    .collect()
-            }),
+            path: self
+                .result
+                .as_ref()
+                .ok()
+                .map(|p| stays_to_record(airspace, p)),
             reason: self.result.as_ref().err().map(|r| r.as_str().to_owned()),
             free_flow: self.free_flow.map(|m| m.0),
             expanded: self.expanded,
@@ -158,17 +230,7 @@ impl FlightEntry {
                 .ok_or_else(|| format!("flight `{}`: unknown node `{id}`", r.id))
         };
         let result = match (&r.path, &r.reason) {
-            (Some(path), None) => {
-                let mut stays = Vec::with_capacity(path.len());
-                for (n, a, d) in path {
-                    stays.push(Stay {
-                        node: node(n)?,
-                        arrive: Instant(*a),
-                        depart: Instant(*d),
-                    });
-                }
-                Ok(Plan { path: stays })
-            }
+            (Some(path), None) => Ok(stays_from_record(airspace, &r.id, path)?),
             (None, Some(reason)) => Err(RejectReason::parse(reason)
                 .ok_or_else(|| format!("flight `{}`: unknown reason `{reason}`", r.id))?),
             _ => return Err(format!("flight `{}`: neither a plan nor a reason", r.id)),
@@ -188,8 +250,38 @@ impl FlightEntry {
             expanded: r.expanded,
             answered: Instant(r.answered),
             cancelled_at: None,
+            changes: Vec::new(),
+            fate: None,
         })
     }
+}
+
+/// A plan's stays as stored: `(node id, arrive, depart)`, ms since the epoch.
+pub fn stays_to_record(airspace: &Airspace, plan: &Plan) -> Vec<(String, i64, i64)> {
+    plan.path
+        .iter()
+        .map(|s| (airspace.node(s.node).id.clone(), s.arrive.0, s.depart.0))
+        .collect()
+}
+
+/// The plan of stored stays (see [`stays_to_record`]); `flight` names the flight in errors.
+pub fn stays_from_record(
+    airspace: &Airspace,
+    flight: &str,
+    stays: &[(String, i64, i64)],
+) -> Result<Plan, String> {
+    let mut path = Vec::with_capacity(stays.len());
+    for (n, a, d) in stays {
+        let node = airspace
+            .node_id(n)
+            .ok_or_else(|| format!("flight `{flight}`: unknown node `{n}`"))?;
+        path.push(Stay {
+            node,
+            arrive: Instant(*a),
+            depart: Instant(*d),
+        });
+    }
+    Ok(Plan { path })
 }
 
 /// The flights the service holds in memory, by id and in answer order: every flight that
@@ -224,6 +316,12 @@ impl FlightIndex {
     /// The flight with client id `id`.
     pub fn get(&self, id: &str) -> Option<&Arc<FlightEntry>> {
         self.by_id.get(id)
+    }
+
+    /// The flight with sequence number `seq`.
+    pub fn get_seq(&self, seq: u64) -> Option<&Arc<FlightEntry>> {
+        let i = self.order.partition_point(|e| e.seq < seq);
+        self.order.get(i).filter(|e| e.seq == seq)
     }
 
     /// Number of flights known.
@@ -332,6 +430,8 @@ mod tests {
             expanded: 1,
             answered: Instant(0),
             cancelled_at: None,
+            changes: Vec::new(),
+            fate: None,
         })
     }
 

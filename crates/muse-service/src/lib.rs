@@ -5,6 +5,8 @@
 //!   recovery, one process per data folder);
 //! - [`engine`]: the planner task, the only writer of the schedule, fed by a channel;
 //! - [`flights`]: flights as the service knows them and the index reads are served from;
+//! - [`zones`]: zones announced during the day (SPEC §11): reading them, knowing them;
+//! - [`events`]: the flights' change events, kept and streamed (`GET /v1/events`);
 //! - [`api`]: the HTTP routes (axum), input checks and answers;
 //! - [`auth`]: bearer tokens, operators and the authority, the rate limit;
 //! - [`metrics`]: the Prometheus exposition;
@@ -25,10 +27,12 @@
 pub mod api;
 pub mod auth;
 pub mod engine;
+pub mod events;
 pub mod flights;
 pub mod metrics;
 pub mod state;
 pub mod store;
+pub mod zones;
 
 use std::net::SocketAddr;
 use std::path::PathBuf;
@@ -59,8 +63,12 @@ pub struct Options {
     /// Burst allowed above the rate.
     pub burst: f64,
     /// How long after its end (landing, or departure for a rejection) a flight is kept in
-    /// memory for reads, listings and idempotent retries; the store keeps it for ever.
+    /// memory for reads, listings and idempotent retries; the store keeps it for ever. Events
+    /// are kept as long after they happened.
     pub retain: Millis,
+    /// Events an event-stream listener may fall behind the live ones by before it reads the
+    /// history instead ([`events::LIVE_CAPACITY`] by default).
+    pub event_buffer: usize,
 }
 
 impl Options {
@@ -75,6 +83,7 @@ impl Options {
             rate_limit: 20_000.0,
             burst: 40_000.0,
             retain: Millis::from_secs(86_400),
+            event_buffer: events::LIVE_CAPACITY,
         }
     }
 }
@@ -139,13 +148,14 @@ pub async fn start(
             .await
             .map_err(|e| ServeError::Recovery(format!("opening the store: {e}")))??;
     let airspace_geojson = muse_formats::airspace_geojson::write_airspace(&world.airspace);
-    let zones_geojson = muse_formats::zones::write_ed318(&world.zones);
     let state = Arc::new(State {
-        world,
         index: RwLock::new(FlightIndex::default()),
         metrics: metrics::Metrics::default(),
         clock: options.clock,
         retain: options.retain,
+        zones: RwLock::new(zones::ZoneBook::new(&world.zones)),
+        events: events::Events::new(options.event_buffer),
+        world,
     });
     let engine_state = Arc::clone(&state);
     let (commands, restored) =
@@ -160,8 +170,8 @@ pub async fn start(
         limiter: RateLimiter::new(options.rate_limit, options.burst),
         commands,
         airspace_geojson,
-        zones_geojson,
         max_body: options.max_body,
+        stopping: tokio::sync::watch::channel(false).0,
     });
     Ok(Running {
         addr,
@@ -174,13 +184,19 @@ pub async fn start(
 }
 
 impl Running {
-    /// Serves until the process is stopped (or `shutdown` completes).
+    /// Serves until the process is stopped (or `shutdown` completes: then event streams
+    /// end, and the answers under way are finished).
     pub async fn serve_until(
         self,
         shutdown: impl std::future::Future<Output = ()> + Send + 'static,
     ) -> Result<(), ServeError> {
+        let app = Arc::clone(&self.app);
+        let stop = async move {
+            shutdown.await;
+            app.stopping.send_replace(true);
+        };
         axum::serve(self.listener, router(self.app))
-            .with_graceful_shutdown(shutdown)
+            .with_graceful_shutdown(stop)
             .await
             .map_err(|source| ServeError::Io {
                 what: "serving",

@@ -88,6 +88,9 @@ pub struct Metrics {
     cancel_refused: AtomicU64,
     rate_limited: AtomicU64,
     unauthorized: AtomicU64,
+    zones_announced: AtomicU64,
+    zones_withdrawn: AtomicU64,
+    event_lags: AtomicU64,
     /// Time from receiving a `POST /v1/flights` to answering it (queue, plan, durable write).
     pub request_latency: Histogram,
     /// Time the planner spends on one request.
@@ -114,6 +117,9 @@ impl Default for Metrics {
             cancel_refused: AtomicU64::new(0),
             rate_limited: AtomicU64::new(0),
             unauthorized: AtomicU64::new(0),
+            zones_announced: AtomicU64::new(0),
+            zones_withdrawn: AtomicU64::new(0),
+            event_lags: AtomicU64::new(0),
             request_latency: Histogram::new(LATENCY_BOUNDS),
             plan_latency: Histogram::new(LATENCY_BOUNDS),
             store_latency: Histogram::new(LATENCY_BOUNDS),
@@ -160,6 +166,21 @@ impl Metrics {
     /// Counts a request refused by the rate limit.
     pub fn count_rate_limited(&self) {
         inc(&self.rate_limited);
+    }
+
+    /// Counts a zone announced (`true`) or withdrawn (`false`).
+    pub fn count_zone(&self, announced: bool) {
+        inc(if announced {
+            &self.zones_announced
+        } else {
+            &self.zones_withdrawn
+        });
+    }
+
+    /// Counts an event-stream listener that fell behind the live channel and read the
+    /// history instead.
+    pub fn count_event_lag(&self) {
+        inc(&self.event_lags);
     }
 
     /// Counts a request refused for want of a valid token.
@@ -244,6 +265,15 @@ impl Metrics {
             "muse_refused_requests_total{{reason=\"unauthorized\"}} {}",
             get(&self.unauthorized)
         );
+        out.push_str("# HELP muse_zones_total Zones announced and withdrawn during the day (SPEC §11).\n# TYPE muse_zones_total counter\n");
+        let _ = writeln!(
+            out,
+            "muse_zones_total{{change=\"announced\"}} {}\nmuse_zones_total{{change=\"withdrawn\"}} {}",
+            get(&self.zones_announced),
+            get(&self.zones_withdrawn)
+        );
+        out.push_str("# HELP muse_event_lags_total Times an event stream fell behind the live events and read the history instead.\n# TYPE muse_event_lags_total counter\n");
+        let _ = writeln!(out, "muse_event_lags_total {}", get(&self.event_lags));
     }
 
     fn render_histograms_and_gauges(&self, out: &mut String) {

@@ -5,12 +5,18 @@ use std::sync::RwLock;
 use muse_airspace::closures::{ClosureError, Closures, resolve};
 use muse_model::{Airspace, FlightParams, Instant, Millis, UtcOffset, Zone};
 
+use crate::events::Events;
 use crate::flights::FlightIndex;
 use crate::metrics::Metrics;
+use crate::zones::ZoneBook;
 
 /// How far ahead zone calendars are expanded at start: a service that runs longer must be
 /// restarted to plan beyond it (bookings are limited to [`ServiceWorld::booking_horizon`]).
 pub const CALENDAR: Millis = Millis::from_secs(366 * 86_400);
+
+/// How far back zone calendars are expanded: from a day before start (base zones) or before
+/// the announcement (announced zones).
+pub const CALENDAR_BEFORE: Millis = Millis::from_secs(86_400);
 
 /// The airspace, zones and flight parameters a service plans with.
 #[derive(Debug)]
@@ -44,9 +50,8 @@ impl ServiceWorld {
         booking_horizon: Millis,
         start: Instant,
     ) -> Result<Self, ClosureError> {
-        let day = Millis::from_secs(86_400);
         let calendar_end = start + CALENDAR;
-        let closures = resolve(&airspace, &zones, start - day, calendar_end)?;
+        let closures = resolve(&airspace, &zones, start - CALENDAR_BEFORE, calendar_end)?;
         Ok(ServiceWorld {
             label,
             airspace,
@@ -57,6 +62,21 @@ impl ServiceWorld {
             booking_horizon,
             calendar_end,
         })
+    }
+
+    /// The closures of a zone announced at `announced`: its calendar resolved from
+    /// [`CALENDAR_BEFORE`] before the announcement to the end of the service's calendar.
+    pub fn announced_closures(
+        &self,
+        zones: &[Zone],
+        announced: Instant,
+    ) -> Result<Closures, ClosureError> {
+        resolve(
+            &self.airspace,
+            zones,
+            announced - CALENDAR_BEFORE,
+            self.calendar_end.max(announced),
+        )
     }
 
     /// What a store must have been written for to be restored here: the airspace, zones and
@@ -126,6 +146,12 @@ pub struct State {
     pub metrics: Metrics,
     /// The clock.
     pub clock: Clock,
-    /// How long after its end a flight stays in memory (for reads and idempotent retries).
+    /// How long after its end a flight stays in memory (for reads and idempotent retries),
+    /// and an event in the history.
     pub retain: Millis,
+    /// The zones known from the start and those announced since (written by the planner
+    /// task only).
+    pub zones: RwLock<ZoneBook>,
+    /// The flights' change events (published by the planner task only).
+    pub events: Events,
 }

@@ -2,9 +2,10 @@
 //!
 //! # Why a log and not `SQLite`
 //!
-//! The service's state is a sequence of events (a flight answered, a flight cancelled) that
-//! is only ever appended to and, at start, read back whole to rebuild the schedule. An
-//! append-only log is exactly that, in one file, with no query engine, no C dependency and
+//! The service's state is a sequence of events (a flight answered, a flight cancelled, a zone
+//! announced with what it did to each flight it hit, a zone withdrawn) that is only ever
+//! appended to and, at start, read back whole to rebuild the schedule. An append-only log is
+//! exactly that, in one file, with no query engine, no C dependency and
 //! one system call per durable group: every group of records is written with one `write`
 //! and made durable with one `fdatasync` before any of its answers is sent (group commit).
 //! What it costs — no ad-hoc queries — the service does not need: the in-memory index
@@ -26,7 +27,9 @@
 //! saved beside the log as `torn-<offset>.bin` for inspection and the log is truncated to the
 //! last whole record. A torn tail longer than the largest group the service writes cannot
 //! come from a crash: that is corruption of acknowledged data, and opening fails with an
-//! error naming the offset rather than silently losing flights.
+//! error naming the offset rather than silently losing flights. The one record that may be
+//! larger than a group — a zone announcement that hit many flights — is committed alone,
+//! after a [`Record::Large`] marker that tells recovery how long its torn tail may be.
 //!
 //! # One process per folder
 //!
@@ -41,8 +44,10 @@ use serde::{Deserialize, Serialize};
 
 /// The first bytes of every log.
 const MAGIC: &[u8; 16] = b"MUSE-LOG-V1\n\0\0\0\0";
-/// Largest record accepted when reading (a request body is limited far below this).
-const MAX_RECORD: u32 = 1 << 20;
+/// Largest record accepted. A flight is far below this; a zone announcement holds the new
+/// plan of every flight it hit (a few hundred bytes each), so it can be larger than a group:
+/// see [`Store::commit_alone`].
+pub const MAX_RECORD: u32 = 256 << 20;
 /// Largest group written with one `write` (the commit flushes earlier if a group would grow
 /// beyond it): the bound on a torn tail after a crash.
 pub const MAX_GROUP_BYTES: usize = 4 << 20;
@@ -135,6 +140,54 @@ pub enum Record {
         /// When (service clock, ms since the epoch).
         at: i64,
     },
+    /// A zone announced during the day (SPEC §11) and what it did to every flight it hit.
+    Zone(ZoneRecord),
+    /// A marker committed just before a record larger than [`MAX_GROUP_BYTES`] (see
+    /// [`Store::commit_alone`]): a crash while that record is written may leave a torn tail
+    /// of up to `bytes` bytes after the marker, which recovery then drops rather than
+    /// calling it corruption.
+    Large {
+        /// The size of the record that follows, header included.
+        bytes: u64,
+    },
+    /// An announced zone withdrawn (nothing was replanned).
+    Withdraw {
+        /// The zone's id.
+        id: String,
+        /// When (service clock, ms since the epoch).
+        at: i64,
+    },
+}
+
+/// A zone announcement, as stored: the zone as sent and the outcome of every flight it hit,
+/// so that a restart puts the announcement back *without replanning* (replanning again
+/// against a schedule restored in another order could give other answers than the ones
+/// acknowledged).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct ZoneRecord {
+    /// The zone's id.
+    pub id: String,
+    /// The ED-318 feature as received (compact JSON, without `announced`).
+    pub feature: String,
+    /// The announcement instant (service clock, ms since the epoch).
+    pub announced: i64,
+    /// The flights it hit, in the order they were replanned.
+    pub outcomes: Vec<OutcomeRecord>,
+}
+
+/// What an announcement made of one flight, as stored.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct OutcomeRecord {
+    /// The flight's sequence number.
+    pub seq: u64,
+    /// Whether it had taken off at the announcement.
+    pub airborne: bool,
+    /// `replanned`, `diverted`, `cancelled` or `contingency`.
+    pub outcome: String,
+    /// The new plan (replanned, diverted) or the committed part (contingency) as
+    /// `(node id, arrive, depart)` stays; absent when cancelled.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub path: Option<Vec<(String, i64, i64)>>,
 }
 
 /// A request and its answer, as stored.
@@ -325,6 +378,40 @@ impl Store {
         self.pending_records += 1;
     }
 
+    /// Commits what is pending, then `record` as a group of its own, however large (a zone
+    /// announcement): a record larger than [`MAX_GROUP_BYTES`] is preceded by a committed
+    /// [`Record::Large`] marker, so that a crash while it is written leaves a torn tail that
+    /// recovery recognises. A record larger than [`MAX_RECORD`] is refused (nothing of it is
+    /// written).
+    pub fn commit_alone(&mut self, record: &Record) -> Result<(), StoreError> {
+        self.commit()?;
+        // Serialising plain strings and numbers cannot fail.
+        let payload = serde_json::to_vec(record).expect("records serialise");
+        if payload.len() > MAX_RECORD as usize {
+            return Err(StoreError::Io {
+                what: format!("writing {}", self.path.display()),
+                source: std::io::Error::other(format!(
+                    "a record of {} bytes is larger than the {MAX_RECORD} bytes a log record may hold",
+                    payload.len()
+                )),
+            });
+        }
+        let bytes = payload.len() + 8;
+        if bytes > MAX_GROUP_BYTES {
+            self.append(&Record::Large {
+                bytes: bytes as u64,
+            });
+            self.commit()?;
+        }
+        self.pending
+            .extend_from_slice(&(payload.len() as u32).to_le_bytes());
+        self.pending
+            .extend_from_slice(&crc32fast::hash(&payload).to_le_bytes());
+        self.pending.extend_from_slice(&payload);
+        self.pending_records += 1;
+        self.commit()
+    }
+
     /// Writes the current group with one `write` and makes it durable with `fdatasync`.
     /// Only after this returns may the group's answers be sent.
     pub fn commit(&mut self) -> Result<(), StoreError> {
@@ -346,10 +433,12 @@ impl Store {
 
 /// Reads every whole record of `data` (which starts with the magic); returns them and where
 /// the whole records end. A damaged record with more than [`MAX_GROUP_BYTES`] after it is
-/// corruption, not a torn tail.
+/// corruption, not a torn tail, unless it follows a [`Record::Large`] marker announcing a
+/// larger record: then up to that many bytes may be torn.
 fn scan(data: &[u8], path: &Path) -> Result<(Vec<Record>, usize), StoreError> {
     let mut records = Vec::new();
     let mut at = MAGIC.len();
+    let mut allowance = MAX_GROUP_BYTES;
     loop {
         let rest = &data[at..];
         if rest.is_empty() {
@@ -364,7 +453,7 @@ fn scan(data: &[u8], path: &Path) -> Result<(Vec<Record>, usize), StoreError> {
                 && crc32fast::hash(&rest[8..8 + len as usize]) == crc
         };
         if !whole {
-            if rest.len() > MAX_GROUP_BYTES {
+            if rest.len() > allowance {
                 return Err(StoreError::Corrupt {
                     path: path.to_path_buf(),
                     offset: at as u64,
@@ -380,6 +469,10 @@ fn scan(data: &[u8], path: &Path) -> Result<(Vec<Record>, usize), StoreError> {
                 offset: at as u64,
                 reason: e.to_string(),
             })?;
+        allowance = match &record {
+            Record::Large { bytes } => MAX_GROUP_BYTES.max(usize::try_from(*bytes).unwrap_or(0)),
+            _ => MAX_GROUP_BYTES,
+        };
         records.push(record);
         at += 8 + len;
     }
@@ -526,6 +619,95 @@ mod tests {
         std::fs::write(&log, &bytes).unwrap();
         let e = Store::open(&d, "w").unwrap_err();
         assert!(matches!(e, StoreError::Corrupt { offset: 16, .. }), "{e}");
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    fn zone(feature_bytes: usize) -> Record {
+        Record::Zone(ZoneRecord {
+            id: "Z".into(),
+            feature: "x".repeat(feature_bytes),
+            announced: 900,
+            outcomes: vec![
+                OutcomeRecord {
+                    seq: 1,
+                    airborne: false,
+                    outcome: "replanned".into(),
+                    path: Some(vec![
+                        ("S001".into(), 1_000, 1_000),
+                        ("S003".into(), 3_000, 3_000),
+                    ]),
+                },
+                OutcomeRecord {
+                    seq: 2,
+                    airborne: false,
+                    outcome: "cancelled".into(),
+                    path: None,
+                },
+            ],
+        })
+    }
+
+    #[test]
+    fn a_record_larger_than_a_group_is_marked_and_its_torn_tail_dropped() {
+        let d = dir("large");
+        let big = zone(MAX_GROUP_BYTES + 100_000);
+        let small = zone(10);
+        {
+            let (mut s, _, _) = Store::open(&d, "w").unwrap();
+            s.append(&flight(1));
+            s.commit_alone(&small).unwrap();
+            s.commit_alone(&big).unwrap();
+            s.append(&Record::Withdraw {
+                id: "Z".into(),
+                at: 950,
+            });
+            s.commit().unwrap();
+        }
+        let (s, recs, _) = Store::open(&d, "w").unwrap();
+        drop(s);
+        let bytes =
+            (MAX_GROUP_BYTES + 100_000 + 8 + serde_json::to_vec(&small).unwrap().len() - 10) as u64;
+        assert_eq!(
+            recs[1..],
+            [
+                flight(1),
+                small.clone(),
+                Record::Large { bytes },
+                big.clone(),
+                Record::Withdraw {
+                    id: "Z".into(),
+                    at: 950
+                }
+            ]
+        );
+        // A crash in the middle of the large record: its torn tail, longer than any group,
+        // is dropped, and everything before it stays.
+        let log = d.join(LOG_FILE);
+        let full = std::fs::read(&log).unwrap();
+        let cut = full.len() - 100 - 50_000;
+        std::fs::write(&log, &full[..cut]).unwrap();
+        let (s, recs, rec) = Store::open(&d, "w").unwrap();
+        drop(s);
+        assert!(rec.torn_bytes > MAX_GROUP_BYTES as u64);
+        assert_eq!(recs[1..], [flight(1), small, Record::Large { bytes }]);
+        // Without the marker the same tail is taken for corruption.
+        let marker_end = std::fs::metadata(&log).unwrap().len() as usize;
+        let mut unmarked = full[..cut].to_vec();
+        let marker_len = {
+            let mut at = MAGIC.len();
+            let mut last = 0;
+            while at < marker_end {
+                last = u32::from_le_bytes(unmarked[at..at + 4].try_into().unwrap()) as usize + 8;
+                at += last;
+            }
+            last
+        };
+        unmarked.drain(marker_end - marker_len..marker_end);
+        std::fs::write(&log, &unmarked).unwrap();
+        assert!(matches!(
+            Store::open(&d, "w"),
+            Err(StoreError::Corrupt { .. })
+        ));
         std::fs::remove_dir_all(&d).unwrap();
     }
 }

@@ -3,11 +3,15 @@
 //! The airspace is small and made for the cases: a line of stations `A — B — C` 1 km apart
 //! (120 s per corridor at 30 km/h), a far station `F` 12 km beyond `C` (out of range of `A`
 //! with a 20-minute battery), and a separate pair `X — Y` that nothing else reaches.
+//!
+//! No test here draws random numbers: every case is fixed.
 
 use std::path::PathBuf;
 use std::time::Duration;
 
-use muse_model::{Airspace, Edge, FlightParams, LonLat, Millis, Node, NodeId, NodeKind, UtcOffset};
+use muse_model::{
+    Airspace, Edge, FlightParams, LonLat, Millis, Node, NodeId, NodeKind, UtcOffset, Zone,
+};
 use muse_service::auth::Tokens;
 use muse_service::state::{Clock, ServiceWorld};
 use muse_service::{Options, start};
@@ -56,17 +60,41 @@ struct Service {
     base: String,
     client: reqwest::Client,
     data: PathBuf,
+    /// The zones known from the start.
+    zones: Vec<Zone>,
+    /// Stops the server cleanly.
+    stop: Option<tokio::sync::oneshot::Sender<()>>,
+    server: Option<tokio::task::JoinHandle<Result<(), muse_service::ServeError>>>,
 }
 
 impl Service {
     async fn start(name: &str, configure: impl FnOnce(&mut Options)) -> Service {
-        let data = temp_dir(name);
+        Service::start_with(name, Vec::new(), configure).await
+    }
+
+    /// A service whose world has `zones` known from the start.
+    async fn start_with(
+        name: &str,
+        zones: Vec<Zone>,
+        configure: impl FnOnce(&mut Options),
+    ) -> Service {
+        Service::open(temp_dir(name), zones, configure)
+            .await
+            .unwrap()
+    }
+
+    /// A service on `data`.
+    async fn open(
+        data: PathBuf,
+        zones: Vec<Zone>,
+        configure: impl FnOnce(&mut Options),
+    ) -> Result<Service, muse_service::ServeError> {
         let mut options = Options::new(data.clone());
         configure(&mut options);
         let world = ServiceWorld::new(
             "test line".into(),
             airspace(),
-            Vec::new(),
+            zones.clone(),
             FlightParams::default(),
             UtcOffset::SINGAPORE,
             Millis::from_secs(30 * 86_400),
@@ -74,14 +102,41 @@ impl Service {
         )
         .unwrap();
         let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-        let running = start(world, options, listener).await.unwrap();
+        let running = start(world, options, listener).await?;
         let base = format!("http://{}", running.addr);
-        tokio::spawn(running.serve());
-        Service {
+        let (stop, stopped) = tokio::sync::oneshot::channel::<()>();
+        let server = tokio::spawn(running.serve_until(async {
+            let _ = stopped.await;
+        }));
+        Ok(Service {
             base,
             client: reqwest::Client::new(),
             data,
+            zones,
+            stop: Some(stop),
+            server: Some(server),
+        })
+    }
+
+    /// Stops the service cleanly (open event streams end) and starts it again on the same
+    /// folder.
+    async fn restart(mut self, configure: impl Fn(&mut Options)) -> Service {
+        let _ = self.stop.take().unwrap().send(());
+        tokio::time::timeout(Duration::from_secs(10), self.server.take().unwrap())
+            .await
+            .expect("a clean stop, event streams included")
+            .unwrap()
+            .unwrap();
+        let data = std::mem::take(&mut self.data);
+        let zones = std::mem::take(&mut self.zones);
+        // The planner thread lets go of the store when its queue closes; wait for the lock.
+        for _ in 0..100 {
+            match Service::open(data.clone(), zones.clone(), &configure).await {
+                Ok(s) => return s,
+                Err(_) => tokio::time::sleep(Duration::from_millis(20)).await,
+            }
         }
+        panic!("the service restarts once the first one is gone");
     }
 
     async fn send(
@@ -126,7 +181,9 @@ impl Service {
 
 impl Drop for Service {
     fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.data);
+        if !self.data.as_os_str().is_empty() {
+            let _ = std::fs::remove_dir_all(&self.data);
+        }
     }
 }
 
@@ -675,6 +732,12 @@ async fn every_listed_route_is_served() {
     for (method, path) in muse_service::api::ROUTES {
         let method = reqwest::Method::from_bytes(method.to_uppercase().as_bytes()).unwrap();
         let path = path.replace("{id}", "some-id");
+        if path == "/v1/events" {
+            // An event stream never ends: its head is enough.
+            let stream = EventStream::open(&s, None, None).await;
+            drop(stream);
+            continue;
+        }
         let body = (method == reqwest::Method::POST).then(|| "{}".to_owned());
         let (code, v) = s.send(method.clone(), &path, None, body).await;
         let unrouted = code == 405
@@ -702,4 +765,632 @@ fn openapi_describes_every_route() {
         .collect();
     routes.sort();
     assert_eq!(described, routes);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Zones announced during the day (SPEC §11) and the event stream.
+// ---------------------------------------------------------------------------------------------
+
+/// `now + ms`, as RFC 3339 in Singapore time.
+fn in_ms(ms: i64) -> String {
+    (Clock::system().now() + Millis(ms)).to_rfc3339(UtcOffset::SINGAPORE)
+}
+
+/// An ED-318 feature closing `nodes` from `from` to `to`.
+fn zone_feature(id: &str, nodes: &[&str], from: &str, to: &str) -> Value {
+    json!({
+        "type": "Feature",
+        "properties": {
+            "identifier": id,
+            "name": [{"text": format!("test zone {id}"), "lang": "en"}],
+            "type": "PROHIBITED",
+            "nodes": nodes,
+            "limitedApplicability": [{"startDateTime": from, "endDateTime": to}],
+        },
+        "geometry": null,
+    })
+}
+
+/// A zone known from the start: `F` closed for a day in 2000 (it closes nothing now).
+fn base_zone() -> Zone {
+    let text = zone_feature(
+        "BASE",
+        &["F"],
+        "2000-01-01T00:00:00+08:00",
+        "2000-01-02T00:00:00+08:00",
+    )
+    .to_string();
+    muse_formats::zones::read_zones(&text, "base")
+        .unwrap()
+        .remove(0)
+}
+
+impl Service {
+    async fn post_zone(&self, token: Option<&str>, body: &Value) -> (u16, Value) {
+        self.send(
+            reqwest::Method::POST,
+            "/v1/zones",
+            token,
+            Some(body.to_string()),
+        )
+        .await
+    }
+}
+
+/// Checks every flight the service holds as it finally stands (first plan, or replanned,
+/// diverted, committed), with the zones as `GET /v1/zones` lists them, against SPEC §3, §4
+/// and §11 (an announced zone binds only what begins after its announcement and before its
+/// withdrawal). Returns how many flights fly.
+async fn verify_everything(s: &Service, token: Option<&str>) -> usize {
+    let air = airspace();
+    let (code, list) = s.get("/v1/flights", token).await;
+    assert_eq!(code, 200);
+    let mut text = String::new();
+    for f in list["flights"].as_array().unwrap() {
+        // Rejected and operator-cancelled flights do not fly.
+        if f["status"] != "rejected" && f["reason"] != "cancelled_by_operator" {
+            text.push_str(&f.to_string());
+            text.push('\n');
+        }
+    }
+    let records = muse_formats::plans::read_plans(&text, "GET /v1/flights", &air).unwrap();
+    let requests: Vec<muse_model::Request> = records
+        .iter()
+        .map(|r| muse_model::Request {
+            id: r.request.clone(),
+            origin: air.node_id(&r.origin).unwrap(),
+            destination: air.node_id(&r.destination).unwrap(),
+            departure: r.requested_departure,
+            submitted: r.requested_departure,
+        })
+        .collect();
+    let flights: Vec<muse_verify::Flight<'_>> = records
+        .iter()
+        .zip(&requests)
+        .filter_map(|(r, q)| {
+            muse_verify::Flight::last(&r.request, q, r.result.as_ref().ok(), r.fate.as_ref())
+        })
+        .collect();
+    let (code, zones) = s.get("/v1/zones", token).await;
+    assert_eq!(code, 200);
+    let read = muse_formats::zones::read_zones(&zones.to_string(), "GET /v1/zones").unwrap();
+    let now = Clock::system().now();
+    let day = Millis::from_secs(86_400);
+    let mut known =
+        muse_airspace::announced::KnownZones::resolve(&air, &read, now - day, now + day).unwrap();
+    for f in zones["features"].as_array().unwrap() {
+        if let Some(w) = f["properties"]["withdrawn"].as_str() {
+            let id = f["properties"]["identifier"].as_str().unwrap();
+            let a = known.announced.iter_mut().find(|a| a.zone == id).unwrap();
+            a.withdrawn = Some(muse_model::Instant::parse_rfc3339(w).unwrap());
+        }
+    }
+    let violations = muse_verify::verify_known(&air, &known, &FlightParams::default(), &flights);
+    assert!(violations.is_empty(), "{violations:#?}");
+    flights.len()
+}
+
+/// `(flight, outcome, airborne)` of an announcement's answer.
+fn outcomes(answer: &Value) -> Vec<(String, String, bool)> {
+    answer["affected"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| {
+            (
+                a["flight"].as_str().unwrap().to_owned(),
+                a["outcome"].as_str().unwrap().to_owned(),
+                a["airborne"].as_bool().unwrap(),
+            )
+        })
+        .collect()
+}
+
+#[tokio::test]
+#[allow(clippy::too_many_lines, clippy::many_single_char_names)] // One story, told in order.
+async fn an_announced_zone_replans_what_it_hits_and_everything_still_verifies() {
+    let s = Service::start_with("zones", vec![base_zone()], |o| {
+        o.tokens = Tokens::parse(TOKENS, "tokens.toml").unwrap();
+    })
+    .await;
+    let (a, b, auth) = (
+        Some("alpha-secret"),
+        Some("bravo-secret"),
+        Some("authority-secret"),
+    );
+    // Two flights take off in 1.5 s; the others are ahead.
+    let soon = in_ms(1_500);
+    for (token, id, from, to, at) in [
+        (a, "a1", "A", "C", soon.clone()),
+        (b, "k1", "X", "Y", soon.clone()),
+        (a, "a2", "A", "C", in_secs(600)),
+        (b, "b1", "B", "C", in_secs(1_500)),
+        (b, "b2", "X", "Y", in_secs(600)),
+        (a, "a3", "B", "A", in_secs(1_200)),
+    ] {
+        let (code, v) = s.post(token, &flight(id, from, to, &at)).await;
+        assert_eq!(code, 201, "{id}: {v}");
+    }
+    tokio::time::sleep(Duration::from_secs(2)).await;
+    let (_, before) = s.get("/v1/flights", auth).await;
+
+    // C closed for the next 40 minutes.
+    let zc = zone_feature("ZC", &["C"], &in_secs(-60), &in_secs(2_400));
+    let (code, v) = s.post_zone(a, &zc).await;
+    assert_eq!(
+        (code, v["error"]["code"].as_str()),
+        (403, Some("forbidden"))
+    );
+    let mut announced = zc.clone();
+    announced["properties"]["announced"] = json!(in_secs(0));
+    let bad = [
+        (announced, Some("properties.announced")),
+        (
+            zone_feature("ZQ", &["Q"], &in_secs(0), &in_secs(60)),
+            Some("nodes"),
+        ),
+        (
+            json!({"type": "Feature", "properties": {"identifier": "ZN", "nodes": "C"}}),
+            Some("nodes"),
+        ),
+        (
+            json!({"type": "FeatureCollection", "features": [zc, zc]}),
+            Some("features"),
+        ),
+        (json!({"type": "Point"}), Some("type")),
+        (json!("not a zone"), Some("type")),
+    ];
+    for (body, field) in &bad {
+        let (code, v) = s.post_zone(auth, body).await;
+        assert_eq!((code, error_field(&v)), (422, *field), "{body}: {v}");
+    }
+    let (code, v) = s
+        .send(reqwest::Method::POST, "/v1/zones", auth, Some("{".into()))
+        .await;
+    assert_eq!(code, 422, "{v}");
+    // Nothing changed yet.
+    assert_eq!(s.get("/v1/flights", auth).await.1, before);
+
+    let (code, answer) = s.post_zone(auth, &zc).await;
+    assert_eq!(code, 201, "{answer}");
+    assert_eq!(answer["zone"], "ZC");
+    // In take-off order: a1 is in A-B and cannot wait 40 minutes for C: it lands at B; a2
+    // could not hover that long either; b1 can (it now lands when C opens again).
+    assert_eq!(
+        outcomes(&answer),
+        [
+            ("a1".into(), "diverted".into(), true),
+            ("a2".into(), "cancelled".into(), false),
+            ("b1".into(), "replanned".into(), false),
+        ]
+    );
+    for affected in answer["affected"].as_array().unwrap() {
+        let id = affected["flight"].as_str().unwrap();
+        let (code, got) = s.get(&format!("/v1/flights/{id}"), auth).await;
+        assert_eq!((code, &got), (200, &affected["plan"]), "{id}");
+        assert_eq!(got["changes"][0]["zone"], "ZC");
+        assert_eq!(got["changes"][0]["announced"], answer["announced"]);
+    }
+    let a1 = &answer["affected"][0]["plan"];
+    assert_eq!(
+        (a1["status"].as_str(), a1["diverted_to"].as_str()),
+        (Some("diverted"), Some("B"))
+    );
+    assert_eq!(answer["affected"][1]["plan"]["reason"], "zone_announced");
+    assert!(
+        answer["affected"][2]["plan"]["extra_delay_s"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
+    // An id is never reused, a base zone's neither.
+    for id in ["ZC", "BASE"] {
+        let mut again = zc.clone();
+        again["properties"]["identifier"] = json!(id);
+        let (code, v) = s.post_zone(auth, &again).await;
+        assert_eq!((code, error_field(&v)), (409, Some("identifier")), "{v}");
+    }
+
+    // Y closed too (sent as a collection of one): k1, in X-Y, is committed to arriving there.
+    let zy = zone_feature("ZY", &["Y"], &in_secs(-60), &in_secs(2_400));
+    let (code, answer) = s
+        .post_zone(
+            auth,
+            &json!({"type": "FeatureCollection", "features": [zy]}),
+        )
+        .await;
+    assert_eq!(code, 201, "{answer}");
+    assert_eq!(
+        outcomes(&answer),
+        [
+            ("k1".into(), "contingency".into(), true),
+            ("b2".into(), "cancelled".into(), false),
+        ]
+    );
+    let k1 = &answer["affected"][0]["plan"];
+    assert!(k1["path"].is_null() && k1["landing"].is_null());
+    assert_eq!(k1["committed"].as_array().unwrap().len(), 2);
+
+    // Listings know the new statuses; an operator sees only its own.
+    let count = |v: &Value| v["flights"].as_array().unwrap().len();
+    for (status, n) in [
+        ("diverted", 1),
+        ("cancelled", 2),
+        ("replanned", 1),
+        ("contingency", 1),
+        ("planned", 1),
+    ] {
+        let (code, v) = s.get(&format!("/v1/flights?status={status}"), auth).await;
+        assert_eq!((code, count(&v)), (200, n), "{status}: {v}");
+    }
+    assert_eq!(count(&s.get("/v1/flights?status=cancelled", a).await.1), 1);
+    assert_eq!(s.get("/v1/flights/b1", a).await.0, 404);
+    assert_eq!(verify_everything(&s, auth).await, 4);
+
+    // Withdrawing: the authority only; base zones and unknown ids are refused; it replans
+    // nothing, and is idempotent.
+    let (_, before) = s.get("/v1/flights", auth).await;
+    assert_eq!(s.delete("/v1/zones/ZC", a).await.0, 403);
+    let (code, v) = s.delete("/v1/zones/BASE", auth).await;
+    assert_eq!(
+        (code, v["error"]["code"].as_str()),
+        (409, Some("known_from_start")),
+        "{v}"
+    );
+    assert!(
+        v["error"]["message"]
+            .as_str()
+            .unwrap()
+            .contains("known from the start, cannot be withdrawn")
+    );
+    assert_eq!(s.delete("/v1/zones/NOPE", auth).await.0, 404);
+    let (code, w) = s.delete("/v1/zones/ZC", auth).await;
+    assert_eq!(code, 200, "{w}");
+    assert_eq!(
+        (w["zone"].as_str(), w["affected"].as_u64()),
+        (Some("ZC"), Some(3))
+    );
+    assert!(w["withdrawn"].is_string());
+    assert_eq!(s.delete("/v1/zones/ZC", auth).await, (200, w));
+    assert_eq!(s.get("/v1/flights", auth).await.1, before);
+    let (_, zones) = s.get("/v1/zones", a).await;
+    let listed: Vec<(&str, bool, bool)> = zones["features"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| {
+            let p = &f["properties"];
+            (
+                p["identifier"].as_str().unwrap(),
+                p["announced"].is_string(),
+                p["withdrawn"].is_string(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        listed,
+        [
+            ("BASE", false, false),
+            ("ZC", true, true),
+            ("ZY", true, false)
+        ]
+    );
+    // C is open again: a new flight lands there on time.
+    let (code, v) = s.post(a, &flight("a4", "A", "C", &in_secs(700))).await;
+    assert_eq!(
+        (
+            code,
+            v["ground_delay_s"].as_f64(),
+            v["air_delay_s"].as_f64()
+        ),
+        (201, Some(0.0), Some(0.0)),
+        "{v}"
+    );
+
+    // A replanned flight can be cancelled by its operator before its new take-off.
+    let (code, v) = s.delete("/v1/flights/b1", b).await;
+    assert_eq!(
+        (code, v["status"].as_str(), v["reason"].as_str()),
+        (200, Some("cancelled"), Some("cancelled_by_operator")),
+        "{v}"
+    );
+    assert!(v["path"].is_null() && v["changes"][0]["outcome"] == "replanned");
+    // A flight a zone cancelled is cancelled already; a contingency took off.
+    assert_eq!(
+        s.delete("/v1/flights/a2", a).await.1["reason"],
+        "zone_announced"
+    );
+    assert_eq!(s.delete("/v1/flights/k1", b).await.0, 409);
+    assert_eq!(verify_everything(&s, auth).await, 4);
+
+    // A restart replays the log without planning: the same flights, zones and events (ids
+    // included). An open event stream does not hold up the stop.
+    let mut stream = EventStream::open(&s, auth, Some("0")).await;
+    // 7 bookings, 5 zone outcomes, 1 cancellation.
+    let events = stream.take(13).await;
+    assert_eq!(events.last().unwrap().0, 13);
+    let (_, flights) = s.get("/v1/flights", auth).await;
+    let (_, zones) = s.get("/v1/zones", auth).await;
+    let s = s
+        .restart(|o| o.tokens = Tokens::parse(TOKENS, "tokens.toml").unwrap())
+        .await;
+    assert_eq!(s.get("/v1/flights", auth).await.1, flights);
+    assert_eq!(s.get("/v1/zones", auth).await.1, zones);
+    assert_eq!(
+        EventStream::open(&s, auth, Some("0")).await.take(13).await,
+        events
+    );
+    // The zones are back in the schedule: Y is still closed, C open again.
+    let (code, v) = s.post(b, &flight("b3", "X", "Y", &in_secs(700))).await;
+    assert_eq!(
+        (code, v["reason"].as_str()),
+        (200, Some("no_feasible_plan")),
+        "{v}"
+    );
+    assert_eq!(
+        s.post(a, &flight("a5", "B", "C", &in_secs(900))).await.0,
+        201
+    );
+    assert_eq!(
+        s.post_zone(auth, &zone_feature("ZC", &["A"], &in_secs(0), &in_secs(60)))
+            .await
+            .0,
+        409
+    );
+    assert_eq!(s.delete("/v1/zones/ZY", auth).await.0, 200);
+    assert_eq!(verify_everything(&s, auth).await, 5);
+}
+
+/// A client of `GET /v1/events`.
+struct EventStream {
+    response: reqwest::Response,
+    buffer: String,
+}
+
+/// One server-sent event: id, type, data.
+type Received = (u64, String, Value);
+
+impl EventStream {
+    async fn open(s: &Service, token: Option<&str>, last: Option<&str>) -> EventStream {
+        let mut rq = s.client.get(format!("{}/v1/events", s.base));
+        if let Some(t) = token {
+            rq = rq.bearer_auth(t);
+        }
+        if let Some(id) = last {
+            rq = rq.header("last-event-id", id);
+        }
+        let response = rq.send().await.unwrap();
+        assert_eq!(response.status().as_u16(), 200);
+        assert_eq!(
+            response.headers()["content-type"].to_str().unwrap(),
+            "text/event-stream"
+        );
+        EventStream {
+            response,
+            buffer: String::new(),
+        }
+    }
+
+    /// The next event (comments skipped); fails after 10 s without one.
+    async fn next(&mut self) -> Received {
+        loop {
+            if let Some(end) = self.buffer.find("\n\n") {
+                let frame: String = self.buffer.drain(..end + 2).collect();
+                let (mut id, mut kind, mut data) = (None, None, None);
+                for line in frame.lines() {
+                    if let Some(v) = line.strip_prefix("id: ").or(line.strip_prefix("id:")) {
+                        id = Some(v.parse::<u64>().unwrap());
+                    } else if let Some(v) =
+                        line.strip_prefix("event: ").or(line.strip_prefix("event:"))
+                    {
+                        kind = Some(v.to_owned());
+                    } else if let Some(v) =
+                        line.strip_prefix("data: ").or(line.strip_prefix("data:"))
+                    {
+                        data = Some(serde_json::from_str::<Value>(v).unwrap());
+                    }
+                }
+                match (id, kind, data) {
+                    (Some(id), Some(kind), Some(data)) => return (id, kind, data),
+                    (None, None, None) => continue, // a comment (keep-alive)
+                    other => panic!("incomplete event {other:?} in {frame:?}"),
+                }
+            }
+            let chunk = tokio::time::timeout(Duration::from_secs(10), self.response.chunk())
+                .await
+                .expect("an event within 10 s")
+                .unwrap()
+                .expect("the stream goes on");
+            self.buffer.push_str(std::str::from_utf8(&chunk).unwrap());
+        }
+    }
+
+    /// The next `n` events.
+    async fn take(&mut self, n: usize) -> Vec<Received> {
+        let mut out = Vec::with_capacity(n);
+        for _ in 0..n {
+            out.push(self.next().await);
+        }
+        out
+    }
+}
+
+/// `(id, type, flight)` of events.
+fn summary(events: &[Received]) -> Vec<(u64, &str, &str)> {
+    events
+        .iter()
+        .map(|(id, kind, data)| (*id, kind.as_str(), data["flight"].as_str().unwrap()))
+        .collect()
+}
+
+/// Checks the data of alpha's (`mine`) and bravo's (`theirs`) events of the event test:
+/// who, what, why, and the flight as `GET /v1/flights/{id}` shows it.
+async fn check_event_data(s: &Service, mine: &[Received], theirs: &[Received]) {
+    let (a, b) = (Some("alpha-secret"), Some("bravo-secret"));
+    for (_, kind, data) in mine.iter().chain(theirs) {
+        assert_eq!(data["status"].as_str(), Some(kind.as_str()), "{data}");
+        assert_eq!(data["plan"]["status"], data["status"]);
+        assert_eq!(
+            data["operator"],
+            if data["flight"] == "e2" {
+                "bravo"
+            } else {
+                "alpha"
+            }
+        );
+    }
+    assert_eq!(mine[2].2["plan"]["reason"], "cancelled_by_operator");
+    assert!(mine[2].2.get("zone").is_none());
+    assert_eq!(
+        (mine[3].2["zone"].as_str(), theirs[1].2["zone"].as_str()),
+        (Some("ZB"), Some("ZB"))
+    );
+    assert_eq!(theirs[1].2["plan"]["reason"], "zone_announced");
+    assert_eq!(mine[3].2["plan"], s.get("/v1/flights/e1", a).await.1);
+    assert_eq!(theirs[1].2["plan"], s.get("/v1/flights/e2", b).await.1);
+}
+
+#[tokio::test]
+async fn event_streams_show_each_operator_its_own_flights_and_resume_exactly() {
+    let s = Service::start("events", |o| {
+        o.tokens = Tokens::parse(TOKENS, "tokens.toml").unwrap();
+    })
+    .await;
+    let (a, b, auth) = (
+        Some("alpha-secret"),
+        Some("bravo-secret"),
+        Some("authority-secret"),
+    );
+    // Alpha listens live from now; bravo and the authority from the start of the history.
+    let mut alpha = EventStream::open(&s, a, None).await;
+    let mut bravo = EventStream::open(&s, b, Some("0")).await;
+    let mut all = EventStream::open(&s, auth, Some("0")).await;
+    assert_eq!(
+        s.post(a, &flight("e1", "A", "B", &in_secs(600))).await.0,
+        201
+    );
+    assert_eq!(
+        s.post(b, &flight("e2", "B", "C", &in_secs(600))).await.0,
+        201
+    );
+    assert_eq!(
+        s.post(a, &flight("e3", "A", "C", &in_secs(1_200))).await.0,
+        201
+    );
+    assert_eq!(s.delete("/v1/flights/e3", a).await.0, 200);
+    // A rejection is no event.
+    assert_eq!(
+        s.post(a, &flight("e4", "A", "F", &in_secs(600))).await.0,
+        200
+    );
+    // B closed for 20 minutes: e1 waits for it in the air, e2 cannot leave it.
+    let zone = zone_feature("ZB", &["B"], &in_secs(-60), &in_secs(1_200));
+    let (code, answer) = s.post_zone(auth, &zone).await;
+    assert_eq!(code, 201, "{answer}");
+    assert_eq!(
+        outcomes(&answer),
+        [
+            ("e1".into(), "replanned".into(), false),
+            ("e2".into(), "cancelled".into(), false),
+        ]
+    );
+
+    let mine = alpha.take(4).await;
+    assert_eq!(
+        summary(&mine),
+        [
+            (1, "planned", "e1"),
+            (3, "planned", "e3"),
+            (4, "cancelled", "e3"),
+            (5, "replanned", "e1")
+        ]
+    );
+    let theirs = bravo.take(2).await;
+    assert_eq!(
+        summary(&theirs),
+        [(2, "planned", "e2"), (6, "cancelled", "e2")]
+    );
+    let every = all.take(6).await;
+    assert_eq!(
+        every.iter().map(|e| e.0).collect::<Vec<_>>(),
+        [1, 2, 3, 4, 5, 6]
+    );
+    check_event_data(&s, &mine, &theirs).await;
+
+    // Resuming after event 3: exactly alpha's events 4 and 5 again, then live ones.
+    let mut resumed = EventStream::open(&s, a, Some("3")).await;
+    let again = resumed.take(2).await;
+    assert_eq!(again, mine[2..]);
+    assert_eq!(
+        s.post(b, &flight("e7", "X", "Y", &in_secs(600))).await.0,
+        201
+    );
+    assert_eq!(
+        s.post(a, &flight("e8", "A", "B", &in_secs(2_400))).await.0,
+        201
+    );
+    assert_eq!(summary(&[resumed.next().await]), [(8, "planned", "e8")]);
+    assert_eq!(summary(&[alpha.next().await]), [(8, "planned", "e8")]);
+    assert_eq!(summary(&[bravo.next().await]), [(7, "planned", "e7")]);
+    assert_eq!(
+        summary(&all.take(2).await),
+        [(7, "planned", "e7"), (8, "planned", "e8")]
+    );
+    // A bad Last-Event-ID is refused.
+    let r = s
+        .client
+        .get(format!("{}/v1/events", s.base))
+        .bearer_auth("alpha-secret")
+        .header("last-event-id", "x")
+        .send()
+        .await
+        .unwrap();
+    assert_eq!(r.status().as_u16(), 422);
+    assert_eq!(s.get("/v1/events", None).await.0, 401);
+}
+
+#[tokio::test]
+async fn a_listener_that_falls_behind_reads_the_history_and_misses_nothing() {
+    // One live event of slack: a zone's outcomes, published in one burst, overrun it.
+    let s = Service::start("lag", |o| o.event_buffer = 1).await;
+    let mut stream = EventStream::open(&s, None, Some("0")).await;
+    for k in 0..8 {
+        let (code, v) = s
+            .post(
+                None,
+                &flight(&format!("l{k}"), "X", "Y", &in_secs(600 + 300 * k)),
+            )
+            .await;
+        assert_eq!(code, 201, "{v}");
+    }
+    // Y closed for more than an hour: no flight can hover that long.
+    let zone = zone_feature("ZL", &["Y"], &in_secs(-60), &in_secs(4_000));
+    let (code, answer) = s.post_zone(None, &zone).await;
+    assert_eq!(
+        (code, answer["affected"].as_array().map(Vec::len)),
+        (201, Some(8)),
+        "{answer}"
+    );
+    let events = stream.take(16).await;
+    let got: Vec<(u64, &str, &str)> = summary(&events);
+    let mut want = Vec::new();
+    let ids: Vec<String> = (0..8).map(|k| format!("l{k}")).collect();
+    for (k, id) in ids.iter().enumerate() {
+        want.push((k as u64 + 1, "planned", id.as_str()));
+    }
+    for (k, id) in ids.iter().enumerate() {
+        want.push((k as u64 + 9, "cancelled", id.as_str()));
+    }
+    assert_eq!(got, want);
+    let (_, metrics) = s.get("/metrics", None).await;
+    let metrics = metrics.as_str().unwrap();
+    assert!(
+        metrics.contains("muse_zones_total{change=\"announced\"} 1"),
+        "{metrics}"
+    );
+    let lags = metrics
+        .lines()
+        .find_map(|l| l.strip_prefix("muse_event_lags_total "))
+        .unwrap();
+    println!("the listener fell behind {lags} time(s)");
 }

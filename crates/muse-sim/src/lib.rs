@@ -5,6 +5,8 @@
 //! - [`replay`](mod@replay): a day as it unfolds: requests at their submission instants, zones
 //!   announced at theirs, and the flights each announcement replans (SPEC §11);
 //! - [`sweep`]: the paper's experiment, counts × repetitions × variants in parallel;
+//! - [`lead`]: the regulator's question, announcement lead × counts × repetitions: how much
+//!   warning before a temporary zone becomes active keeps the cost of replanning low;
 //! - [`bench`](mod@bench): scaling benchmarks (`muse bench`): case measurements, peak memory, growth
 //!   exponents, table and CSV;
 //! - [`stats`]: means and 95% confidence intervals;
@@ -14,6 +16,7 @@
 pub mod bench;
 pub mod day;
 pub mod demand;
+pub mod lead;
 pub mod metrics;
 pub mod replay;
 pub mod stats;

@@ -125,30 +125,34 @@ pub fn replay(
     })
 }
 
+/// A small day to test replaying on: `A - B`, 1 km (two minutes at 30 km/h); zone `Z` closes
+/// B 10:00–10:10 (minutes since the epoch) and is announced at 09:00; 30 minutes of ground
+/// delay allowed.
 #[cfg(test)]
-mod tests {
-    use muse_airspace::announced::KnownZones;
+pub(crate) mod example {
     use muse_model::{Airspace, FlightParams, Instant, Millis, NodeId, Period, Request, Zone};
-    use muse_planner::Planner;
-    use muse_planner::replan::Fate;
 
-    use super::{Announcement, replay};
+    /// Minute `m` since the epoch.
+    pub fn min(m: i64) -> Instant {
+        Instant(m * 60_000)
+    }
 
-    /// `A - B`, 1 km (120 s at 30 km/h).
-    fn airspace() -> Airspace {
+    /// `A - B`.
+    pub fn airspace() -> Airspace {
         Airspace::line(&[1_000.0])
     }
 
-    #[test]
-    fn an_announcement_replans_the_flights_booked_before_it_only() {
-        let a = airspace();
-        let params = FlightParams {
+    /// Up to 30 minutes of ground delay.
+    pub fn params() -> FlightParams {
+        FlightParams {
             max_ground_delay: Millis::from_mins(30),
             ..FlightParams::default()
-        };
-        // B closed 10:00–10:10 (ms since 0), announced at 09:00.
-        let min = |m: i64| Instant(m * 60_000);
-        let zone = Zone {
+        }
+    }
+
+    /// `Z`: B closed 10:00–10:10, announced at 09:00.
+    pub fn zone() -> Zone {
+        Zone {
             id: "Z".into(),
             name: String::new(),
             restriction: String::new(),
@@ -161,18 +165,41 @@ mod tests {
                 end: Some(min(610)),
                 daily: vec![],
             }],
-        };
-        let known = KnownZones::resolve(&a, &[zone], Instant(0), min(1440)).unwrap();
-        let r = |id: &str, dep: i64, sub: i64| Request {
+        }
+    }
+
+    /// A → B departing at minute `dep`, submitted at minute `sub`.
+    pub fn request(id: &str, dep: i64, sub: i64) -> Request {
+        Request {
             id: id.into(),
             origin: NodeId(0),
             destination: NodeId(1),
             departure: min(dep),
             submitted: min(sub),
-        };
-        // Booked at 08:00 and at 09:30, both departing 09:59.
-        let requests = [r("early", 599, 480), r("late", 599, 570)];
-        let run = replay(Planner::new(&a, params), &known, &requests, |_| {}).unwrap();
+        }
+    }
+
+    /// Booked at 08:00 (before the announcement) and at 09:30 (after), both departing 09:59.
+    pub fn requests() -> Vec<Request> {
+        vec![request("early", 599, 480), request("late", 599, 570)]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use muse_airspace::announced::KnownZones;
+    use muse_model::Instant;
+    use muse_planner::Planner;
+    use muse_planner::replan::Fate;
+
+    use super::example::{airspace, min, params, requests, zone};
+    use super::{Announcement, replay};
+
+    #[test]
+    fn an_announcement_replans_the_flights_booked_before_it_only() {
+        let a = airspace();
+        let known = KnownZones::resolve(&a, &[zone()], Instant(0), min(1440)).unwrap();
+        let run = replay(Planner::new(&a, params()), &known, &requests(), |_| {}).unwrap();
         assert_eq!(
             run.announcements,
             [Announcement {

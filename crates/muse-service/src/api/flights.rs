@@ -220,14 +220,16 @@ pub(super) async fn list(
     let status = p
         .status
         .as_deref()
-        .map(|s| match s {
-            "planned" => Ok(Status::Planned),
-            "rejected" => Ok(Status::Rejected),
-            "cancelled" => Ok(Status::Cancelled),
-            other => Err(ApiError::invalid(
-                "status",
-                format!("`{other}` is not `planned`, `rejected` or `cancelled`"),
-            )),
+        .map(|s| {
+            Status::parse(s).ok_or_else(|| {
+                ApiError::invalid(
+                    "status",
+                    format!(
+                        "`{s}` is not one of {}",
+                        Status::ALL.map(|s| format!("`{}`", s.as_str())).join(", ")
+                    ),
+                )
+            })
         })
         .transpose()?;
     let operator = match (p.operator, caller.role) {

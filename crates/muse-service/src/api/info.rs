@@ -1,5 +1,5 @@
-//! What the service plans on and how it is doing: airspace, zones, the API description,
-//! health and metrics.
+//! What the service plans on and how it is doing: airspace, the API description, health and
+//! metrics.
 
 use std::sync::Arc;
 
@@ -24,10 +24,6 @@ fn geojson(text: &str) -> Response {
 
 pub(super) async fn airspace(AxumState(app): AxumState<Arc<App>>, Authed(_): Authed) -> Response {
     geojson(&app.airspace_geojson)
-}
-
-pub(super) async fn zones(AxumState(app): AxumState<Arc<App>>, Authed(_): Authed) -> Response {
-    geojson(&app.zones_geojson)
 }
 
 pub(super) async fn openapi() -> Response {

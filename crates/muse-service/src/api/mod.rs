@@ -7,7 +7,10 @@
 //! | `GET /v1/flights/{id}` | one flight |
 //! | `DELETE /v1/flights/{id}` | cancel before take-off (`409` after) |
 //! | `GET /v1/airspace` | the airspace, SPEC §2 GeoJSON |
-//! | `GET /v1/zones` | the no-fly zones, ED-318 GeoJSON |
+//! | `GET /v1/zones` | the no-fly zones, ED-318 GeoJSON, announced ones included |
+//! | `POST /v1/zones` | announce a zone now (authority): `201` with every flight it changed |
+//! | `DELETE /v1/zones/{id}` | withdraw an announced zone (authority); replans nothing |
+//! | `GET /v1/events` | the caller's flights' changes, server-sent events, resumable |
 //! | `GET /v1/openapi.json` | this API as `OpenAPI` 3.1 |
 //! | `GET /healthz` | liveness and a few numbers |
 //! | `GET /metrics` | Prometheus metrics |
@@ -17,12 +20,23 @@
 //!
 //! The handlers are grouped by concept: `error` (the error answer and JSON bodies),
 //! `caller` (who calls: token and rate limit), `flights` (the flight routes and their
-//! input checks) and `info` (airspace, zones, the API description, health and metrics).
+//! input checks), `zones` (announce, withdraw, list: SPEC §11), [`events`] (the event
+//! stream) and `info` (airspace, the API description, health and metrics).
+//!
+//! Zones: `POST /v1/zones` takes one ED-318 feature (or a `FeatureCollection` of one)
+//! without `announced`: the service announces it at its clock's now. `422` names the field
+//! at fault (a body giving `announced` is refused on `properties.announced`), `409` means
+//! the id is taken (by a zone known from the start or announced before, withdrawn or not),
+//! `403` that the caller is not the authority. `DELETE /v1/zones/{id}` answers `200` with
+//! the zone and its withdrawal instant, again `200` with the same for a zone withdrawn
+//! before (idempotent), `409` for a zone known from the start and `404` for an unknown id.
 
 mod caller;
 mod error;
+pub mod events;
 mod flights;
 mod info;
+mod zones;
 
 use std::sync::Arc;
 
@@ -30,8 +44,8 @@ use axum::Router;
 use axum::extract::DefaultBodyLimit;
 use axum::http::StatusCode;
 use axum::response::IntoResponse;
-use axum::routing::get;
-use tokio::sync::mpsc;
+use axum::routing::{delete, get};
+use tokio::sync::{mpsc, watch};
 use tower_http::catch_panic::CatchPanicLayer;
 
 use crate::auth::{RateLimiter, Tokens};
@@ -41,7 +55,8 @@ use crate::state::State;
 pub use caller::Authed;
 pub use error::ApiError;
 use flights::{cancel, create, list, read};
-use info::{airspace, healthz, metrics, openapi, zones};
+use info::{airspace, healthz, metrics, openapi};
+pub use zones::MAX_ZONE_BODY;
 
 /// The `OpenAPI` description of this API.
 pub const OPENAPI: &str = include_str!("openapi.json");
@@ -55,6 +70,9 @@ pub const ROUTES: &[(&str, &str)] = &[
     ("delete", "/v1/flights/{id}"),
     ("get", "/v1/airspace"),
     ("get", "/v1/zones"),
+    ("post", "/v1/zones"),
+    ("delete", "/v1/zones/{id}"),
+    ("get", "/v1/events"),
     ("get", "/v1/openapi.json"),
     ("get", "/healthz"),
     ("get", "/metrics"),
@@ -76,10 +94,10 @@ pub struct App {
     pub commands: mpsc::Sender<Command>,
     /// `GET /v1/airspace`, rendered once.
     pub airspace_geojson: String,
-    /// `GET /v1/zones`, rendered once.
-    pub zones_geojson: String,
-    /// Largest request body, bytes.
+    /// Largest request body, bytes (zone bodies: [`MAX_ZONE_BODY`]).
     pub max_body: usize,
+    /// Set when the service stops: event streams end then.
+    pub stopping: watch::Sender<bool>,
 }
 
 /// The router of the API over `app`.
@@ -89,7 +107,14 @@ pub fn router(app: Arc<App>) -> Router {
         .route("/v1/flights", get(list).post(create))
         .route("/v1/flights/{id}", get(read).delete(cancel))
         .route("/v1/airspace", get(airspace))
-        .route("/v1/zones", get(zones))
+        .route(
+            "/v1/zones",
+            get(zones::list)
+                .post(zones::announce)
+                .layer(DefaultBodyLimit::max(MAX_ZONE_BODY.max(max_body))),
+        )
+        .route("/v1/zones/{id}", delete(zones::withdraw))
+        .route("/v1/events", get(events::stream))
         .route("/v1/openapi.json", get(openapi))
         .route("/healthz", get(healthz))
         .route("/metrics", get(metrics))

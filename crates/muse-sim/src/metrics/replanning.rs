@@ -111,51 +111,16 @@ impl ReplanSummary {
 #[allow(clippy::float_cmp)] // the values compared are exact by construction
 mod tests {
     use muse_airspace::announced::KnownZones;
-    use muse_model::{Airspace, FlightParams, Instant, Millis, NodeId, Period, Request, Zone};
 
     use super::*;
     use crate::day::plan_requests;
+    use crate::replay::example::{airspace, params, requests, zone};
 
     #[test]
     fn counts_one_replanned_flight_and_its_extra_delay() {
-        // A - B, 1 km (two minutes). B closed 10:00–10:10, announced 09:00; a flight booked at
-        // 08:00 to land at 10:01 is replanned to land at 10:10 (nine minutes late); one
-        // booked at 09:30 plans around it; one out of range is rejected.
-        let a = Airspace::line(&[1_000.0]);
-        let params = FlightParams {
-            max_ground_delay: Millis::from_mins(30),
-            ..FlightParams::default()
-        };
-        let min = |m: i64| Instant(m * 60_000);
-        let zone = Zone {
-            id: "Z".into(),
-            name: String::new(),
-            restriction: String::new(),
-            area: None,
-            node_ids: vec!["B".into()],
-            edge_ids: vec![],
-            announced: Some(min(540)),
-            periods: vec![Period {
-                start: Some(min(600)),
-                end: Some(min(610)),
-                daily: vec![],
-            }],
-        };
-        let r = |id: &str, dep: i64, sub: i64| Request {
-            id: id.into(),
-            origin: NodeId(0),
-            destination: NodeId(1),
-            departure: min(dep),
-            submitted: min(sub),
-        };
-        let run = plan_requests(
-            &a,
-            &[zone],
-            params,
-            vec![r("early", 599, 480), r("late", 599, 570)],
-            |_| {},
-        )
-        .unwrap();
+        // The flight booked at 08:00 to land at 10:01 is replanned to land at 10:10, when B
+        // opens again (nine minutes late); the one booked at 09:30 plans around the zone.
+        let run = plan_requests(&airspace(), &[zone()], params(), requests(), |_| {}).unwrap();
         assert_ne!(run.zones, KnownZones::default());
         let s = ReplanSummary::of(&run, UtcOffset::SINGAPORE);
         assert_eq!(s.zones_announced, 1);

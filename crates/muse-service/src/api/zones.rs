@@ -1,0 +1,188 @@
+//! The zone routes (SPEC §11): announce and withdraw (the authority only), list.
+
+use std::sync::Arc;
+
+use axum::body::Bytes;
+use axum::extract::rejection::BytesRejection;
+use axum::extract::{Path, State as AxumState};
+use axum::http::{HeaderValue, StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use serde::Serialize;
+use tokio::sync::oneshot;
+
+use crate::auth::{Caller, Role};
+use crate::engine::{AnnounceReply, Command, WithdrawReply};
+use crate::flights::FlightView;
+use crate::zones::{AnnouncedZone, parse_feature};
+
+use super::error::json;
+use super::{ApiError, App, Authed};
+
+/// Largest `POST /v1/zones` body, bytes (zones may carry long polygons; only the authority
+/// may send one).
+pub const MAX_ZONE_BODY: usize = 1 << 20;
+
+fn authority_only(caller: &Caller) -> Result<(), ApiError> {
+    if caller.role == Role::Authority {
+        Ok(())
+    } else {
+        Err(ApiError::new(
+            StatusCode::FORBIDDEN,
+            "forbidden",
+            "only the authority may announce or withdraw zones",
+        ))
+    }
+}
+
+/// The answer to `POST /v1/zones`.
+#[derive(Serialize)]
+struct AnnouncementBody {
+    zone: String,
+    announced: String,
+    affected: Vec<AffectedBody>,
+}
+
+/// One flight an announcement changed.
+#[derive(Serialize)]
+struct AffectedBody {
+    flight: String,
+    operator: String,
+    airborne: bool,
+    outcome: &'static str,
+    plan: FlightView,
+}
+
+pub(super) async fn announce(
+    AxumState(app): AxumState<Arc<App>>,
+    Authed(caller): Authed,
+    body: Result<Bytes, BytesRejection>,
+) -> Result<Response, ApiError> {
+    authority_only(&caller)?;
+    let body = body.map_err(|r| ApiError::new(r.status(), "body", r.body_text()))?;
+    let zone = parse_feature(&body).map_err(|e| {
+        let mut err = ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, "invalid_zone", e.message);
+        if let Some(f) = e.field {
+            err = err.field(f);
+        }
+        err
+    })?;
+    let id = zone.id.clone();
+    let (tx, rx) = oneshot::channel();
+    app.commands
+        .send(Command::Announce { zone, reply: tx })
+        .await
+        .map_err(|_| ApiError::unavailable())?;
+    let w = &app.state.world;
+    match rx.await.map_err(|_| ApiError::unavailable())? {
+        AnnounceReply::Done(a) => {
+            let affected = a
+                .affected
+                .iter()
+                .map(|e| AffectedBody {
+                    flight: e.request.id.clone(),
+                    operator: e.operator.clone(),
+                    airborne: e.changes.last().is_some_and(|c| c.airborne),
+                    outcome: e.status().as_str(),
+                    plan: e.view(&w.airspace, w.offset),
+                })
+                .collect();
+            let body = AnnouncementBody {
+                zone: a.zone,
+                announced: a.announced.to_rfc3339(w.offset),
+                affected,
+            };
+            Ok(json(StatusCode::CREATED, &body))
+        }
+        AnnounceReply::Taken => Err(ApiError::new(
+            StatusCode::CONFLICT,
+            "conflict",
+            format!(
+                "zone id `{id}` is taken by a zone known from the start or announced before \
+                 (withdrawn or not); ids are never reused"
+            ),
+        )
+        .field("identifier")),
+        AnnounceReply::Invalid { field, message } => {
+            let mut err = ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, "invalid_zone", message);
+            if let Some(f) = field {
+                err = err.field(f);
+            }
+            Err(err)
+        }
+        AnnounceReply::Failed(m) => Err(ApiError::new(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            "internal",
+            m,
+        )),
+    }
+}
+
+/// The answer to `DELETE /v1/zones/{id}`.
+#[derive(Serialize)]
+struct ZoneBody {
+    zone: String,
+    announced: String,
+    withdrawn: Option<String>,
+    affected: usize,
+}
+
+fn zone_json(app: &App, zone: &AnnouncedZone) -> Response {
+    let offset = app.state.world.offset;
+    json(
+        StatusCode::OK,
+        &ZoneBody {
+            zone: zone.id.clone(),
+            announced: zone.announced.to_rfc3339(offset),
+            withdrawn: zone.withdrawn.map(|t| t.to_rfc3339(offset)),
+            affected: zone.affected,
+        },
+    )
+}
+
+pub(super) async fn withdraw(
+    AxumState(app): AxumState<Arc<App>>,
+    Authed(caller): Authed,
+    Path(id): Path<String>,
+) -> Result<Response, ApiError> {
+    authority_only(&caller)?;
+    let (tx, rx) = oneshot::channel();
+    app.commands
+        .send(Command::Withdraw {
+            id: id.clone(),
+            reply: tx,
+        })
+        .await
+        .map_err(|_| ApiError::unavailable())?;
+    match rx.await.map_err(|_| ApiError::unavailable())? {
+        WithdrawReply::Done(z) | WithdrawReply::Already(z) => Ok(zone_json(&app, &z)),
+        WithdrawReply::Base => Err(ApiError::new(
+            StatusCode::CONFLICT,
+            "known_from_start",
+            format!("zone `{id}` is known from the start, cannot be withdrawn"),
+        )),
+        WithdrawReply::Unknown => Err(ApiError::not_found(&format!("zone `{id}`"))),
+        WithdrawReply::Failed(m) => Err(ApiError::new(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            "internal",
+            m,
+        )),
+    }
+}
+
+pub(super) async fn list(AxumState(app): AxumState<Arc<App>>, Authed(_): Authed) -> Response {
+    let text = app
+        .state
+        .zones
+        .read()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+        .geojson()
+        .to_owned();
+    (
+        [(
+            header::CONTENT_TYPE,
+            HeaderValue::from_static("application/geo+json"),
+        )],
+        text,
+    )
+        .into_response()
+}

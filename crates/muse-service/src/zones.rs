@@ -1,0 +1,357 @@
+//! Zones announced during the day (SPEC §11): how a `POST /v1/zones` body becomes a zone,
+//! and what the service knows of the zones announced so far (for `GET /v1/zones`, for
+//! refusing an id twice, and for withdrawals).
+//!
+//! An announced zone is one ED-318 feature. The service sets its announcement instant (its
+//! clock's now when the planner takes it); a body that gives one is refused. Its id is the
+//! feature's identifier (a feature that reads as several zones, `ID#1`, `ID#2`, … — several
+//! circles, say — is announced and withdrawn as one, under `ID`). An id is never reused: not
+//! that of a zone known from the start, nor that of a zone announced before, withdrawn or not.
+
+use std::collections::HashSet;
+
+use muse_formats::zones::{read_zones, write_ed318};
+use muse_model::{Instant, UtcOffset, Zone};
+use serde_json::Value;
+
+use crate::api::MAX_ID_LEN;
+
+/// A zone to announce, read from a request body.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NewZone {
+    /// Its id.
+    pub id: String,
+    /// The ED-318 feature as received, as compact JSON (what the store keeps).
+    pub feature: String,
+    /// The zones it reads as (one, or one per area: see the module docs), without
+    /// announcement instant.
+    pub zones: Vec<Zone>,
+}
+
+/// Why a body is not a zone to announce: the field at fault (as `muse_formats` names it) and
+/// what is wrong.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct BodyError {
+    /// The field, when one is to blame.
+    pub field: Option<String>,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl BodyError {
+    fn new(field: Option<&str>, message: impl Into<String>) -> Self {
+        BodyError {
+            field: field.map(str::to_owned),
+            message: message.into(),
+        }
+    }
+}
+
+/// Reads a `POST /v1/zones` body: one ED-318 feature, or a `FeatureCollection` of exactly
+/// one, without `announced`.
+///
+/// ```
+/// use muse_service::zones::parse_feature;
+/// let body = br#"{"type": "Feature", "properties": {"identifier": "Z", "nodes": ["B"]}, "geometry": null}"#;
+/// let zone = parse_feature(body).unwrap();
+/// assert_eq!((zone.id.as_str(), zone.zones[0].node_ids.as_slice()), ("Z", &["B".to_owned()][..]));
+/// let e = parse_feature(br#"{"type": "Feature", "properties": {"identifier": "Z", "nodes": ["B"],
+///     "announced": "2026-01-05T14:00:00+08:00"}}"#).unwrap_err();
+/// assert_eq!(e.field.as_deref(), Some("properties.announced"));
+/// ```
+pub fn parse_feature(body: &[u8]) -> Result<NewZone, BodyError> {
+    let root: Value = serde_json::from_slice(body)
+        .map_err(|e| BodyError::new(None, format!("the body is not valid JSON: {e}")))?;
+    let feature = match root.get("type").and_then(Value::as_str) {
+        Some("Feature") => root,
+        Some("FeatureCollection") => match root.get("features").and_then(Value::as_array) {
+            Some(features) if features.len() == 1 => features[0].clone(),
+            Some(features) => {
+                return Err(BodyError::new(
+                    Some("features"),
+                    format!(
+                        "one zone per announcement: the FeatureCollection must hold exactly one \
+                         feature, not {}",
+                        features.len()
+                    ),
+                ));
+            }
+            None => {
+                return Err(BodyError::new(
+                    Some("features"),
+                    "the FeatureCollection has no `features` array",
+                ));
+            }
+        },
+        _ => {
+            return Err(BodyError::new(
+                Some("type"),
+                "expected an ED-318 zone: a GeoJSON Feature (or a FeatureCollection of one)",
+            ));
+        }
+    };
+    if feature
+        .get("properties")
+        .and_then(|p| p.get("announced"))
+        .is_some()
+    {
+        return Err(BodyError::new(
+            Some("properties.announced"),
+            "the service sets the announcement instant itself (its clock's now when the zone \
+             is taken into account); leave `announced` out",
+        ));
+    }
+    let text = feature.to_string();
+    let zones = read_zones(&text, "the zone").map_err(|e| {
+        BodyError::new(
+            e.field.as_deref(),
+            format!("not a valid ED-318 zone: {}", e.message),
+        )
+    })?;
+    let Some(first) = zones.first() else {
+        return Err(BodyError::new(None, "the feature holds no zone"));
+    };
+    let id = if zones.len() == 1 {
+        first.id.clone()
+    } else {
+        first
+            .id
+            .rsplit_once('#')
+            .map_or_else(|| first.id.clone(), |(id, _)| id.to_owned())
+    };
+    let ok_id = id.len() <= MAX_ID_LEN
+        && id
+            .bytes()
+            .all(|b| b.is_ascii_alphanumeric() || b"._~:-".contains(&b));
+    if !ok_id {
+        return Err(BodyError::new(
+            Some("identifier"),
+            format!(
+                "an announced zone's identifier must be 1 to {MAX_ID_LEN} characters of letters, \
+                 digits and `._~:-` (it names the zone in /v1/zones/{{id}}), got {id:?}"
+            ),
+        ));
+    }
+    Ok(NewZone {
+        id,
+        feature: text,
+        zones,
+    })
+}
+
+/// The zones a stored feature reads as, announced at `announced`.
+pub fn read_stored(feature: &str, announced: Instant) -> Result<Vec<Zone>, String> {
+    let mut zones = read_zones(feature, "the stored zone").map_err(|e| e.to_string())?;
+    for z in &mut zones {
+        z.announced = Some(announced);
+    }
+    Ok(zones)
+}
+
+/// A zone announced during the day.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AnnouncedZone {
+    /// Its id.
+    pub id: String,
+    /// The zones it reads as, with their announcement instant.
+    pub zones: Vec<Zone>,
+    /// When it was announced.
+    pub announced: Instant,
+    /// When it was withdrawn, if it was.
+    pub withdrawn: Option<Instant>,
+    /// How many flights it changed.
+    pub affected: usize,
+}
+
+/// What the service knows of zones: those known from the start and those announced since.
+#[derive(Debug)]
+pub struct ZoneBook {
+    base: Vec<Zone>,
+    /// Every id in use: the base zones' (and, for `ID#k`, `ID`), the announced ones'.
+    taken: HashSet<String>,
+    base_ids: HashSet<String>,
+    announced: Vec<AnnouncedZone>,
+    geojson: String,
+}
+
+/// `ID` for `ID#k`.
+fn stem(id: &str) -> &str {
+    id.rsplit_once('#').map_or(id, |(stem, _)| stem)
+}
+
+impl ZoneBook {
+    /// The zones known from the start, none announced yet.
+    pub fn new(base: &[Zone]) -> Self {
+        let base_ids: HashSet<String> = base
+            .iter()
+            .flat_map(|z| [z.id.clone(), stem(&z.id).to_owned()])
+            .collect();
+        ZoneBook {
+            base: base.to_vec(),
+            taken: base_ids.clone(),
+            base_ids,
+            announced: Vec::new(),
+            geojson: write_ed318(base),
+        }
+    }
+
+    /// Whether `id` names a zone known from the start.
+    pub fn is_base(&self, id: &str) -> bool {
+        self.base_ids.contains(id)
+    }
+
+    /// Whether the id of `zone` (or of one of its parts) is in use.
+    pub fn taken(&self, zone: &NewZone) -> bool {
+        self.taken.contains(&zone.id) || zone.zones.iter().any(|z| self.taken.contains(&z.id))
+    }
+
+    /// The announced zone `id`.
+    pub fn get(&self, id: &str) -> Option<&AnnouncedZone> {
+        self.announced.iter().find(|z| z.id == id)
+    }
+
+    /// The zones announced, in announcement order.
+    pub fn announced(&self) -> &[AnnouncedZone] {
+        &self.announced
+    }
+
+    /// Records an announcement (its id must not be [taken](ZoneBook::taken)).
+    pub fn announce(&mut self, zone: AnnouncedZone) {
+        self.taken.insert(zone.id.clone());
+        self.taken.extend(zone.zones.iter().map(|z| z.id.clone()));
+        self.announced.push(zone);
+        self.render();
+    }
+
+    /// Records a withdrawal of the announced zone `id` at `at`; `false` if there is none.
+    pub fn withdraw(&mut self, id: &str, at: Instant) -> bool {
+        let Some(zone) = self.announced.iter_mut().find(|z| z.id == id) else {
+            return false;
+        };
+        zone.withdrawn = Some(at);
+        self.render();
+        true
+    }
+
+    /// Every zone as ED-318 `GeoJSON`: those known from the start, then the announced ones
+    /// in announcement order with their `announced` instant and, once withdrawn, a
+    /// `withdrawn` property (a MUSE extension, RFC 3339 in the offset `announced` is in).
+    pub fn geojson(&self) -> &str {
+        &self.geojson
+    }
+
+    fn render(&mut self) {
+        let mut all = self.base.clone();
+        for a in &self.announced {
+            all.extend(a.zones.iter().cloned());
+        }
+        let mut text = write_ed318(&all);
+        for a in &self.announced {
+            let Some(at) = a.withdrawn else { continue };
+            for z in &a.zones {
+                // `write_ed318` writes each feature's identifier first in its properties and,
+                // further on, its `announced` date-time: ids are unique and JSON-escaped (the
+                // pattern occurs once), a date-time holds no quote.
+                let key = format!("\"identifier\": {},", Value::String(z.id.clone()));
+                let Some(start) = text.find(&key) else {
+                    continue;
+                };
+                let Some(at_announced) = text[start..].find("\"announced\": \"") else {
+                    continue;
+                };
+                let value = start + at_announced + "\"announced\": \"".len();
+                let Some(close) = text[value..].find('"') else {
+                    continue;
+                };
+                let end = value + close + 1;
+                text.insert_str(
+                    end,
+                    &format!(
+                        ",\n        \"withdrawn\": \"{}\"",
+                        at.to_rfc3339(zone_offset(z))
+                    ),
+                );
+            }
+        }
+        self.geojson = text;
+    }
+}
+
+/// The offset `write_ed318` writes a zone's `announced` in: its first daily window's, else
+/// UTC.
+fn zone_offset(zone: &Zone) -> UtcOffset {
+    zone.periods
+        .iter()
+        .find_map(|p| p.daily.first())
+        .map_or(UtcOffset(0), |d| d.offset)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const ZONE: &str = r#"{"type": "FeatureCollection", "features": [{"type": "Feature",
+        "properties": {"identifier": "EVT", "name": "Event"},
+        "geometry": {"type": "GeometryCollection", "geometries": [
+            {"type": "Point", "coordinates": [103.80, 1.30], "extent": {"subType": "Circle", "radius": 100}},
+            {"type": "Point", "coordinates": [103.82, 1.30], "extent": {"subType": "Circle", "radius": 100}}]}}]}"#;
+
+    #[test]
+    fn bodies_are_read_or_refused_with_the_field_at_fault() {
+        let zone = parse_feature(ZONE.as_bytes()).unwrap();
+        assert_eq!(zone.id, "EVT");
+        assert_eq!(zone.zones.len(), 2);
+        let field = |body: &str| parse_feature(body.as_bytes()).unwrap_err().field;
+        assert_eq!(field("nope"), None);
+        assert_eq!(field(r#"{"type": "Point"}"#).as_deref(), Some("type"));
+        assert_eq!(
+            field(r#"{"type": "FeatureCollection", "features": []}"#).as_deref(),
+            Some("features")
+        );
+        assert_eq!(
+            field(r#"{"type": "Feature", "properties": {"identifier": "Z", "nodes": "B"}}"#)
+                .as_deref(),
+            Some("nodes")
+        );
+        assert_eq!(
+            field(r#"{"type": "Feature", "properties": {"identifier": "a b", "nodes": ["B"]}}"#)
+                .as_deref(),
+            Some("identifier")
+        );
+    }
+
+    #[test]
+    fn ids_are_never_reused_and_withdrawals_are_listed() {
+        let base = parse_feature(
+            br#"{"type": "Feature", "properties": {"identifier": "BASE", "nodes": ["A"]}}"#,
+        )
+        .unwrap();
+        let mut book = ZoneBook::new(&base.zones);
+        assert!(book.is_base("BASE") && book.taken(&base));
+        let evt = parse_feature(ZONE.as_bytes()).unwrap();
+        assert!(!book.taken(&evt));
+        let at = Instant::parse_rfc3339("2026-01-05T14:00:00+08:00").unwrap();
+        book.announce(AnnouncedZone {
+            id: evt.id.clone(),
+            zones: read_stored(&evt.feature, at).unwrap(),
+            announced: at,
+            withdrawn: None,
+            affected: 0,
+        });
+        assert!(book.taken(&evt) && !book.is_base("EVT"));
+        assert!(book.withdraw("EVT", at + muse_model::Millis(1_000)));
+        assert!(!book.withdraw("NONE", at));
+        let listed = read_zones(book.geojson(), "GET /v1/zones").unwrap();
+        let ids: Vec<&str> = listed.iter().map(|z| z.id.as_str()).collect();
+        assert_eq!(ids, ["BASE", "EVT#1", "EVT#2"]);
+        assert_eq!(listed[1].announced, Some(at));
+        assert_eq!(
+            book.geojson()
+                .matches("\"announced\": \"2026-01-05T06:00:00.000+00:00\",\n        \"withdrawn\": \"2026-01-05T06:00:01.000+00:00\"")
+                .count(),
+            2,
+            "{}",
+            book.geojson()
+        );
+    }
+}

@@ -1,0 +1,82 @@
+//! What one run of an announcement-lead sweep measured.
+
+use muse_model::UtcOffset;
+
+use super::LeadCase;
+use crate::day::DayRun;
+use crate::demand::BookingLead;
+use crate::metrics::ReplanSummary;
+
+/// The measurements of one run: one demand (count, repetition, seed) planned in one
+/// [`LeadCase`]. The counts are those of [`ReplanSummary`] (a flight hit by several
+/// announcements counts once, by its last outcome).
+#[derive(Clone, Debug, PartialEq)]
+pub struct LeadRecord {
+    /// How the zones to announce became known.
+    pub case: LeadCase,
+    /// Requests.
+    pub count: usize,
+    /// Repetition index.
+    pub rep: usize,
+    /// Demand seed (the same for every case of a count and repetition).
+    pub seed: u64,
+    /// How far ahead of departure the requests were booked.
+    pub booking_lead: BookingLead,
+    /// Requests planned when they were booked (first answers).
+    pub planned_at_booking: usize,
+    /// Requests whose final plan lands at their destination.
+    pub delivered: usize,
+    /// `delivered / count`: the success rate.
+    pub delivery_rate: f64,
+    /// Flights affected by an announcement.
+    pub affected: usize,
+    /// Of those, flights airborne at the announcement that hit them.
+    pub airborne_affected: usize,
+    /// Final outcome `replanned`.
+    pub replanned: usize,
+    /// Final outcome `diverted`.
+    pub diverted: usize,
+    /// Final outcome `cancelled`.
+    pub cancelled: usize,
+    /// Final outcome `contingency`.
+    pub contingency: usize,
+    /// Mean over replanned flights of final landing minus first planned landing, seconds;
+    /// `None` when no flight was replanned.
+    pub mean_extra_delay_s: Option<f64>,
+    /// Planner wall time of the run (planning and replanning), milliseconds.
+    pub planner_ms: f64,
+    /// Search effort of replanning, labels expanded.
+    pub replan_expanded: u64,
+}
+
+impl LeadRecord {
+    /// The record of `run`, planned in `case` from the demand of repetition `rep` and `seed`.
+    pub fn of(
+        case: LeadCase,
+        rep: usize,
+        seed: u64,
+        booking_lead: BookingLead,
+        run: &DayRun,
+    ) -> Self {
+        let s = ReplanSummary::of(run, UtcOffset(0));
+        LeadRecord {
+            case,
+            count: run.requests.len(),
+            rep,
+            seed,
+            booking_lead,
+            planned_at_booking: run.outcomes.iter().filter(|o| o.result.is_ok()).count(),
+            delivered: s.delivered,
+            delivery_rate: s.delivery_rate,
+            affected: s.flights_affected,
+            airborne_affected: s.airborne_affected,
+            replanned: s.replanned,
+            diverted: s.diverted,
+            cancelled: s.cancelled,
+            contingency: s.contingency,
+            mean_extra_delay_s: (s.replanned > 0).then_some(s.extra_delay_s.mean),
+            planner_ms: run.planner_wall.as_secs_f64() * 1e3,
+            replan_expanded: run.replan_expanded,
+        }
+    }
+}

@@ -1,0 +1,198 @@
+use muse_model::{
+    Airspace, FlightParams, Instant, Millis, NodeId, Period, Request, UtcOffset, Zone,
+};
+
+use super::*;
+
+fn min(m: i64) -> Instant {
+    Instant(m * 60_000)
+}
+
+/// `A - B - C - D`, 1 km apart: two minutes per corridor at 30 km/h.
+fn line() -> Airspace {
+    Airspace::line(&[1_000.0, 1_000.0, 1_000.0])
+}
+
+/// Closes station `B` from 10:00 to 10:30 (minutes since the epoch).
+fn zone_b() -> Zone {
+    Zone {
+        id: "ZB".into(),
+        name: String::new(),
+        restriction: String::new(),
+        area: None,
+        node_ids: vec!["B".into()],
+        edge_ids: vec![],
+        announced: None,
+        periods: vec![Period {
+            start: Some(min(600)),
+            end: Some(min(630)),
+            daily: vec![],
+        }],
+    }
+}
+
+fn day() -> Day {
+    Day {
+        start: min(0),
+        end: min(1_440),
+        offset: UtcOffset(0),
+    }
+}
+
+fn request(id: &str, from: u32, to: u32, departure: i64, submitted: i64) -> Request {
+    Request {
+        id: id.into(),
+        origin: NodeId(from),
+        destination: NodeId(to),
+        departure: min(departure),
+        submitted: min(submitted),
+    }
+}
+
+fn announced(lead_min: i64) -> LeadCase {
+    LeadCase::Announced {
+        lead: Millis::from_mins(lead_min),
+    }
+}
+
+#[test]
+fn a_longer_lead_never_cancels_more_and_frees_the_corridor_for_others() {
+    // No ground delay, 20 minutes of battery: a flight through B that departs between 10:00
+    // and 10:30 cannot wait out the zone (it would land after 10:34, over 20 minutes after a
+    // take-off before 10:14), so once the zone is known it is rejected, and if it was booked
+    // before the announcement it is cancelled.
+    // - `y` A→C departs 10:08, booked 08:08: it lands at C at 10:12, where
+    // - `z` C→D departs 10:12, booked 08:30: rejected while `y` holds C;
+    // - `w` A→B departs 09:40, booked 09:00: lands before the zone, never affected;
+    // - `x` A→C departs 10:05, booked 09:05.
+    let air = line();
+    let world = LeadWorld::new(
+        &air,
+        FlightParams::default(),
+        &[],
+        &[zone_b()],
+        day(),
+        (min(-1_440), min(2_880)),
+    )
+    .unwrap();
+    assert_eq!(
+        world.first_windows().collect::<Vec<_>>(),
+        [("ZB", min(600))]
+    );
+    let mut requests = vec![
+        request("y", 0, 2, 608, 488),
+        request("z", 2, 3, 612, 510),
+        request("w", 0, 1, 580, 540),
+        request("x", 0, 2, 605, 545),
+    ];
+    muse_model::request::sort_for_planning(&mut requests);
+    let measure = |case| {
+        let run = world.run(case, &requests).unwrap();
+        let r = LeadRecord::of(case, 0, 1, BookingLead::NONE, &run);
+        (r.planned_at_booking, r.affected, r.cancelled, r.delivered)
+    };
+    // (planned at booking, affected, cancelled, delivered)
+    let expected = [
+        // Announced at 10:00, 09:45, 09:30: `x` and `y` were booked without it; both cancelled.
+        (announced(0), (3, 2, 2, 1)),
+        (announced(15), (3, 2, 2, 1)),
+        (announced(30), (3, 2, 2, 1)),
+        // At 09:00: `x` (booked 09:05) knows it and is rejected; `y` is still cancelled.
+        (announced(60), (2, 1, 1, 1)),
+        // At 08:00, before every booking: `y` is rejected, so `z` gets C and is delivered.
+        (announced(120), (2, 0, 0, 2)),
+        (LeadCase::Known, (2, 0, 0, 2)),
+        // Without the zone, `y`, `w` and `x` fly and `z` is rejected.
+        (LeadCase::NoZone, (3, 0, 0, 3)),
+    ];
+    for (case, want) in expected {
+        assert_eq!(measure(case), want, "{case:?}");
+    }
+    let cancelled: Vec<usize> = expected[..5].iter().map(|(_, w)| w.2).collect();
+    assert!(cancelled.windows(2).all(|w| w[1] <= w[0]), "{cancelled:?}");
+}
+
+#[test]
+fn every_case_plans_the_same_seeded_demand() {
+    let air = line();
+    let spec = LeadSweepSpec {
+        leads: vec![
+            Millis::ZERO,
+            Millis::from_mins(30),
+            Millis::from_mins(1_440),
+        ],
+        counts: vec![60],
+        reps: 3,
+        base_seed: 11,
+        start: min(480),
+        end: min(720),
+        od: OdRule::Uniform,
+        booking_lead: BookingLead::new(Millis::ZERO, Millis::from_mins(120)).unwrap(),
+        params: FlightParams::default(),
+        base_zones: vec![],
+        announce: vec![zone_b()],
+        day: day(),
+        no_zone_reference: true,
+    };
+    let ticks = std::sync::atomic::AtomicUsize::new(0);
+    let world = spec.world(&air).unwrap();
+    let records = run_lead_sweep(&world, &spec, || {
+        ticks.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    })
+    .unwrap();
+    assert_eq!(records.len(), spec.runs());
+    assert_eq!(records.len(), 5 * 3);
+    assert_eq!(ticks.into_inner(), records.len());
+    assert_eq!(
+        records.iter().map(|r| r.case).collect::<Vec<_>>()[..4],
+        [announced(0), announced(0), announced(0), announced(30)]
+    );
+    for rep in 0..3 {
+        let runs: Vec<&LeadRecord> = records.iter().filter(|r| r.rep == rep).collect();
+        assert_eq!(runs.len(), 5);
+        assert!(
+            runs.iter()
+                .all(|r| r.seed == 11 + rep as u64 && r.count == 60)
+        );
+        // A day's warning is before every booking: the day is planned as if the zone were
+        // known from the start.
+        let by = |case| *runs.iter().find(|r| r.case == case).unwrap();
+        let (long, known) = (by(announced(1_440)), by(LeadCase::Known));
+        assert_eq!(
+            (long.planned_at_booking, long.delivered, long.affected),
+            (known.planned_at_booking, known.delivered, 0)
+        );
+    }
+    // The zone matters: at no warning some booked flights are hit.
+    let hit: usize = records
+        .iter()
+        .filter(|r| r.case == announced(0))
+        .map(|r| r.affected)
+        .sum();
+    assert!(hit > 0);
+    let rows = summarize(&records);
+    assert_eq!(rows.len(), 5);
+    assert!(rows.iter().all(|r| r.runs == 3));
+}
+
+#[test]
+fn input_errors_name_the_zone() {
+    let air = line();
+    let range = (min(-1_440), min(2_880));
+    let params = FlightParams::default();
+    let later = Day {
+        start: min(1_440),
+        end: min(2_880),
+        offset: UtcOffset(0),
+    };
+    let err = LeadWorld::new(&air, params, &[], &[zone_b()], later, range).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "zone `ZB` has no active window starting between 1970-01-02T00:00:00.000+00:00 and \
+         1970-01-03T00:00:00.000+00:00, so it has no first window to announce ahead of"
+    );
+    let err = LeadWorld::new(&air, params, &[], &[zone_b(), zone_b()], day(), range).unwrap_err();
+    assert_eq!(err.to_string(), "a zone `ZB` is already announced");
+    let err = LeadWorld::new(&air, params, &[zone_b()], &[], day(), range).unwrap_err();
+    assert!(matches!(err, LeadError::NothingToAnnounce));
+}
