@@ -253,6 +253,7 @@ impl FlightArgs {
             node_separation: tau,
             edge_rule,
             max_ground_delay: secs("--max-ground-delay-s", self.max_ground_delay_s)?,
+            battery_swap: None,
         })
     }
 }

@@ -263,6 +263,7 @@ fn flight_params(v: &serde_json::Value) -> Result<FlightParams, String> {
         node_separation: secs("node_separation_s", p.node_separation_s)?,
         edge_rule,
         max_ground_delay: secs("max_ground_delay_s", p.max_ground_delay_s)?,
+        battery_swap: None,
     })
 }
 

@@ -25,7 +25,7 @@ pub mod zone;
 pub use airspace::{Adjacent, Airspace, AirspaceError, Edge, Node, NodeKind};
 pub use coords::{LonLat, Svy21};
 pub use ids::{EdgeId, NodeId};
-pub use params::{EdgeRule, FlightParams};
+pub use params::{BatterySwap, EdgeRule, FlightParams};
 pub use plan::{Plan, RejectReason, Stay};
 pub use request::Request;
 pub use time::{Instant, Millis, UtcOffset};

@@ -35,10 +35,39 @@ pub struct FlightParams {
     pub edge_rule: EdgeRule,
     /// Maximum ground delay `G_max` (take-off − requested departure).
     pub max_ground_delay: Millis,
+    /// Battery swaps at stations (SPEC §12): `None` (the paper, the default) plans single
+    /// legs only.
+    pub battery_swap: Option<BatterySwap>,
+}
+
+/// Multi-leg trips (SPEC §12): a plan may land at intermediate stations, stay on the ground
+/// at least `time` while the battery is swapped, and take off again with a full battery.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct BatterySwap {
+    /// Minimum time on the ground between a leg's landing and the next take-off (`S`).
+    pub time: Millis,
+    /// At most this many legs per trip (`None`: no bound).
+    pub max_legs: Option<u32>,
+}
+
+impl BatterySwap {
+    /// Swaps of `time` with no bound on the legs.
+    pub const fn new(time: Millis) -> Self {
+        BatterySwap {
+            time,
+            max_legs: None,
+        }
+    }
+
+    /// The most legs a trip may have (`u32::MAX` when unbounded).
+    pub fn leg_limit(self) -> u32 {
+        self.max_legs.unwrap_or(u32::MAX)
+    }
 }
 
 impl Default for FlightParams {
-    /// The paper's parameters: 30 km/h, 20 min, `tau` = 5 s, exclusive edges, no ground delay.
+    /// The paper's parameters: 30 km/h, 20 min, `tau` = 5 s, exclusive edges, no ground delay,
+    /// no battery swaps.
     fn default() -> Self {
         FlightParams {
             speed: Speed::PAPER,
@@ -46,6 +75,7 @@ impl Default for FlightParams {
             node_separation: Millis::from_secs(5),
             edge_rule: EdgeRule::Exclusive,
             max_ground_delay: Millis::ZERO,
+            battery_swap: None,
         }
     }
 }

@@ -18,26 +18,65 @@ pub struct Stay {
 }
 
 /// A planned flight: its stays from origin to destination (SPEC §3).
+///
+/// A multi-leg trip (SPEC §12: battery swaps at stations) lists the stays of all its legs in
+/// order. Where one leg lands and the next takes off, two consecutive stays are at the same
+/// station: the landing `(X, l, l)` and the next take-off `(X, t, d)`, with the swap time
+/// `t − l` spent on the ground, outside the airspace. Consecutive stays of one leg are always
+/// at different nodes (edges join distinct nodes), so the legs are read off the path alone.
+///
+/// ```
+/// use muse_model::{Instant, NodeId, Plan, Stay};
+/// let stay = |n, a, d| Stay { node: NodeId(n), arrive: Instant(a), depart: Instant(d) };
+/// // S0 → S1, swap at S1 for 5 minutes, S1 → S2.
+/// let plan = Plan { path: vec![stay(0, 0, 0), stay(1, 600_000, 600_000),
+///                              stay(1, 900_000, 900_000), stay(2, 1_500_000, 1_500_000)] };
+/// assert_eq!(plan.leg_count(), 2);
+/// assert_eq!(plan.legs().map(|l| l.len()).collect::<Vec<_>>(), [2, 2]);
+/// assert_eq!(plan.hops().count(), 2);
+/// assert_eq!((plan.takeoff(), plan.landing()), (Instant(0), Instant(1_500_000)));
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq, Default)]
 pub struct Plan {
-    /// The stays, origin first.
+    /// The stays, origin first (every leg's, in order).
     pub path: Vec<Stay>,
 }
 
 impl Plan {
-    /// Take-off instant (arrival at the first stay).
+    /// Take-off instant (arrival at the first stay; the first leg's take-off).
     pub fn takeoff(&self) -> Instant {
         self.path.first().map_or(Instant(0), |s| s.arrive)
     }
 
-    /// Landing instant (departure from the last stay).
+    /// Landing instant (departure from the last stay; the last leg's landing).
     pub fn landing(&self) -> Instant {
         self.path.last().map_or(Instant(0), |s| s.depart)
     }
 
-    /// Airborne time, landing minus take-off.
+    /// Landing minus take-off: for a multi-leg trip, the whole trip, time on the ground
+    /// between legs included.
     pub fn airborne(&self) -> Millis {
         self.landing() - self.takeoff()
+    }
+
+    /// The legs: maximal runs of stays whose consecutive nodes differ (one for a plan without
+    /// battery swaps; none for an empty plan).
+    pub fn legs(&self) -> impl Iterator<Item = &[Stay]> + '_ {
+        self.path.chunk_by(|a, b| a.node != b.node)
+    }
+
+    /// How many legs the plan has.
+    pub fn leg_count(&self) -> usize {
+        self.legs().count()
+    }
+
+    /// The traversals: consecutive stays of the same leg, `(from, to)`; the drone leaves
+    /// `from.node` at `from.depart` and reaches `to.node` at `to.arrive`.
+    pub fn hops(&self) -> impl Iterator<Item = (&Stay, &Stay)> + '_ {
+        self.path
+            .windows(2)
+            .filter(|w| w[0].node != w[1].node)
+            .map(|w| (&w[0], &w[1]))
     }
 }
 

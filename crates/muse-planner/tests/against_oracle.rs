@@ -403,6 +403,7 @@ fn oracle_free_flow_and_plan_shape() {
         node_separation: Millis::from_secs(5),
         edge_rule: EdgeRule::Exclusive,
         max_ground_delay: Millis::ZERO,
+        battery_swap: None,
     };
     assert_eq!(
         oracle::free_flow(&airspace, &params, NodeId(0), NodeId(2)),

@@ -50,6 +50,7 @@ fn tau_zero() -> FlightParams {
         node_separation: Millis::ZERO,
         edge_rule: EdgeRule::Exclusive,
         max_ground_delay: Millis::ZERO,
+        battery_swap: None,
     }
 }
 

@@ -402,6 +402,7 @@ mod tests {
             node_separation: Millis::from_secs(5),
             edge_rule: EdgeRule::Exclusive,
             max_ground_delay: Millis::from_secs(30),
+            battery_swap: None,
         }
     }
 

@@ -108,6 +108,7 @@ impl Instance {
                 .headway
                 .map_or(EdgeRule::Exclusive, |h| EdgeRule::Headway(units(h))),
             max_ground_delay: units(self.g_max),
+            battery_swap: None,
         };
         let (zones, raw) = self.zones(&airspace);
         let closures =
