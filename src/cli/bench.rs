@@ -254,6 +254,12 @@ fn flight_flags(f: &FlightArgs) -> Vec<String> {
     if let Some(h) = f.headway_s {
         out.push(format!("--headway-s={h}"));
     }
+    if let Some(s) = f.battery_swap_s {
+        out.push(format!("--battery-swap-s={s}"));
+    }
+    if let Some(k) = f.max_legs {
+        out.push(format!("--max-legs={k}"));
+    }
     out
 }
 

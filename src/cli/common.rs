@@ -219,6 +219,14 @@ pub struct FlightArgs {
     /// Maximum ground delay `G_max`, seconds.
     #[arg(long, default_value_t = 0.0, value_name = "S")]
     pub max_ground_delay_s: f64,
+    /// Battery swaps at stations (SPEC §12): a trip may land at intermediate stations, stay
+    /// on the ground at least this many seconds, and take off again with a full battery.
+    /// Off by default (the paper: single legs).
+    #[arg(long, value_name = "S")]
+    pub battery_swap_s: Option<f64>,
+    /// With `--battery-swap-s`: at most this many legs per trip (default: no bound).
+    #[arg(long, value_name = "K", requires = "battery_swap_s", value_parser = clap::value_parser!(u32).range(1..))]
+    pub max_legs: Option<u32>,
 }
 
 /// The edge rule on the command line.
@@ -253,7 +261,15 @@ impl FlightArgs {
             node_separation: tau,
             edge_rule,
             max_ground_delay: secs("--max-ground-delay-s", self.max_ground_delay_s)?,
-            battery_swap: None,
+            battery_swap: self
+                .battery_swap_s
+                .map(|s| {
+                    Ok::<_, anyhow::Error>(muse_model::BatterySwap {
+                        time: secs("--battery-swap-s", s)?,
+                        max_legs: self.max_legs,
+                    })
+                })
+                .transpose()?,
         })
     }
 }
