@@ -50,6 +50,6 @@ pub mod schedule;
 pub mod sipp;
 
 pub use online::Live;
-pub use planner::{Landing, Outcome, Planner, plan_and_book, plan_day};
+pub use planner::{Landing, Outcome, Planner, Resume, plan_and_book, plan_day};
 pub use schedule::{FlightId, Schedule};
 pub use sipp::Scratch;

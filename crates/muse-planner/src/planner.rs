@@ -4,7 +4,7 @@ use muse_model::{Airspace, FlightParams, Instant, Millis, NodeId, Plan, RejectRe
 
 use crate::heuristic::{Heuristics, UNREACHABLE};
 use crate::schedule::{FlightId, Schedule};
-use crate::sipp::{Goal, Problem, Scratch, Start, search};
+use crate::sipp::{Goal, Problem, Remaining, Scratch, Start, Swaps, search};
 
 /// A prepared planner. Shareable between threads (`&Planner` is `Sync`); each thread brings
 /// its own [`Scratch`] and each simulated day its own [`Schedule`].
@@ -32,7 +32,7 @@ impl<'a> Planner<'a> {
         Planner {
             airspace,
             params,
-            heuristics: Heuristics::new(airspace, params.speed),
+            heuristics: Heuristics::new(airspace, &params),
         }
     }
 
@@ -53,7 +53,33 @@ impl<'a> Planner<'a> {
     }
 
     /// Plans one request against `schedule` (which it does not change): take-off in
-    /// `[departure, departure + G_max]`.
+    /// `[departure, departure + G_max]`. With battery swaps (SPEC §12) the plan may have
+    /// several legs ([`Plan::legs`]).
+    ///
+    /// ```
+    /// use muse_airspace::closures::Closures;
+    /// use muse_model::{Airspace, BatterySwap, FlightParams, Instant, Millis, NodeId, Request};
+    /// use muse_planner::{Planner, Schedule, Scratch};
+    /// // A — B — C, 6 km each: 12 minutes per corridor; the battery lasts 20.
+    /// let airspace = Airspace::line(&[6_000.0, 6_000.0]);
+    /// let r = Request { id: "r".into(), origin: NodeId(0), destination: NodeId(2),
+    ///                   departure: Instant(0), submitted: Instant(0) };
+    /// let single = Planner::new(&airspace, FlightParams::default());
+    /// let schedule = Schedule::new(&airspace, single.params(), &Closures::none(&airspace));
+    /// assert!(single.plan(&schedule, &r, &mut Scratch::new()).result.is_err(), "out of range");
+    ///
+    /// let params = FlightParams {
+    ///     battery_swap: Some(BatterySwap::new(Millis::from_mins(5))),
+    ///     ..FlightParams::default()
+    /// };
+    /// let swaps = Planner::new(&airspace, params);
+    /// let out = swaps.plan(&schedule, &r, &mut Scratch::new());
+    /// let plan = out.result.unwrap();
+    /// // Lands at B at 12 min, swaps for 5, lands at C at 29 min.
+    /// assert_eq!(plan.leg_count(), 2);
+    /// assert_eq!(plan.landing(), Instant(29 * 60_000));
+    /// assert_eq!(out.free_flow, Some(Millis::from_mins(29)), "the free-flow trip includes the swap");
+    /// ```
     pub fn plan(&self, schedule: &Schedule, request: &Request, scratch: &mut Scratch) -> Outcome {
         let earliest = request.departure;
         self.plan_within(
@@ -89,24 +115,49 @@ impl<'a> Planner<'a> {
         latest: Instant,
         scratch: &mut Scratch,
     ) -> Outcome {
+        let reject = |reason, free_flow, scratch: &mut Scratch| {
+            scratch.expanded = 0;
+            Outcome {
+                result: Err(reason),
+                free_flow,
+                expanded: 0,
+            }
+        };
         let h = self.heuristics.to(self.airspace, request.destination);
+        let direct = h[request.origin.index()];
+        if direct == UNREACHABLE {
+            return reject(RejectReason::Unreachable, None, scratch);
+        }
+        let (remaining, free_flow) =
+            match self.heuristics.swaps_to(self.airspace, request.destination) {
+                None if direct > self.params.max_flight.0 => {
+                    return reject(RejectReason::OutOfRange, Some(Millis(direct)), scratch);
+                }
+                None => (Remaining::Single(h), direct),
+                Some(table) => match table.free_flow(request.origin) {
+                    None => {
+                        return reject(RejectReason::OutOfRange, Some(Millis(direct)), scratch);
+                    }
+                    Some(trip) => (Remaining::Swaps(table), trip),
+                },
+            };
         let start = Start::Ground {
             origin: request.origin,
             earliest: earliest.0,
             latest: latest.0,
         };
+        let problem = self.problem(remaining, request.origin);
         let result = search(
-            self.problem(h),
+            problem,
             schedule,
             start,
             Goal::Node(request.destination),
             scratch,
-        );
-        let free_flow =
-            (h[request.origin.index()] != UNREACHABLE).then_some(Millis(h[request.origin.index()]));
+        )
+        .ok_or(RejectReason::NoFeasiblePlan);
         Outcome {
             result,
-            free_flow,
+            free_flow: Some(Millis(free_flow)),
             expanded: scratch.expanded,
         }
     }
@@ -115,11 +166,12 @@ impl<'a> Planner<'a> {
     /// instant `at`, having taken off at `takeoff`, and must land at `to` within the battery
     /// left (`T_max − (at − takeoff)`). The plan returned starts with the stay at `node` from
     /// `at`: the earliest landing (with `Landing::AnyStation`, at whichever station it is
-    /// earliest, ties to the lowest node index). `None` if no such plan exists.
+    /// earliest, ties to the lowest node index). `None` if no such plan exists. This is
+    /// [`Planner::resume`] of a single-leg flight from its first leg.
     ///
     /// ```
     /// use muse_airspace::closures::Closures;
-    /// use muse_model::{Airspace, Edge, FlightParams, Instant, LonLat, Node, NodeId, NodeKind};
+    /// use muse_model::{Airspace, Edge, FlightParams, Instant, LonLat, Millis, Node, NodeId, NodeKind};
     /// use muse_planner::{Landing, Planner, Schedule, Scratch};
     /// let node = |id: &str, kind, lon| Node {
     ///     id: id.into(), kind, name: String::new(), pos: LonLat::new(lon, 1.3),
@@ -148,29 +200,122 @@ impl<'a> Planner<'a> {
         to: Landing,
         scratch: &mut Scratch,
     ) -> (Option<Plan>, u64) {
-        let (h, goal) = match to {
-            Landing::At(d) => (self.heuristics.to(self.airspace, d), Goal::Node(d)),
-            Landing::AnyStation => (
-                self.heuristics.to_any_station(self.airspace),
-                Goal::AnyStation,
-            ),
-        };
-        let start = Start::Airborne {
+        let from = Resume {
+            origin: node,
             node,
-            at: at.0,
-            takeoff: takeoff.0,
+            at,
+            airborne_since: Some(takeoff),
+            first_takeoff: takeoff,
+            legs: 1,
         };
-        let result = search(self.problem(h), schedule, start, goal, scratch);
-        (result.ok(), scratch.expanded)
+        self.resume(schedule, &from, to, scratch)
     }
 
-    fn problem<'h>(&'h self, h: &'h [i64]) -> Problem<'h> {
+    /// Plans the rest of a trip that has begun (SPEC §11 with §12): from the air at
+    /// `from.node` (the current leg took off at `from.airborne_since`) or from the ground at
+    /// station `from.node` between legs (free to take off from `from.at`). With
+    /// `Landing::At(d)` and battery swaps on, the rest may land and swap on the way: the
+    /// earliest landing at `d`, then the fewest legs. With `Landing::AnyStation`, a single
+    /// landing at whichever station is earliest (ties to the lowest node index); from the
+    /// ground that is no flight at all, and `None` is returned. The plan returned starts with
+    /// the stay at `from.node` (in the air) or with the next take-off (on the ground).
+    ///
+    /// ```
+    /// use muse_airspace::closures::Closures;
+    /// use muse_model::{Airspace, BatterySwap, FlightParams, Instant, Millis, NodeId};
+    /// use muse_planner::{Landing, Planner, Resume, Schedule, Scratch};
+    /// // A — B — C, 6 km each: 12 minutes per corridor, more than one battery for two.
+    /// let airspace = Airspace::line(&[6_000.0, 6_000.0]);
+    /// let params = FlightParams {
+    ///     battery_swap: Some(BatterySwap::new(Millis::from_mins(5))),
+    ///     ..FlightParams::default()
+    /// };
+    /// let planner = Planner::new(&airspace, params);
+    /// let schedule = Schedule::new(&airspace, planner.params(), &Closures::none(&airspace));
+    /// // On the ground at B after the first leg, which landed at 12 min; ready at 17 min.
+    /// let from = Resume { origin: NodeId(0), node: NodeId(1), at: Instant(1_020_000),
+    ///                     airborne_since: None, first_takeoff: Instant(0), legs: 1 };
+    /// let (rest, _) = planner.resume(&schedule, &from, Landing::At(NodeId(2)), &mut Scratch::new());
+    /// let rest = rest.unwrap();
+    /// assert_eq!((rest.takeoff(), rest.landing()), (Instant(1_020_000), Instant(1_740_000)));
+    /// ```
+    pub fn resume(
+        &self,
+        schedule: &Schedule,
+        from: &Resume,
+        to: Landing,
+        scratch: &mut Scratch,
+    ) -> (Option<Plan>, u64) {
+        scratch.expanded = 0;
+        let (remaining, goal, swaps) = match to {
+            Landing::At(d) => match self.heuristics.swaps_to(self.airspace, d) {
+                Some(table) => (Remaining::Swaps(table), Goal::Node(d), true),
+                None => (
+                    Remaining::Single(self.heuristics.to(self.airspace, d)),
+                    Goal::Node(d),
+                    false,
+                ),
+            },
+            Landing::AnyStation => (
+                Remaining::Single(self.heuristics.to_any_station(self.airspace)),
+                Goal::AnyStation,
+                false,
+            ),
+        };
+        let start = match from.airborne_since {
+            Some(takeoff) => Start::Airborne {
+                node: from.node,
+                at: from.at.0,
+                takeoff: takeoff.0,
+                first: from.first_takeoff.0,
+                legs: from.legs,
+            },
+            None if swaps => Start::Landed {
+                node: from.node,
+                at: from.at.0,
+                first: from.first_takeoff.0,
+                legs: from.legs,
+            },
+            None => return (None, 0),
+        };
+        let mut problem = self.problem(remaining, from.origin);
+        if !swaps {
+            problem.swaps = None;
+        }
+        let plan = search(problem, schedule, start, goal, scratch);
+        (plan, scratch.expanded)
+    }
+
+    fn problem<'h>(&'h self, remaining: Remaining<'h>, origin: NodeId) -> Problem<'h> {
         Problem {
             airspace: self.airspace,
             params: &self.params,
-            h,
+            remaining,
+            swaps: self.params.battery_swap.map(|s| Swaps {
+                time: s.time.0,
+                max_legs: s.leg_limit(),
+                origin,
+            }),
         }
     }
+}
+
+/// Where a trip that has begun resumes ([`Planner::resume`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Resume {
+    /// The trip's origin (its first leg may not land there).
+    pub origin: NodeId,
+    /// Where the drone is: the node it reaches in the air, or the station it is on the ground
+    /// at.
+    pub node: NodeId,
+    /// When it reaches `node` (in the air), or from when it may take off (on the ground).
+    pub at: Instant,
+    /// In the air: when the current leg took off; `None` on the ground between legs.
+    pub airborne_since: Option<Instant>,
+    /// When the trip first took off.
+    pub first_takeoff: Instant,
+    /// Legs begun so far (the current one included when in the air).
+    pub legs: u32,
 }
 
 /// Where an airborne flight must land ([`Planner::continue_from`]).

@@ -21,8 +21,14 @@
 //!      at `n` is committed to the corridor it leaves by, which begins at or after `n`) leaves
 //!      no plan that complies: a contingency too.
 //!
+//! With battery swaps (SPEC §12) the rest of an airborne flight may itself land and swap on
+//! the way, and a multi-leg flight on the ground between legs at `n` keeps the legs it has
+//! flown and is replanned from the ground at that station, taking off no earlier than `n` and
+//! than its swap allows; if its destination cannot be reached any more it ends there
+//! ([diverted](Fate::Diverted)).
+//!
 //! Both searches are the planner's own, exact ([`Planner::plan_within`],
-//! [`Planner::continue_from`]). A stay or traversal that begins before `n` is exempt from the
+//! [`Planner::resume`]). A stay or traversal that begins before `n` is exempt from the
 //! zone, so flights whose every violation begins before `n` (landed, or past the zone) are
 //! not affected.
 
@@ -31,9 +37,9 @@ use std::hash::BuildHasher;
 
 use muse_airspace::closures::Closures;
 pub use muse_model::plan::{Fate, FateKind};
-use muse_model::{Airspace, Instant, NodeId, Plan, Request, Stay};
+use muse_model::{Airspace, Instant, Millis, Plan, Request};
 
-use crate::planner::{Landing, Planner};
+use crate::planner::{Landing, Planner, Resume};
 use crate::schedule::{FlightId, Schedule};
 use crate::sipp::Scratch;
 
@@ -79,28 +85,25 @@ pub struct Affected {
 /// assert!(!breaks(&airspace, &closed, &plan, Instant(120_001)), "it landed before the announcement");
 /// ```
 pub fn breaks(airspace: &Airspace, zone: &Closures, plan: &Plan, at: Instant) -> bool {
-    let w = |a: &Stay, b: &Stay| b.arrive - a.depart;
-    plan.path.iter().enumerate().any(|(k, stay)| {
-        let here = stay.arrive >= at
+    let stays = plan.path.iter().any(|stay| {
+        stay.arrive >= at
             && zone
                 .node_conflict(stay.node, stay.arrive, stay.depart)
-                .is_some();
-        let onward = plan.path.get(k + 1).is_some_and(|next| {
-            stay.depart >= at
+                .is_some()
+    });
+    stays
+        || plan.hops().any(|(from, to)| {
+            from.depart >= at
                 && airspace
-                    .edge_between(stay.node, next.node)
-                    .is_some_and(|e| {
-                        zone.edge_conflict(e, stay.depart, stay.depart + w(stay, next))
-                            .is_some()
-                    })
-        });
-        here || onward
-    })
+                    .edge_between(from.node, to.node)
+                    .is_some_and(|e| zone.edge_conflict(e, from.depart, to.arrive).is_some())
+        })
 }
 
 /// The committed part of a flight airborne at `at`: its stays before the first one it
 /// arrives at at or after `at`, then that arrival as a stay of zero length. `None` if the
-/// plan ends before `at`.
+/// plan ends before `at`. (A multi-leg flight on the ground between legs at `at` is
+/// committed to the legs it has flown: [`Commitment`].)
 ///
 /// ```
 /// use muse_model::{Instant, NodeId, Plan, Stay};
@@ -118,6 +121,50 @@ pub fn committed_part(plan: &Plan, at: Instant) -> Option<Plan> {
     let mut path = plan.path[..=k].to_vec();
     path[k].depart = path[k].arrive;
     Some(Plan { path })
+}
+
+/// What a flight that has taken off before `at` is committed to (SPEC §11, with §12).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Commitment {
+    /// In the air: the [`committed_part`], ending with its arrival at the node it resumes
+    /// from.
+    Airborne(Plan),
+    /// On the ground between legs: the legs flown, ending with the landing at the station it
+    /// resumes from.
+    Landed(Plan),
+}
+
+impl Commitment {
+    /// What `plan` (which took off before `at`) is committed to at `at`; `None` if it ends
+    /// before `at`.
+    ///
+    /// ```
+    /// use muse_model::{Instant, NodeId, Plan, Stay};
+    /// use muse_planner::replan::Commitment;
+    /// let stay = |n, a, d| Stay { node: NodeId(n), arrive: Instant(a), depart: Instant(d) };
+    /// // Lands at node 1 at 50, swaps, takes off again at 80.
+    /// let plan = Plan { path: vec![stay(0, 0, 0), stay(1, 50, 50), stay(1, 80, 80), stay(2, 120, 120)] };
+    /// assert_eq!(Commitment::at(&plan, Instant(60)),
+    ///            Some(Commitment::Landed(Plan { path: vec![stay(0, 0, 0), stay(1, 50, 50)] })));
+    /// assert_eq!(Commitment::at(&plan, Instant(90)),
+    ///            Some(Commitment::Airborne(Plan { path: plan.path.clone() })));
+    /// ```
+    pub fn at(plan: &Plan, at: Instant) -> Option<Commitment> {
+        let k = plan.path.iter().position(|s| s.arrive >= at)?;
+        if k > 0 && plan.path[k - 1].node == plan.path[k].node {
+            return Some(Commitment::Landed(Plan {
+                path: plan.path[..k].to_vec(),
+            }));
+        }
+        committed_part(plan, at).map(Commitment::Airborne)
+    }
+
+    /// The committed plan.
+    pub fn plan(&self) -> &Plan {
+        match self {
+            Commitment::Airborne(p) | Commitment::Landed(p) => p,
+        }
+    }
 }
 
 /// Replans the flights `zone` (announced at `at`) affects, as SPEC §11 states (see the module
@@ -143,13 +190,13 @@ pub fn replan<S: BuildHasher>(
     let order: Vec<FlightId> = hit.into_iter().map(|(_, _, f)| f).collect();
 
     // 1. Everything affected out; the committed parts of airborne flights back in.
-    let mut committed: HashMap<FlightId, Plan> = HashMap::default();
+    let mut committed: HashMap<FlightId, Commitment> = HashMap::default();
     for &f in &order {
         let plan = &bookings[&f].plan;
         schedule.release(airspace, f, plan);
         if plan.takeoff() < at {
-            let part = committed_part(plan, at).expect("an affected flight ends after `at`");
-            schedule.insert(airspace, f, &part);
+            let part = Commitment::at(plan, at).expect("an affected flight ends after `at`");
+            schedule.insert(airspace, f, part.plan());
             committed.insert(f, part);
         }
     }
@@ -170,9 +217,8 @@ pub fn replan<S: BuildHasher>(
                 (fate, outcome.expanded)
             }
             Some(part) => {
-                schedule.release(airspace, f, &part);
-                let destination = booking.request.destination;
-                fly_on(planner, schedule, zone, at, part, destination, scratch)
+                schedule.release(airspace, f, part.plan());
+                fly_on(planner, schedule, zone, at, part, &booking.request, scratch)
             }
         };
         match &fate {
@@ -199,46 +245,76 @@ pub fn replan<S: BuildHasher>(
     out
 }
 
-/// The fate of an airborne flight whose committed part is `part` (taken out of `schedule`).
+/// The fate of a flight that has taken off, committed to `part` (taken out of `schedule`).
 fn fly_on(
     planner: &Planner<'_>,
     schedule: &Schedule,
     zone: &Closures,
     at: Instant,
-    part: Plan,
-    destination: NodeId,
+    part: Commitment,
+    request: &Request,
     scratch: &mut Scratch,
 ) -> (Fate, u64) {
-    // Committed to a stay or traversal the zone closes: nothing can comply.
-    if breaks(planner.airspace(), zone, &part, at) {
-        return (Fate::Contingency(part), 0);
-    }
-    let last = *part.path.last().expect("a committed part is not empty");
-    let mut fly = |to| {
-        planner.continue_from(
-            schedule,
-            last.node,
-            last.arrive,
-            part.takeoff(),
-            to,
-            scratch,
-        )
+    let plan = part.plan();
+    let legs = plan.leg_count() as u32;
+    let last = *plan.path.last().expect("a committed part is not empty");
+    let from = match &part {
+        // Committed to a stay or traversal the zone closes: nothing can comply.
+        Commitment::Airborne(p) if breaks(planner.airspace(), zone, p, at) => {
+            return (Fate::Contingency(part_plan(part)), 0);
+        }
+        Commitment::Airborne(p) => Resume {
+            origin: request.origin,
+            node: last.node,
+            at: last.arrive,
+            airborne_since: Some(p.legs().last().expect("not empty")[0].arrive),
+            first_takeoff: p.takeoff(),
+            legs,
+        },
+        Commitment::Landed(p) => {
+            let swap = planner
+                .params()
+                .battery_swap
+                .map_or(Millis::ZERO, |s| s.time);
+            Resume {
+                origin: request.origin,
+                node: last.node,
+                at: (last.depart + swap).max(at),
+                airborne_since: None,
+                first_takeoff: p.takeoff(),
+                legs,
+            }
+        }
     };
-    let (home, e1) = fly(Landing::At(destination));
+    let (home, e1) = planner.resume(schedule, &from, Landing::At(request.destination), scratch);
     if let Some(rest) = home {
         return (Fate::Replanned(join(&part, rest)), e1);
     }
-    let (other, e2) = fly(Landing::AnyStation);
+    if let Commitment::Landed(p) = part {
+        // Already on the ground at a station: the trip ends there.
+        return (Fate::Diverted(p), e1);
+    }
+    let (other, e2) = planner.resume(schedule, &from, Landing::AnyStation, scratch);
     match other {
         Some(rest) => (Fate::Diverted(join(&part, rest)), e1 + e2),
-        None => (Fate::Contingency(part), e1 + e2),
+        None => (Fate::Contingency(part_plan(part)), e1 + e2),
     }
 }
 
-/// The committed part (ending with a zero-length stay at its last node) followed by the rest
-/// planned from that node (which starts with the stay there).
-fn join(part: &Plan, rest: Plan) -> Plan {
-    let mut path = part.path[..part.path.len() - 1].to_vec();
+fn part_plan(part: Commitment) -> Plan {
+    match part {
+        Commitment::Airborne(p) | Commitment::Landed(p) => p,
+    }
+}
+
+/// The committed part followed by the rest planned from where it ends. In the air the rest
+/// starts with the stay at the committed part's last node, which replaces its zero-length
+/// arrival there; on the ground the rest starts with the next take-off.
+fn join(part: &Commitment, rest: Plan) -> Plan {
+    let mut path = match part {
+        Commitment::Airborne(p) => p.path[..p.path.len() - 1].to_vec(),
+        Commitment::Landed(p) => p.path.clone(),
+    };
     path.extend(rest.path);
     Plan { path }
 }

@@ -10,11 +10,18 @@
 //! A diversion (SPEC §11) goes to whichever station it can land at earliest; its heuristic is
 //! the free-flow time to the *nearest* station, one multi-source search from all stations,
 //! equally exact and consistent.
+//!
+//! With battery swaps (SPEC §12) the remaining time also depends on how long the current leg
+//! has flown: [`swaps`] holds those tables, built from the same free-flow times.
+
+pub mod swaps;
 
 use std::sync::OnceLock;
 
 use muse_airspace::shortest::Dijkstra;
-use muse_model::{Airspace, Millis, NodeId, Speed};
+use muse_model::{Airspace, FlightParams, Millis, NodeId};
+
+use swaps::{Near, SwapTable};
 
 /// Marks a node from which the destination cannot be reached.
 pub const UNREACHABLE: i64 = i64::MAX;
@@ -25,18 +32,47 @@ pub struct Heuristics {
     times: Vec<Millis>,
     tables: Vec<OnceLock<Box<[i64]>>>,
     any_station: OnceLock<Box<[i64]>>,
+    params: FlightParams,
+    near: OnceLock<Near>,
+    swap_tables: Vec<OnceLock<SwapTable>>,
 }
 
 impl Heuristics {
-    /// Prepares (but does not yet compute) the tables for `airspace` at `speed`.
-    pub fn new(airspace: &Airspace, speed: Speed) -> Self {
+    /// Prepares (but does not yet compute) the tables for `airspace` and `params`.
+    pub fn new(airspace: &Airspace, params: &FlightParams) -> Self {
         Heuristics {
-            times: airspace.traversal_times(speed),
-            tables: (0..airspace.node_count())
-                .map(|_| OnceLock::new())
-                .collect(),
+            times: airspace.traversal_times(params.speed),
+            tables: lazy(airspace),
             any_station: OnceLock::new(),
+            params: *params,
+            near: OnceLock::new(),
+            swap_tables: if params.battery_swap.is_some() {
+                lazy(airspace)
+            } else {
+                Vec::new()
+            },
         }
+    }
+
+    /// The multi-leg tables for `destination` (SPEC §12), or `None` when the parameters
+    /// allow no battery swaps. Computed on the first call for this destination (the first
+    /// call at all computes every station's free-flow table).
+    pub fn swaps_to(&self, airspace: &Airspace, destination: NodeId) -> Option<&SwapTable> {
+        let swap = self.params.battery_swap?;
+        let t_max = self.params.max_flight.0;
+        Some(self.swap_tables[destination.index()].get_or_init(|| {
+            let near = self
+                .near
+                .get_or_init(|| Near::new(airspace, t_max, |x| self.to(airspace, x).to_vec()));
+            SwapTable::new(
+                airspace,
+                near,
+                destination,
+                swap.time.0,
+                t_max,
+                swap.leg_limit(),
+            )
+        }))
     }
 
     /// Free-flow time from every node to `destination` in ms ([`UNREACHABLE`] if none),
@@ -64,4 +100,11 @@ impl Heuristics {
     pub fn computed(&self) -> usize {
         self.tables.iter().filter(|t| t.get().is_some()).count()
     }
+}
+
+/// One empty, lazily filled slot per node.
+fn lazy<T>(airspace: &Airspace) -> Vec<OnceLock<T>> {
+    (0..airspace.node_count())
+        .map(|_| OnceLock::new())
+        .collect()
 }
