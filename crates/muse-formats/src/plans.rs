@@ -22,6 +22,12 @@
 //! - `contingency`: no `path` (it lands nowhere); `committed` holds the part it is committed
 //!   to, ending at the node it reached at or after the announcement; `takeoff` is its take-off,
 //!   `landing` null.
+//!
+//! A multi-leg plan (SPEC §12: battery swaps at stations) keeps these fields for the trip as a
+//! whole (`takeoff` the first take-off, `landing` the last landing, `airborne_s` between them,
+//! ground time included, `distance_m` the edges flown, `path` every stay with the station
+//! repeated at each swap) and adds `legs`, one `{"takeoff", "landing", "path"}` per leg; so do
+//! `original` and `committed` (as `committed_legs`). See [`LegLine`].
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -31,6 +37,11 @@ use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Stay, UtcOffset}
 use serde::{Deserialize, Serialize};
 
 use crate::error::{InputError, Location};
+
+mod legs;
+
+pub use legs::LegLine;
+use legs::{PlanFields, leg_lines};
 
 /// One line of a plans file, in model types.
 #[derive(Clone, Debug, PartialEq)]
@@ -133,6 +144,9 @@ pub struct OriginalLine {
     pub landing: String,
     /// The stays.
     pub path: Vec<StayLine>,
+    /// Its legs, when it has two or more.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub legs: Option<Vec<LegLine>>,
 }
 
 /// One stay of a [`PlanLine`], as written.
@@ -191,20 +205,26 @@ pub struct PlanLine {
     /// The stays, when it lands somewhere.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub path: Option<Vec<StayLine>>,
+    /// The legs of `path`, when it has two or more (SPEC §12).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub legs: Option<Vec<LegLine>>,
     /// Contingency: the stays it is committed to.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub committed: Option<Vec<StayLine>>,
+    /// The legs of `committed`, when it has two or more; the last has no landing.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub committed_legs: Option<Vec<LegLine>>,
     /// Changed by announcements: the plan first accepted.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub original: Option<OriginalLine>,
 }
 
-/// Total length of a plan's path, metres (rounded to the millimetre).
+/// Total length of the edges a plan flies, metres (rounded to the millimetre): the time on
+/// the ground between two legs adds nothing.
 pub fn plan_distance_m(airspace: &Airspace, plan: &Plan) -> f64 {
     let total: f64 = plan
-        .path
-        .windows(2)
-        .filter_map(|w| airspace.edge_between(w[0].node, w[1].node))
+        .hops()
+        .filter_map(|(x, y)| airspace.edge_between(x.node, y.node))
         .map(|e| airspace.edge(e).length_m)
         .sum();
     (total * 1e3).round() / 1e3
@@ -236,9 +256,9 @@ pub fn write_plan_line(
     let _ = writeln!(out, "{}", serde_json::to_string(&line).unwrap_or_default());
 }
 
-/// The stays of `plan` as written, times in `offset`.
-fn stay_lines(airspace: &Airspace, offset: UtcOffset, plan: &Plan) -> Vec<StayLine> {
-    plan.path
+/// `stays` as written, times in `offset`.
+fn stay_lines(airspace: &Airspace, offset: UtcOffset, stays: &[Stay]) -> Vec<StayLine> {
+    stays
         .iter()
         .map(|s| StayLine {
             node: airspace.node(s.node).id.clone(),
@@ -304,12 +324,15 @@ pub fn plan_line(airspace: &Airspace, offset: UtcOffset, record: &PlanRecord) ->
             .filter(|_| diverted)
             .and_then(|p| p.path.last())
             .map(|s| airspace.node(s.node).id.clone()),
-        path: plan.map(|p| stay_lines(airspace, offset, p)),
-        committed: committed.map(|p| stay_lines(airspace, offset, p)),
+        path: plan.map(|p| stay_lines(airspace, offset, &p.path)),
+        legs: plan.and_then(|p| leg_lines(airspace, offset, p, true)),
+        committed: committed.map(|p| stay_lines(airspace, offset, &p.path)),
+        committed_legs: committed.and_then(|p| leg_lines(airspace, offset, p, false)),
         original: original.map(|o| OriginalLine {
             takeoff: o.takeoff().to_rfc3339(offset),
             landing: o.landing().to_rfc3339(offset),
-            path: stay_lines(airspace, offset, o),
+            path: stay_lines(airspace, offset, &o.path),
+            legs: leg_lines(airspace, offset, o, true),
         }),
     }
 }
@@ -401,7 +424,7 @@ impl LineReader<'_> {
         );
         let status = line.status.as_str();
         match status {
-            "planned" => record.result = Ok(self.stays("path", status, line.path.as_ref())?),
+            "planned" => record.result = Ok(self.plan(status, &final_plan(line))?),
             "rejected" => {
                 let reason = line.reason.as_deref().unwrap_or("");
                 record.result = Err(RejectReason::parse(reason).ok_or_else(|| {
@@ -428,8 +451,17 @@ impl LineReader<'_> {
                 ),
             )
         })?;
-        let original = line.original.as_ref().map(|o| &o.path);
-        record.result = Ok(self.stays("original.path", status, original)?);
+        let original = line.original.as_ref();
+        record.result = Ok(self.plan(
+            status,
+            &PlanFields {
+                path: "original.path",
+                stays: original.map(|o| &o.path),
+                legs: "original.legs",
+                leg_lines: original.and_then(|o| o.legs.as_ref()),
+                lands: true,
+            },
+        )?);
         let changes = line
             .changes
             .as_ref()
@@ -457,16 +489,32 @@ impl LineReader<'_> {
                 format!("`{status}` is not the outcome of the last change"),
             ));
         }
-        let path = || self.stays("path", status, line.path.as_ref());
+        let path = || self.plan(status, &final_plan(line));
+        let committed = PlanFields {
+            path: "committed",
+            stays: line.committed.as_ref(),
+            legs: "committed_legs",
+            leg_lines: line.committed_legs.as_ref(),
+            lands: false,
+        };
         record.fate = Some(match kind {
             FateKind::Replanned => Fate::Replanned(path()?),
             FateKind::Diverted => Fate::Diverted(path()?),
             FateKind::Cancelled => Fate::Cancelled,
-            FateKind::Contingency => {
-                Fate::Contingency(self.stays("committed", status, line.committed.as_ref())?)
-            }
+            FateKind::Contingency => Fate::Contingency(self.plan(status, &committed)?),
         });
         Ok(())
+    }
+}
+
+/// Where a line's final plan is: `path` and `legs`.
+fn final_plan(line: &PlanLine) -> PlanFields<'_> {
+    PlanFields {
+        path: "path",
+        stays: line.path.as_ref(),
+        legs: "legs",
+        leg_lines: line.legs.as_ref(),
+        lands: true,
     }
 }
 
@@ -485,7 +533,7 @@ mod tests {
     use crate::airspace_geojson::read_airspace;
     use muse_model::NodeId;
 
-    fn air() -> Airspace {
+    pub(super) fn air() -> Airspace {
         read_airspace(
             r#"{"type": "FeatureCollection", "features": [
   {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.8, 1.3]}, "properties": {"id": "A", "kind": "station"}},

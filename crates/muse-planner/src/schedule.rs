@@ -497,14 +497,14 @@ enum Target {
 }
 
 /// Calls `f` on every reservation a plan makes: a stay per node visited and an entry instant
-/// per traversal.
+/// per traversal (a multi-leg plan's time on the ground between legs reserves nothing).
 fn for_each_reservation(
     airspace: &Airspace,
     flight: FlightId,
     plan: &Plan,
     mut f: impl FnMut(Target, Occ),
 ) {
-    for (k, stay) in plan.path.iter().enumerate() {
+    for stay in &plan.path {
         f(
             Target::Node(stay.node.index()),
             Occ {
@@ -513,21 +513,21 @@ fn for_each_reservation(
                 flight,
             },
         );
-        if let Some(next) = plan.path.get(k + 1) {
-            let e = airspace
-                .edge_between(stay.node, next.node)
-                .expect("consecutive stays of a plan are joined by an edge");
-            let dir = usize::from(airspace.edge(e).from != stay.node);
-            let s = stay.depart.0;
-            f(
-                Target::Edge(e.index(), dir),
-                Occ {
-                    start: s,
-                    end: s,
-                    flight,
-                },
-            );
-        }
+    }
+    for (from, to) in plan.hops() {
+        let e = airspace
+            .edge_between(from.node, to.node)
+            .expect("consecutive stays of a leg are joined by an edge");
+        let dir = usize::from(airspace.edge(e).from != from.node);
+        let s = from.depart.0;
+        f(
+            Target::Edge(e.index(), dir),
+            Occ {
+                start: s,
+                end: s,
+                flight,
+            },
+        );
     }
 }
 

@@ -1,5 +1,5 @@
 //! An independent checker of planned flights against SPEC §3 (flight model and separation),
-//! §4 (no-fly zones) and §11 (zones announced during the day).
+//! §4 (no-fly zones), §11 (zones announced during the day) and §12 (multi-leg trips).
 //!
 //! The verifier is deliberately simple: every rule is written out as the SPEC states it, on
 //! plain integer milliseconds, and it shares no interval or search code with the planner. It
@@ -23,13 +23,25 @@
 //!   under [`EdgeRule::Exclusive`](muse_model::EdgeRule::Exclusive) (and in opposite directions
 //!   under [`EdgeRule::Headway`](muse_model::EdgeRule::Headway)),
 //!   `s2 >= f1` or `s1 >= f2`; in the same direction under `Headway(h)`, `|s2 - s1| >= h`.
-//! - [`Rule::Battery`]: `landing - takeoff <= T_max`.
-//! - [`Rule::GroundDelay`]: `departure <= takeoff <= departure + G_max`.
+//! - [`Rule::Battery`]: `landing - takeoff <= T_max`, for each leg.
+//! - [`Rule::GroundDelay`]: `departure <= takeoff <= departure + G_max` (the first take-off).
+//! - [`Rule::Swap`]: a plan of several legs (SPEC §12) needs battery swaps
+//!   ([`FlightParams::battery_swap`]), has at most `K` legs, and its legs chain: leg `i + 1`
+//!   takes off from the station where leg `i` landed, at least `S` after that landing.
 //! - [`Rule::Zone`]: a stay `[a, d]` at a closed node, or a traversal `[s, f]` of a closed
 //!   edge, shares no instant with a closure window `[start, end)`: `d < start` or `a >= end`.
 //!   Origin and destination are no exception. With zones announced during the day
 //!   ([`verify_known`]), a zone announced at `n` (and withdrawn at `m`, if it was) binds only
 //!   the stays and traversals that begin in `[n, m)`: one that begins before `n` is exempt.
+//!
+//! A multi-leg plan lists the stays of all its legs; a leg ends where two consecutive stays
+//! are at the same station (the landing, then the next take-off), or where the drone lands at
+//! one station and takes off at another that no edge joins (a chain violation). Every leg
+//! obeys [`Rule::Path`] on its own: it flies at least one edge, its consecutive stays are
+//! traversals, and every leg but the last lands (`depart = arrive`) at a station other than
+//! the one it took off from (so does the last, when bound for the destination). Between two
+//! legs the drone is on the ground, outside the airspace: that time occupies no node and is
+//! bound by no zone; the landing and take-off stays are ordinary stays.
 //!
 //! A replanned flight (SPEC §11) is checked like any other; a [diverted](Ending::Diverted)
 //! one must end at some station rather than its destination; a flight left in
@@ -71,6 +83,7 @@
 
 use std::fmt;
 
+mod legs;
 mod path;
 mod separation;
 mod zones;
@@ -165,22 +178,27 @@ pub enum Ending {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Rule {
     /// The plan itself is malformed (SPEC §3: empty, wrong origin or destination, nodes not
-    /// joined by an edge, `arrive > depart`, wrong traversal time, hovering before landing).
+    /// joined by an edge, `arrive > depart`, wrong traversal time, hovering before landing;
+    /// SPEC §12: a leg that flies no edge, lands at a waypoint or where it took off).
     Path,
     /// Node separation `tau` between stays of two flights.
     Node,
     /// Edge separation (exclusive or headway) between traversals of two flights.
     Edge,
-    /// Airborne time above `T_max`.
+    /// Airborne time of a leg above `T_max`.
     Battery,
     /// Take-off before the requested departure or more than `G_max` after it.
     GroundDelay,
     /// A stay or traversal during a no-fly window (SPEC §4).
     Zone,
+    /// Legs that do not fit together (SPEC §12): several legs with battery swaps off, more
+    /// than `K` legs, or a leg that does not take off from the station where the previous one
+    /// landed, or takes off less than `S` after that landing.
+    Swap,
 }
 
 impl Rule {
-    /// A short name: `path`, `node`, `edge`, `battery`, `ground_delay` or `zone`.
+    /// A short name: `path`, `node`, `edge`, `battery`, `ground_delay`, `zone` or `swap`.
     pub const fn name(self) -> &'static str {
         match self {
             Rule::Path => "path",
@@ -189,6 +207,7 @@ impl Rule {
             Rule::Battery => "battery",
             Rule::GroundDelay => "ground_delay",
             Rule::Zone => "zone",
+            Rule::Swap => "swap",
         }
     }
 }
@@ -357,17 +376,26 @@ fn single(rule: Rule, flight: &Flight<'_>, element: String, detail: String) -> V
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use muse_airspace::closures::resolve;
     use muse_model::{Edge, EdgeRule, LonLat, Node, NodeKind, Period, Speed, Stay, Zone};
 
     use super::*;
 
     /// `A - B - C`, `B - D` and `B - E`, 100 m each: 10 s at 36 km/h.
-    fn airspace() -> Airspace {
+    pub(crate) fn airspace() -> Airspace {
+        airspace_with(&[])
+    }
+
+    /// [`airspace`] with `waypoints` waypoints instead of stations.
+    pub(crate) fn airspace_with(waypoints: &[&str]) -> Airspace {
         let node = |id: &str, lon| Node {
             id: id.into(),
-            kind: NodeKind::Station,
+            kind: if waypoints.contains(&id) {
+                NodeKind::Waypoint
+            } else {
+                NodeKind::Station
+            },
             name: String::new(),
             pos: LonLat::new(lon, 1.3),
         };
@@ -395,7 +423,7 @@ mod tests {
         .unwrap()
     }
 
-    fn params() -> FlightParams {
+    pub(crate) fn params() -> FlightParams {
         FlightParams {
             speed: Speed::from_kmh(36.0).unwrap(),
             max_flight: Millis::from_secs(100),
@@ -406,10 +434,10 @@ mod tests {
         }
     }
 
-    const W: i64 = 10_000;
+    pub(crate) const W: i64 = 10_000;
 
     /// A consistent plan through `nodes` (ids, hover in ms at each), taking off at `t`.
-    fn plan(a: &Airspace, t: i64, nodes: &[(&str, i64)]) -> Plan {
+    pub(crate) fn plan(a: &Airspace, t: i64, nodes: &[(&str, i64)]) -> Plan {
         let mut path = Vec::new();
         let mut now = t;
         for (i, &(id, hover)) in nodes.iter().enumerate() {
@@ -426,7 +454,7 @@ mod tests {
         Plan { path }
     }
 
-    fn request(a: &Airspace, plan: &Plan, departure: i64) -> Request {
+    pub(crate) fn request(a: &Airspace, plan: &Plan, departure: i64) -> Request {
         Request {
             id: String::new(),
             origin: plan.path.first().map_or(NodeId(0), |s| s.node),
@@ -457,7 +485,7 @@ mod tests {
         check_with(params, &Closures::none(&airspace()), plans)
     }
 
-    fn rules(v: &[Violation]) -> Vec<Rule> {
+    pub(crate) fn rules(v: &[Violation]) -> Vec<Rule> {
         v.iter().map(|v| v.rule).collect()
     }
 
@@ -739,7 +767,7 @@ mod tests {
         assert_eq!(rules(&v), [Rule::GroundDelay]);
     }
 
-    fn closures(nodes: &[&str], edges: &[&str], start: i64, end: i64) -> Closures {
+    pub(crate) fn closures(nodes: &[&str], edges: &[&str], start: i64, end: i64) -> Closures {
         let a = airspace();
         let zone = Zone {
             id: "Z".into(),

@@ -1,12 +1,16 @@
-//! The rules of one flight alone: its path (SPEC §3), battery and ground delay.
+//! The rules of one flight alone: its path (SPEC §3), its legs (SPEC §12), battery and
+//! ground delay.
 
-use muse_model::{Airspace, FlightParams, Instant};
+use std::ops::Range;
 
+use muse_model::{Airspace, FlightParams};
+
+use crate::legs::{check_legs, prefix, split};
 use crate::{
     Ending, Flight, Rule, Violation, dur, edge_of, node_name, secs, single, traversal_time,
 };
 
-/// Path rules of one flight, then its battery and ground-delay rules.
+/// Path rules of one flight, the rules of its legs, then its battery and ground-delay rules.
 pub(crate) fn check_flight(
     airspace: &Airspace,
     params: &FlightParams,
@@ -79,7 +83,9 @@ pub(crate) fn check_flight(
             ));
         }
     }
-    check_legs(airspace, params, flight, out);
+    let legs = split(airspace, path);
+    check_hops(airspace, params, flight, &legs, out);
+    check_legs(airspace, params, flight, &legs, out);
     if last.depart != last.arrive {
         let what = if stranded {
             "a committed part must end with its arrival"
@@ -96,56 +102,62 @@ pub(crate) fn check_flight(
             ),
         ));
     }
-    check_times(params, flight, first.arrive, last.depart, out);
+    check_times(params, flight, &legs, out);
 }
 
-/// Path rules between consecutive stays: joined by an edge, `arrive_{i+1} = depart_i + w(e)`.
-fn check_legs(
+/// Path rules between consecutive stays of each leg: joined by an edge,
+/// `arrive_{i+1} = depart_i + w(e)`. In a multi-leg plan the messages name the leg.
+fn check_hops(
     airspace: &Airspace,
     params: &FlightParams,
     flight: &Flight<'_>,
+    legs: &[Range<usize>],
     out: &mut Vec<Violation>,
 ) {
     let one = |rule, element: String, detail: String| single(rule, flight, element, detail);
-    for (i, pair) in flight.plan.path.windows(2).enumerate() {
-        let (x, y) = (pair[0], pair[1]);
-        let Some(e) = edge_of(airspace, x.node, y.node) else {
-            out.push(one(
-                Rule::Path,
-                format!(
-                    "{}-{}",
-                    node_name(airspace, x.node),
-                    node_name(airspace, y.node)
-                ),
-                format!("stays {i} and {} are not joined by an edge", i + 1),
-            ));
-            continue;
-        };
-        let w = traversal_time(airspace, params, e);
-        if y.arrive != x.depart + w {
-            out.push(one(
-                Rule::Path,
-                airspace.edge(e).id.clone(),
-                format!(
-                    "departs `{}` at {} and arrives at `{}` at {}; the traversal takes {}, so the arrival must be {}",
-                    node_name(airspace, x.node),
-                    secs(x.depart),
-                    node_name(airspace, y.node),
-                    secs(y.arrive),
-                    dur(w),
-                    secs(x.depart + w)
-                ),
-            ));
+    let path = &flight.plan.path;
+    for (k, leg) in legs.iter().enumerate() {
+        let prefix = prefix(legs.len(), k);
+        for i in leg.start..leg.end - 1 {
+            let (x, y) = (path[i], path[i + 1]);
+            let Some(e) = edge_of(airspace, x.node, y.node) else {
+                out.push(one(
+                    Rule::Path,
+                    format!(
+                        "{}-{}",
+                        node_name(airspace, x.node),
+                        node_name(airspace, y.node)
+                    ),
+                    format!("{prefix}stays {i} and {} are not joined by an edge", i + 1),
+                ));
+                continue;
+            };
+            let w = traversal_time(airspace, params, e);
+            if y.arrive != x.depart + w {
+                out.push(one(
+                    Rule::Path,
+                    airspace.edge(e).id.clone(),
+                    format!(
+                        "{prefix}departs `{}` at {} and arrives at `{}` at {}; the traversal \
+                         takes {}, so the arrival must be {}",
+                        node_name(airspace, x.node),
+                        secs(x.depart),
+                        node_name(airspace, y.node),
+                        secs(y.arrive),
+                        dur(w),
+                        secs(x.depart + w)
+                    ),
+                ));
+            }
         }
     }
 }
 
-/// Battery and ground-delay rules of one flight.
+/// Battery (per leg) and ground-delay (first take-off) rules of one flight.
 fn check_times(
     params: &FlightParams,
     flight: &Flight<'_>,
-    takeoff: Instant,
-    landing: Instant,
+    legs: &[Range<usize>],
     out: &mut Vec<Violation>,
 ) {
     let one = |rule, detail: String| Violation {
@@ -154,19 +166,25 @@ fn check_times(
         element: String::new(),
         detail,
     };
-    let request = flight.request;
-    if landing - takeoff > params.max_flight {
-        out.push(one(
-            Rule::Battery,
-            format!(
-                "airborne {} (take-off {}, landing {}), more than T_max = {}",
-                dur(landing - takeoff),
-                secs(takeoff),
-                secs(landing),
-                dur(params.max_flight)
-            ),
-        ));
+    let path = &flight.plan.path;
+    for (k, leg) in legs.iter().enumerate() {
+        let (takeoff, landing) = (path[leg.start].arrive, path[leg.end - 1].depart);
+        if landing - takeoff > params.max_flight {
+            let prefix = prefix(legs.len(), k);
+            out.push(one(
+                Rule::Battery,
+                format!(
+                    "{prefix}airborne {} (take-off {}, landing {}), more than T_max = {}",
+                    dur(landing - takeoff),
+                    secs(takeoff),
+                    secs(landing),
+                    dur(params.max_flight)
+                ),
+            ));
+        }
     }
+    let request = flight.request;
+    let takeoff = flight.plan.takeoff();
     let latest = request.departure + params.max_ground_delay;
     if takeoff < request.departure || takeoff > latest {
         out.push(one(

@@ -16,7 +16,8 @@ pub(crate) struct Occupation {
     forward: bool,
 }
 
-/// Stays per node and traversals per edge of one plan.
+/// Stays per node and traversals per edge of one plan (of every leg; the time on the ground
+/// between two legs is neither).
 pub(crate) fn collect(
     airspace: &Airspace,
     params: &FlightParams,
@@ -35,10 +36,10 @@ pub(crate) fn collect(
             });
         }
     }
-    for pair in plan.path.windows(2) {
-        if let Some(e) = edge_of(airspace, pair[0].node, pair[1].node) {
-            let s = pair[0].depart;
-            let forward = airspace.edge(e).from == pair[0].node;
+    for (x, y) in plan.hops() {
+        if let Some(e) = edge_of(airspace, x.node, y.node) {
+            let s = x.depart;
+            let forward = airspace.edge(e).from == x.node;
             traversals[e.index()].push(Occupation {
                 flight,
                 start: s,

@@ -12,7 +12,8 @@ fn shares_instant(w: Window, a: Instant, d: Instant) -> bool {
     !(d < w.start || a >= w.end)
 }
 
-/// Zone rule for every stay and traversal of one flight.
+/// Zone rule for every stay and traversal of one flight (of every leg: on the ground between
+/// two legs the drone is outside the airspace).
 pub(crate) fn zone_rule(
     airspace: &Airspace,
     closures: &Closures,
@@ -69,11 +70,11 @@ pub(crate) fn zone_rule(
             }
         }
     }
-    for pair in path.windows(2) {
-        let Some(e) = edge_of(airspace, pair[0].node, pair[1].node) else {
+    for (x, y) in flight.plan.hops() {
+        let Some(e) = edge_of(airspace, x.node, y.node) else {
             continue;
         };
-        let s = pair[0].depart;
+        let s = x.depart;
         let f = s + traversal_time(airspace, params, e);
         for (layer, by) in binding(s) {
             for &w in layer.edge(e) {
