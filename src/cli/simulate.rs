@@ -148,8 +148,8 @@ fn edge_load(world: &World, flights: &[Flight<'_>]) -> Vec<f64> {
     let a = &world.airspace;
     let mut load = vec![0.0; a.edge_count()];
     for f in flights {
-        for w in f.plan.path.windows(2) {
-            if let Some(e) = a.edge_between(w[0].node, w[1].node) {
+        for (from, to) in f.plan.hops() {
+            if let Some(e) = a.edge_between(from.node, to.node) {
                 load[e.index()] += 1.0;
             }
         }
@@ -199,6 +199,13 @@ fn report(
     };
     let _ = writeln!(o, "  air delay     {}", d(s.air_delay_s));
     let _ = writeln!(o, "  ground delay  {}", d(s.ground_delay_s));
+    if let Some(l) = &s.legs {
+        let _ = writeln!(
+            o,
+            "  legs          mean {:.2}, max {} per trip; {} trips with swaps, {} swaps in all",
+            l.per_trip_mean, l.per_trip_max, l.multi_leg_trips, l.swaps
+        );
+    }
     if let Some(r) = &s.replanning {
         for z in &r.zones {
             let _ = writeln!(

@@ -26,6 +26,8 @@ pub enum Vary {
     EdgeRule,
     /// No ground delay versus up to 10 minutes.
     GroundDelay,
+    /// Single legs versus battery swaps at stations (SPEC §12) of each `--swap-min` time.
+    BatterySwap,
     /// How much warning before a zone's first active window it is announced (`--leads`,
     /// `--announce-zones`); replays each day (SPEC §11) with bookings made 0–120 min ahead
     /// unless `--booking-lead-min` says otherwise. Not combinable with other `--vary` values.
@@ -55,6 +57,10 @@ pub struct SweepArgs {
     /// the same id is not also known from the start.
     #[arg(long, value_name = "FILE")]
     pub(super) announce_zones: Vec<PathBuf>,
+    /// `--vary battery-swap`: the swap times to compare with single legs, minutes,
+    /// comma-separated [default: 2,5,10].
+    #[arg(long, value_name = "MIN,...")]
+    pub(super) swap_min: Option<String>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -110,24 +116,59 @@ fn zone_label(world: &World) -> String {
     }
 }
 
-/// The two settings `vary` compares, applied to `cur`, with their labels.
+/// Parses `--swap-min`: positive minutes, comma-separated.
+fn parse_swap_times(text: &str) -> anyhow::Result<Vec<Millis>> {
+    let bad = || anyhow::anyhow!("--swap-min `{text}`: expected comma-separated minutes >= 0");
+    text.split(',')
+        .map(|x| {
+            let m: f64 = x.trim().parse().map_err(|_| bad())?;
+            Millis::from_secs_f64(m * 60.0).map_err(|_| bad())
+        })
+        .collect()
+}
+
+/// The settings `vary` compares, applied to `cur`, with their labels.
 fn options(
     vary: Vary,
     cur: &Variant,
     world: &World,
     base: FlightParams,
-) -> anyhow::Result<[(String, Variant); 2]> {
+    swap_times: &[Millis],
+) -> anyhow::Result<Vec<(String, Variant)>> {
     let with_params = |params: FlightParams| Variant {
         params,
         ..cur.clone()
     };
     Ok(match vary {
+        Vary::BatterySwap => {
+            let limit = base.battery_swap.and_then(|s| s.max_legs);
+            let mut out = vec![(
+                "no swaps".to_owned(),
+                with_params(FlightParams {
+                    battery_swap: None,
+                    ..cur.params
+                }),
+            )];
+            for &time in swap_times {
+                out.push((
+                    format!("swaps {} min", time.as_secs_f64() / 60.0),
+                    with_params(FlightParams {
+                        battery_swap: Some(muse_model::BatterySwap {
+                            time,
+                            max_legs: limit,
+                        }),
+                        ..cur.params
+                    }),
+                ));
+            }
+            out
+        }
         Vary::Zones => {
             if world.zones.is_empty() {
                 anyhow::bail!("--vary zones needs zones (the embedded CBD zone, or --zones FILE)");
             }
             let with = zone_label(world);
-            [
+            vec![
                 (with, cur.clone()),
                 (
                     "no zone".to_owned(),
@@ -143,7 +184,7 @@ fn options(
                 EdgeRule::Headway(h) => h,
                 EdgeRule::Exclusive => base.node_separation,
             };
-            [
+            vec![
                 (
                     "exclusive".to_owned(),
                     with_params(FlightParams {
@@ -164,7 +205,7 @@ fn options(
         Vary::AnnounceLead => {
             anyhow::bail!("--vary announce-lead cannot be combined with other --vary values")
         }
-        Vary::GroundDelay => [
+        Vary::GroundDelay => vec![
             (
                 "G_max 0".to_owned(),
                 with_params(FlightParams {
@@ -184,7 +225,12 @@ fn options(
 }
 
 /// The variants: the cartesian product of the `--vary` choices (one base variant if none).
-fn variants(world: &World, base: FlightParams, vary: &[Vary]) -> anyhow::Result<Vec<Variant>> {
+fn variants(
+    world: &World,
+    base: FlightParams,
+    vary: &[Vary],
+    swap_times: &[Millis],
+) -> anyhow::Result<Vec<Variant>> {
     let mut out = vec![Variant {
         name: String::new(),
         zones: world.zones.clone(),
@@ -193,7 +239,7 @@ fn variants(world: &World, base: FlightParams, vary: &[Vary]) -> anyhow::Result<
     for &v in vary {
         let mut next = Vec::new();
         for cur in &out {
-            for (label, mut variant) in options(v, cur, world, base)? {
+            for (label, mut variant) in options(v, cur, world, base, swap_times)? {
                 variant.name = if cur.name.is_empty() {
                     label
                 } else {
@@ -221,6 +267,10 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
     if !announce_lead && (args.leads.is_some() || !args.announce_zones.is_empty()) {
         anyhow::bail!("--leads and --announce-zones apply only with --vary announce-lead");
     }
+    if args.swap_min.is_some() && !args.vary.contains(&Vary::BatterySwap) {
+        anyhow::bail!("--swap-min applies only with --vary battery-swap");
+    }
+    let swap_times = parse_swap_times(args.swap_min.as_deref().unwrap_or("2,5,10"))?;
     if let Some(n) = args.threads {
         rayon::ThreadPoolBuilder::new()
             .num_threads(n)
@@ -245,7 +295,7 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
         end: demand.end,
         od: demand.od,
         booking_lead: demand.booking_lead,
-        variants: variants(&world, base, &args.vary)?,
+        variants: variants(&world, base, &args.vary, &swap_times)?,
     };
     let booked = args.demand.booking_note();
     println!(
@@ -406,6 +456,18 @@ mod tests {
         assert_eq!(parse_counts("5, 10").unwrap(), vec![5, 10]);
         for bad in ["", "1:2", "3:1:1", "1:5:0", "a,b", "0,5"] {
             assert!(parse_counts(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn swap_times() {
+        use muse_model::Millis;
+        assert_eq!(
+            super::parse_swap_times("2, 0.5").unwrap(),
+            vec![Millis::from_mins(2), Millis::from_secs(30)]
+        );
+        for bad in ["", "x", "-1", "2,,5"] {
+            assert!(super::parse_swap_times(bad).is_err(), "{bad}");
         }
     }
 }

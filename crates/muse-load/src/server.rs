@@ -87,6 +87,10 @@ struct Parameters {
     edge_rule: String,
     headway_s: Option<f64>,
     max_ground_delay_s: f64,
+    #[serde(default)]
+    battery_swap_s: Option<f64>,
+    #[serde(default)]
+    max_legs: Option<u32>,
 }
 
 #[derive(Deserialize)]
@@ -263,7 +267,15 @@ fn flight_params(v: &serde_json::Value) -> Result<FlightParams, String> {
         node_separation: secs("node_separation_s", p.node_separation_s)?,
         edge_rule,
         max_ground_delay: secs("max_ground_delay_s", p.max_ground_delay_s)?,
-        battery_swap: None,
+        battery_swap: p
+            .battery_swap_s
+            .map(|s| {
+                Ok::<_, String>(muse_model::BatterySwap {
+                    time: secs("battery_swap_s", s)?,
+                    max_legs: p.max_legs,
+                })
+            })
+            .transpose()?,
     })
 }
 

@@ -65,6 +65,29 @@ impl BatterySwap {
     }
 }
 
+impl FlightParams {
+    /// How long after its requested departure a trip may still be flying, as far as zone
+    /// calendars need to be resolved: `G_max + T_max` for single legs. With battery swaps the
+    /// time on the ground between legs has no bound (SPEC §12), so a trip is given a week:
+    /// simulations resolve zone windows that far ahead, and a plan beyond it (never seen in
+    /// practice) would be caught by the verifier, which resolves the windows of the plans it
+    /// reads.
+    ///
+    /// ```
+    /// use muse_model::{BatterySwap, FlightParams, Millis};
+    /// assert_eq!(FlightParams::default().trip_span(), Millis::from_mins(20));
+    /// let swaps = FlightParams { battery_swap: Some(BatterySwap::new(Millis::from_mins(5))), ..FlightParams::default() };
+    /// assert_eq!(swaps.trip_span(), Millis::from_mins(20 + 7 * 24 * 60));
+    /// ```
+    pub fn trip_span(&self) -> Millis {
+        let single = self.max_ground_delay + self.max_flight;
+        match self.battery_swap {
+            None => single,
+            Some(_) => single + Millis::from_mins(7 * 24 * 60),
+        }
+    }
+}
+
 impl Default for FlightParams {
     /// The paper's parameters: 30 km/h, 20 min, `tau` = 5 s, exclusive edges, no ground delay,
     /// no battery swaps.

@@ -190,6 +190,7 @@ impl FlightEntry {
             line.ground_delay_s = None;
             line.distance_m = None;
             line.path = None;
+            line.legs = None;
             line.extra_delay_s = None;
             line.diverted_to = None;
         }

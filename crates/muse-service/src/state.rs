@@ -85,9 +85,17 @@ impl ServiceWorld {
         let airspace = muse_formats::airspace_geojson::write_airspace(&self.airspace);
         let zones = muse_formats::zones::write_ed318(&self.zones);
         let p = &self.params;
+        // Logs written without battery swaps keep the description they were written with.
+        let swaps = p.battery_swap.map_or(String::new(), |s| {
+            format!(
+                ", battery swaps {} ms, at most {} legs",
+                s.time.0,
+                s.max_legs.map_or("any".into(), |k| k.to_string())
+            )
+        });
         format!(
             "airspace of {} nodes and {} edges (crc {:08x}), {} zone(s) (crc {:08x}), \
-             speed {} mm/s, battery {} ms, node separation {} ms, edges {:?}, ground delay {} ms",
+             speed {} mm/s, battery {} ms, node separation {} ms, edges {:?}, ground delay {} ms{}",
             self.airspace.node_count(),
             self.airspace.edge_count(),
             crc32fast::hash(airspace.as_bytes()),
@@ -98,6 +106,7 @@ impl ServiceWorld {
             p.node_separation.0,
             p.edge_rule,
             p.max_ground_delay.0,
+            swaps,
         )
     }
 }

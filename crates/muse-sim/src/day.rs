@@ -77,7 +77,7 @@ pub fn closure_range(requests: &[Request], params: &FlightParams) -> (Instant, I
         .unwrap_or_default();
     (
         first - day,
-        last + params.max_ground_delay + params.max_flight + day,
+        last + params.trip_span() + day,
     )
 }
 

@@ -114,6 +114,8 @@ pub struct RunRecord {
     pub planner_ms: f64,
     /// Labels expanded per request.
     pub expanded_per_request: f64,
+    /// Mean legs per planned trip (1 without battery swaps).
+    pub legs_per_trip: f64,
 }
 
 /// Runs the sweep on the global `rayon` pool; `tick` is called once per finished run.
@@ -127,7 +129,7 @@ pub fn run_sweep(
     let from = spec.start - spec.booking_lead.max - day;
     let mut prepared = Vec::with_capacity(spec.variants.len());
     for v in &spec.variants {
-        let to = spec.end + v.params.max_ground_delay + v.params.max_flight + day;
+        let to = spec.end + v.params.trip_span() + day;
         let closures =
             resolve(airspace, &v.zones, from, to).map_err(|source| SweepError::Zones {
                 variant: v.name.clone(),
@@ -197,8 +199,9 @@ fn run_one(
         mean_ground_delay_s: 0.0,
         planner_ms: wall.as_secs_f64() * 1e3,
         expanded_per_request: 0.0,
+        legs_per_trip: 0.0,
     };
-    let (mut air, mut ground, mut expanded) = (0i64, 0i64, 0u64);
+    let (mut air, mut ground, mut expanded, mut legs) = (0i64, 0i64, 0u64, 0usize);
     for (req, o) in requests.iter().zip(&outcomes) {
         expanded += o.expanded;
         match &o.result {
@@ -206,6 +209,7 @@ fn run_one(
                 rec.planned += 1;
                 air += (plan.airborne() - o.free_flow.unwrap_or(plan.airborne())).0;
                 ground += (plan.takeoff() - req.departure).0;
+                legs += plan.leg_count();
             }
             Err(muse_model::RejectReason::OutOfRange) => rec.out_of_range += 1,
             Err(muse_model::RejectReason::Unreachable) => rec.unreachable += 1,
@@ -222,6 +226,7 @@ fn run_one(
     rec.mean_air_delay_s = air as f64 / 1e3 / planned;
     rec.mean_ground_delay_s = ground as f64 / 1e3 / planned;
     rec.expanded_per_request = expanded as f64 / n;
+    rec.legs_per_trip = legs as f64 / planned;
     rec
 }
 
@@ -244,6 +249,8 @@ pub struct SummaryRow {
     pub expanded_per_request: MeanCi,
     /// Rejections for lack of a feasible plan, per run.
     pub no_feasible_plan: MeanCi,
+    /// Legs per planned trip.
+    pub legs_per_trip: MeanCi,
 }
 
 /// Groups runs by (variant, count) in the order variants and counts first appear.
@@ -271,6 +278,7 @@ pub fn summarize(records: &[RunRecord]) -> Vec<SummaryRow> {
                 ground_delay_s: ci(|r| r.mean_ground_delay_s),
                 expanded_per_request: ci(|r| r.expanded_per_request),
                 no_feasible_plan: ci(|r| r.no_feasible_plan as f64),
+                legs_per_trip: ci(|r| r.legs_per_trip),
                 variant,
                 count,
             }
@@ -282,12 +290,12 @@ pub fn summarize(records: &[RunRecord]) -> Vec<SummaryRow> {
 /// `[from, to]` minutes; `0,0` for requests submitted at departure).
 pub fn runs_csv(records: &[RunRecord]) -> String {
     let mut out = String::from(
-        "variant,count,rep,seed,planned,out_of_range,unreachable,no_feasible_plan,success_rate,mean_air_delay_s,mean_ground_delay_s,planner_ms,expanded_per_request,booking_lead_min_from,booking_lead_min_to\n",
+        "variant,count,rep,seed,planned,out_of_range,unreachable,no_feasible_plan,success_rate,mean_air_delay_s,mean_ground_delay_s,planner_ms,expanded_per_request,legs_per_trip,booking_lead_min_from,booking_lead_min_to\n",
     );
     for r in records {
         let _ = writeln!(
             out,
-            "{},{},{},{},{},{},{},{},{:.6},{:.3},{:.3},{:.3},{:.3},{},{}",
+            "{},{},{},{},{},{},{},{},{:.6},{:.3},{:.3},{:.3},{:.3},{:.4},{},{}",
             csv_text(&r.variant),
             r.count,
             r.rep,
@@ -301,6 +309,7 @@ pub fn runs_csv(records: &[RunRecord]) -> String {
             r.mean_ground_delay_s,
             r.planner_ms,
             r.expanded_per_request,
+            r.legs_per_trip,
             r.booking_lead.min.as_secs_f64() / 60.0,
             r.booking_lead.max.as_secs_f64() / 60.0
         );
@@ -318,6 +327,7 @@ pub fn summary_csv(rows: &[SummaryRow]) -> String {
         "ground_delay_s",
         "expanded_per_request",
         "no_feasible_plan",
+        "legs_per_trip",
     ] {
         let _ = write!(out, ",{m}_mean,{m}_ci95_low,{m}_ci95_high");
     }
@@ -337,6 +347,7 @@ pub fn summary_csv(rows: &[SummaryRow]) -> String {
             r.ground_delay_s,
             r.expanded_per_request,
             r.no_feasible_plan,
+            r.legs_per_trip,
         ] {
             let _ = write!(out, ",{:.6},{:.6},{:.6}", m.mean, m.low(), m.high());
         }

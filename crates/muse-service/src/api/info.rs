@@ -57,6 +57,10 @@ struct Parameters {
     edge_rule: &'static str,
     headway_s: Option<f64>,
     max_ground_delay_s: f64,
+    /// SPEC §12: the battery swap time, `null` when trips are single legs.
+    battery_swap_s: Option<f64>,
+    /// With swaps: the most legs a trip may have (`null`: no bound).
+    max_legs: Option<u32>,
 }
 
 pub(super) async fn healthz(AxumState(app): AxumState<Arc<App>>) -> Response {
@@ -86,6 +90,8 @@ pub(super) async fn healthz(AxumState(app): AxumState<Arc<App>>) -> Response {
                         muse_model::EdgeRule::Exclusive => None,
                     },
                     max_ground_delay_s: p.max_ground_delay.as_secs_f64(),
+                    battery_swap_s: p.battery_swap.map(|s| s.time.as_secs_f64()),
+                    max_legs: p.battery_swap.and_then(|s| s.max_legs),
                 }
             },
         },

@@ -186,7 +186,7 @@ impl LeadSweepSpec {
         let day = Millis::from_secs(86_400);
         (
             self.start - self.booking_lead.max - day,
-            self.end + self.params.max_ground_delay + self.params.max_flight + day,
+            self.end + self.params.trip_span() + day,
         )
     }
 

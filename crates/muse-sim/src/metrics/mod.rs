@@ -79,6 +79,12 @@ pub struct ParamsRecord {
     /// `submitted` column gives each request's own booking instant.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub booking_lead_min: Option<BookingLeadRecord>,
+    /// Battery swap time at stations, seconds (SPEC §12); absent when trips are single legs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub battery_swap_s: Option<f64>,
+    /// With swaps: the most legs a trip may have; absent when unbounded.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_legs: Option<u32>,
 }
 
 /// A booking lead as recorded in a summary: uniform in `[from, to]` minutes.
@@ -112,8 +118,23 @@ impl From<&FlightParams> for ParamsRecord {
             },
             max_ground_delay_s: p.max_ground_delay.as_secs_f64(),
             booking_lead_min: None,
+            battery_swap_s: p.battery_swap.map(|s| s.time.as_secs_f64()),
+            max_legs: p.battery_swap.and_then(|s| s.max_legs),
         }
     }
+}
+
+/// The legs of planned trips (SPEC §12), when battery swaps are on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct LegsRecord {
+    /// Mean legs per planned trip.
+    pub per_trip_mean: f64,
+    /// Most legs of one planned trip.
+    pub per_trip_max: usize,
+    /// Planned trips with more than one leg.
+    pub multi_leg_trips: usize,
+    /// Battery swaps made in all (legs − 1, summed over planned trips).
+    pub swaps: usize,
 }
 
 /// Planner wall time.
@@ -170,6 +191,9 @@ pub struct Summary {
     pub planner_time: Timing,
     /// Search effort.
     pub search: Effort,
+    /// Legs per trip and swaps made (only with battery swaps on).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub legs: Option<LegsRecord>,
     /// Parameters.
     pub parameters: ParamsRecord,
     /// Inputs and seed.
@@ -207,6 +231,7 @@ impl Summary {
             .map(|r| (r.as_str(), 0))
             .collect();
         let (mut air, mut ground) = (Vec::new(), Vec::new());
+        let mut legs = LegsRecord::default();
         let mut requests = 0;
         let mut effort = Effort::default();
         for item in items {
@@ -219,6 +244,10 @@ impl Summary {
                         air.push(plan.airborne() - ff);
                     }
                     ground.push(plan.takeoff() - item.departure);
+                    let n = plan.leg_count();
+                    legs.per_trip_max = legs.per_trip_max.max(n);
+                    legs.swaps += n.saturating_sub(1);
+                    legs.multi_leg_trips += usize::from(n > 1);
                 }
                 Err(r) => *rejected_by_reason.entry(r.as_str()).or_default() += 1,
             }
@@ -230,6 +259,9 @@ impl Summary {
             effort.expanded_total as f64 / requests as f64
         };
         let total_s = planner_wall.as_secs_f64();
+        if planned > 0 {
+            legs.per_trip_mean = (planned + legs.swaps) as f64 / planned as f64;
+        }
         Summary {
             requests,
             planned,
@@ -251,6 +283,7 @@ impl Summary {
                 },
             },
             search: effort,
+            legs: params.battery_swap.is_some().then_some(legs),
             parameters: params.into(),
             provenance,
             replanning: None,
