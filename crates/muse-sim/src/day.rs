@@ -75,10 +75,7 @@ pub fn closure_range(requests: &[Request], params: &FlightParams) -> (Instant, I
         .map(|r| r.departure)
         .max()
         .unwrap_or_default();
-    (
-        first - day,
-        last + params.trip_span() + day,
-    )
+    (first - day, last + params.trip_span() + day)
 }
 
 /// Plans `requests` (in any order: they are sorted into planning order `(submitted, id)` first,
