@@ -260,6 +260,9 @@ fn flight_flags(f: &FlightArgs) -> Vec<String> {
     if let Some(k) = f.max_legs {
         out.push(format!("--max-legs={k}"));
     }
+    if let Some(m) = f.max_trip_min {
+        out.push(format!("--max-trip-min={m}"));
+    }
     out
 }
 

@@ -227,6 +227,11 @@ pub struct FlightArgs {
     /// With `--battery-swap-s`: at most this many legs per trip (default: no bound).
     #[arg(long, value_name = "K", requires = "battery_swap_s", value_parser = clap::value_parser!(u32).range(1..))]
     pub max_legs: Option<u32>,
+    /// A delivery deadline: every trip must land within this many minutes of its requested
+    /// departure, or it is rejected (`no_feasible_plan`). Default: none. With battery swaps
+    /// the time on the ground between legs is otherwise unbounded.
+    #[arg(long, value_name = "MIN")]
+    pub max_trip_min: Option<f64>,
 }
 
 /// The edge rule on the command line.
@@ -269,6 +274,10 @@ impl FlightArgs {
                         max_legs: self.max_legs,
                     })
                 })
+                .transpose()?,
+            max_trip: self
+                .max_trip_min
+                .map(|m| secs("--max-trip-min", m * 60.0))
                 .transpose()?,
         })
     }

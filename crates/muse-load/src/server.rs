@@ -91,6 +91,8 @@ struct Parameters {
     battery_swap_s: Option<f64>,
     #[serde(default)]
     max_legs: Option<u32>,
+    #[serde(default)]
+    max_trip_min: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -275,6 +277,10 @@ fn flight_params(v: &serde_json::Value) -> Result<FlightParams, String> {
                     max_legs: p.max_legs,
                 })
             })
+            .transpose()?,
+        max_trip: p
+            .max_trip_min
+            .map(|m| secs("max_trip_min", m * 60.0))
             .transpose()?,
     })
 }

@@ -38,6 +38,11 @@ pub struct FlightParams {
     /// Battery swaps at stations (SPEC §12): `None` (the paper, the default) plans single
     /// legs only.
     pub battery_swap: Option<BatterySwap>,
+    /// A delivery deadline: every trip lands at most this long after its requested
+    /// departure, or is rejected (`None`, the default: no deadline). An operator's promise
+    /// rather than part of the SPEC: with battery swaps the time on the ground between legs
+    /// is otherwise unbounded, and a saturated airspace answers with trips that wait hours.
+    pub max_trip: Option<Millis>,
 }
 
 /// Multi-leg trips (SPEC §12): a plan may land at intermediate stations, stay on the ground
@@ -67,7 +72,8 @@ impl BatterySwap {
 
 impl FlightParams {
     /// How long after its requested departure a trip may still be flying, as far as zone
-    /// calendars need to be resolved: `G_max + T_max` for single legs. With battery swaps the
+    /// calendars need to be resolved: `G_max + T_max` for single legs, and never more than
+    /// the delivery deadline. With battery swaps the
     /// time on the ground between legs has no bound (SPEC §12), so a trip is given a week:
     /// simulations resolve zone windows that far ahead, and a plan beyond it (never seen in
     /// practice) would be caught by the verifier, which resolves the windows of the plans it
@@ -81,10 +87,11 @@ impl FlightParams {
     /// ```
     pub fn trip_span(&self) -> Millis {
         let single = self.max_ground_delay + self.max_flight;
-        match self.battery_swap {
+        let span = match self.battery_swap {
             None => single,
             Some(_) => single + Millis::from_mins(7 * 24 * 60),
-        }
+        };
+        self.max_trip.map_or(span, |m| m.min(span))
     }
 }
 
@@ -99,6 +106,7 @@ impl Default for FlightParams {
             edge_rule: EdgeRule::Exclusive,
             max_ground_delay: Millis::ZERO,
             battery_swap: None,
+            max_trip: None,
         }
     }
 }

@@ -3,7 +3,7 @@
 use muse_model::{Airspace, FlightParams, Instant, Millis, NodeId, Plan, RejectReason, Request};
 
 use crate::heuristic::{Heuristics, UNREACHABLE};
-use crate::schedule::{FlightId, Schedule};
+use crate::schedule::{FlightId, INF, Schedule};
 use crate::sipp::{Goal, Problem, Remaining, Scratch, Start, Swaps, search};
 
 /// A prepared planner. Shareable between threads (`&Planner` is `Sync`); each thread brings
@@ -146,7 +146,10 @@ impl<'a> Planner<'a> {
             earliest: earliest.0,
             latest: latest.0,
         };
-        let problem = self.problem(remaining, request.origin);
+        let mut problem = self.problem(remaining, request.origin);
+        if let Some(m) = self.params.max_trip {
+            problem.deadline = (request.departure + m).0;
+        }
         let result = search(
             problem,
             schedule,
@@ -162,17 +165,21 @@ impl<'a> Planner<'a> {
         }
     }
 
-    /// Plans the rest of a flight that is in the air (SPEC §11): it arrives at `node` at
-    /// instant `at`, having taken off at `takeoff`, and must land at `to` within the battery
-    /// left (`T_max − (at − takeoff)`). The plan returned starts with the stay at `node` from
-    /// `at`: the earliest landing (with `Landing::AnyStation`, at whichever station it is
-    /// earliest, ties to the lowest node index). `None` if no such plan exists. This is
-    /// [`Planner::resume`] of a single-leg flight from its first leg.
+    /// Plans the rest of a trip that has begun (SPEC §11 with §12): from the air at
+    /// `from.node` (the current leg took off at `from.airborne_since`) or from the ground at
+    /// station `from.node` between legs (free to take off from `from.at`). With
+    /// `Landing::At(d)` and battery swaps on, the rest may land and swap on the way: the
+    /// earliest landing at `d`, then the fewest legs. With `Landing::AnyStation`, a single
+    /// landing at whichever station is earliest (ties to the lowest node index); from the
+    /// ground that is no flight at all, and `None` is returned. The plan returned starts with
+    /// the stay at `from.node` (in the air) or with the next take-off (on the ground). A
+    /// delivery deadline ([`FlightParams::max_trip`]) binds the landing at `d`, not a
+    /// diversion.
     ///
     /// ```
     /// use muse_airspace::closures::Closures;
-    /// use muse_model::{Airspace, Edge, FlightParams, Instant, LonLat, Millis, Node, NodeId, NodeKind};
-    /// use muse_planner::{Landing, Planner, Schedule, Scratch};
+    /// use muse_model::{Airspace, Edge, FlightParams, Instant, LonLat, Node, NodeId, NodeKind};
+    /// use muse_planner::{Landing, Planner, Resume, Schedule, Scratch};
     /// let node = |id: &str, kind, lon| Node {
     ///     id: id.into(), kind, name: String::new(), pos: LonLat::new(lon, 1.3),
     /// };
@@ -184,41 +191,16 @@ impl<'a> Planner<'a> {
     /// ).unwrap();
     /// let planner = Planner::new(&airspace, FlightParams::default());
     /// let schedule = Schedule::new(&airspace, planner.params(), &Closures::none(&airspace));
-    /// let mut scratch = Scratch::new();
-    /// // At waypoint W 2 minutes after take-off: back to A is nearest.
-    /// let (rest, _) = planner.continue_from(&schedule, NodeId(1), Instant(120_000), Instant(0),
-    ///                                       Landing::AnyStation, &mut scratch);
+    /// // At waypoint W 2 minutes after take-off from A: back to A is the nearest landing.
+    /// let from = Resume { origin: NodeId(0), departure: Instant(0), node: NodeId(1),
+    ///                     at: Instant(120_000), airborne_since: Some(Instant(0)),
+    ///                     first_takeoff: Instant(0), legs: 1 };
+    /// let (rest, _) = planner.resume(&schedule, &from, Landing::AnyStation, &mut Scratch::new());
     /// let rest = rest.unwrap();
     /// assert_eq!((rest.path.last().unwrap().node, rest.landing()), (NodeId(0), Instant(240_000)));
     /// ```
-    pub fn continue_from(
-        &self,
-        schedule: &Schedule,
-        node: NodeId,
-        at: Instant,
-        takeoff: Instant,
-        to: Landing,
-        scratch: &mut Scratch,
-    ) -> (Option<Plan>, u64) {
-        let from = Resume {
-            origin: node,
-            node,
-            at,
-            airborne_since: Some(takeoff),
-            first_takeoff: takeoff,
-            legs: 1,
-        };
-        self.resume(schedule, &from, to, scratch)
-    }
-
-    /// Plans the rest of a trip that has begun (SPEC §11 with §12): from the air at
-    /// `from.node` (the current leg took off at `from.airborne_since`) or from the ground at
-    /// station `from.node` between legs (free to take off from `from.at`). With
-    /// `Landing::At(d)` and battery swaps on, the rest may land and swap on the way: the
-    /// earliest landing at `d`, then the fewest legs. With `Landing::AnyStation`, a single
-    /// landing at whichever station is earliest (ties to the lowest node index); from the
-    /// ground that is no flight at all, and `None` is returned. The plan returned starts with
-    /// the stay at `from.node` (in the air) or with the next take-off (on the ground).
+    ///
+    /// With battery swaps, from the ground between legs:
     ///
     /// ```
     /// use muse_airspace::closures::Closures;
@@ -233,8 +215,9 @@ impl<'a> Planner<'a> {
     /// let planner = Planner::new(&airspace, params);
     /// let schedule = Schedule::new(&airspace, planner.params(), &Closures::none(&airspace));
     /// // On the ground at B after the first leg, which landed at 12 min; ready at 17 min.
-    /// let from = Resume { origin: NodeId(0), node: NodeId(1), at: Instant(1_020_000),
-    ///                     airborne_since: None, first_takeoff: Instant(0), legs: 1 };
+    /// let from = Resume { origin: NodeId(0), departure: Instant(0), node: NodeId(1),
+    ///                     at: Instant(1_020_000), airborne_since: None,
+    ///                     first_takeoff: Instant(0), legs: 1 };
     /// let (rest, _) = planner.resume(&schedule, &from, Landing::At(NodeId(2)), &mut Scratch::new());
     /// let rest = rest.unwrap();
     /// assert_eq!((rest.takeoff(), rest.landing()), (Instant(1_020_000), Instant(1_740_000)));
@@ -282,6 +265,9 @@ impl<'a> Planner<'a> {
         if !swaps {
             problem.swaps = None;
         }
+        if let (Goal::Node(_), Some(m)) = (goal, self.params.max_trip) {
+            problem.deadline = (from.departure + m).0;
+        }
         let plan = search(problem, schedule, start, goal, scratch);
         (plan, scratch.expanded)
     }
@@ -296,6 +282,7 @@ impl<'a> Planner<'a> {
                 max_legs: s.leg_limit(),
                 origin,
             }),
+            deadline: INF,
         }
     }
 }
@@ -305,6 +292,8 @@ impl<'a> Planner<'a> {
 pub struct Resume {
     /// The trip's origin (its first leg may not land there).
     pub origin: NodeId,
+    /// The trip's requested departure (a delivery deadline counts from it).
+    pub departure: Instant,
     /// Where the drone is: the node it reaches in the air, or the station it is on the ground
     /// at.
     pub node: NodeId,

@@ -265,6 +265,7 @@ fn fly_on(
         }
         Commitment::Airborne(p) => Resume {
             origin: request.origin,
+            departure: request.departure,
             node: last.node,
             at: last.arrive,
             airborne_since: Some(p.legs().last().expect("not empty")[0].arrive),
@@ -278,6 +279,7 @@ fn fly_on(
                 .map_or(Millis::ZERO, |s| s.time);
             Resume {
                 origin: request.origin,
+                departure: request.departure,
                 node: last.node,
                 at: (last.depart + swap).max(at),
                 airborne_since: None,

@@ -51,6 +51,7 @@ fn tau_zero() -> FlightParams {
         edge_rule: EdgeRule::Exclusive,
         max_ground_delay: Millis::ZERO,
         battery_swap: None,
+        max_trip: None,
     }
 }
 

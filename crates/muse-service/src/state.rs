@@ -93,9 +93,12 @@ impl ServiceWorld {
                 s.max_legs.map_or("any".into(), |k| k.to_string())
             )
         });
+        let deadline = p
+            .max_trip
+            .map_or(String::new(), |m| format!(", trips within {} ms", m.0));
         format!(
             "airspace of {} nodes and {} edges (crc {:08x}), {} zone(s) (crc {:08x}), \
-             speed {} mm/s, battery {} ms, node separation {} ms, edges {:?}, ground delay {} ms{}",
+             speed {} mm/s, battery {} ms, node separation {} ms, edges {:?}, ground delay {} ms{}{}",
             self.airspace.node_count(),
             self.airspace.edge_count(),
             crc32fast::hash(airspace.as_bytes()),
@@ -107,6 +110,7 @@ impl ServiceWorld {
             p.edge_rule,
             p.max_ground_delay.0,
             swaps,
+            deadline,
         )
     }
 }

@@ -195,10 +195,14 @@ pub enum Rule {
     /// than `K` legs, or a leg that does not take off from the station where the previous one
     /// landed, or takes off less than `S` after that landing.
     Swap,
+    /// A flight landing at its destination later than its requested departure plus the
+    /// delivery deadline ([`FlightParams::max_trip`], when set).
+    Deadline,
 }
 
 impl Rule {
-    /// A short name: `path`, `node`, `edge`, `battery`, `ground_delay`, `zone` or `swap`.
+    /// A short name: `path`, `node`, `edge`, `battery`, `ground_delay`, `zone`, `swap` or
+    /// `deadline`.
     pub const fn name(self) -> &'static str {
         match self {
             Rule::Path => "path",
@@ -207,6 +211,7 @@ impl Rule {
             Rule::Battery => "battery",
             Rule::GroundDelay => "ground_delay",
             Rule::Zone => "zone",
+            Rule::Deadline => "deadline",
             Rule::Swap => "swap",
         }
     }
@@ -431,6 +436,7 @@ pub(crate) mod tests {
             edge_rule: EdgeRule::Exclusive,
             max_ground_delay: Millis::from_secs(30),
             battery_swap: None,
+            max_trip: None,
         }
     }
 

@@ -184,6 +184,21 @@ fn check_times(
         }
     }
     let request = flight.request;
+    if let (Ending::Destination, Some(m)) = (flight.ending, params.max_trip) {
+        let landing = flight.plan.landing();
+        if landing > request.departure + m {
+            out.push(one(
+                Rule::Deadline,
+                format!(
+                    "lands at {}, later than {} (departure {} + the delivery deadline {})",
+                    secs(landing),
+                    secs(request.departure + m),
+                    secs(request.departure),
+                    dur(m)
+                ),
+            ));
+        }
+    }
     let takeoff = flight.plan.takeoff();
     let latest = request.departure + params.max_ground_delay;
     if takeoff < request.departure || takeoff > latest {

@@ -71,6 +71,15 @@ impl Label {
     }
 }
 
+/// A state met in a search: a node's safe interval (or its ground) and its labels, as a
+/// list linked through [`Label::next_in_state`].
+#[derive(Clone, Copy, Debug)]
+struct State {
+    lo: i64,
+    head: u32,
+    tail: u32,
+}
+
 /// The priority of a label: `(arrival + remaining, −first take-off, legs)`, smallest first.
 pub(super) type Key = (i64, i64, u32);
 
@@ -80,9 +89,11 @@ pub(super) type Key = (i64, i64, u32);
 pub struct Scratch {
     pub(super) labels: Vec<Label>,
     pub(super) heap: BinaryHeap<Reverse<(Key, u32)>>,
-    /// Per node: the states met in this search, as `(lo, first label)`.
-    states: Vec<Vec<(i64, u32)>>,
+    /// Per node: the states met in this search, sorted by `lo`.
+    states: Vec<Vec<State>>,
     touched: Vec<u32>,
+    /// Labels whose key passes this are never queued (the search's deadline).
+    pub(super) deadline: i64,
     /// Labels expanded by the last search.
     pub expanded: u64,
 }
@@ -93,7 +104,8 @@ impl Scratch {
         Scratch::default()
     }
 
-    pub(super) fn reset(&mut self, node_count: usize) {
+    pub(super) fn reset(&mut self, node_count: usize, deadline: i64) {
+        self.deadline = deadline;
         self.labels.clear();
         self.heap.clear();
         if self.states.len() < node_count {
@@ -114,44 +126,85 @@ impl Scratch {
 
     /// Adds a label unless an existing label of its state dominates it; marks the labels it
     /// dominates dead; queues it with `key`.
+    ///
+    /// A state's labels are listed oldest first: labels are pushed in roughly increasing key
+    /// order, so an older label is the likelier to dominate a new one, and is met first.
     pub(super) fn push(&mut self, label: Label, key: Key) {
+        if key.0 > self.deadline {
+            return;
+        }
         let node = label.node as usize;
-        let slot = self.states[node].iter().position(|&(lo, _)| lo == label.lo);
+        let states = &mut self.states[node];
+        // States are kept sorted by `lo`; new ones usually go last.
+        let k = states.partition_point(|s| s.lo < label.lo);
         let idx = self.labels.len() as u32;
-        let mut label = label;
-        if let Some(k) = slot {
-            let head = self.states[node][k].1;
-            let mut i = head;
-            while i != NONE {
-                let s = &self.labels[i as usize];
-                if !s.dead && dominates(s, &label) {
-                    return;
-                }
-                i = s.next_in_state;
+        if states.get(k).is_some_and(|s| s.lo == label.lo) {
+            if self.dominated_in(node, k, &label) {
+                return;
             }
-            let mut i = head;
-            while i != NONE {
-                let s = &mut self.labels[i as usize];
-                if !s.dead && dominates(&label, s) {
-                    s.dead = true;
-                }
-                i = s.next_in_state;
+            let tail = std::mem::replace(&mut self.states[node][k].tail, idx);
+            if tail == NONE {
+                self.states[node][k].head = idx;
+            } else {
+                self.labels[tail as usize].next_in_state = idx;
             }
-            label.next_in_state = head;
-            self.states[node][k].1 = idx;
         } else {
-            if self.states[node].is_empty() {
+            if states.is_empty() {
                 self.touched.push(label.node);
             }
-            self.states[node].push((label.lo, idx));
+            states.insert(
+                k,
+                State {
+                    lo: label.lo,
+                    head: idx,
+                    tail: idx,
+                },
+            );
         }
-        self.labels.push(label);
+        self.labels.push(Label {
+            next_in_state: NONE,
+            ..label
+        });
         self.heap.push(Reverse((key, idx)));
+    }
+
+    /// Whether a label of state `k` of `node` dominates `label`; marks dead those `label`
+    /// dominates and unlinks every dead label met, so that lists stay short.
+    fn dominated_in(&mut self, node: usize, k: usize, label: &Label) -> bool {
+        let mut prev = NONE;
+        let mut i = self.states[node][k].head;
+        let mut dominated = false;
+        while i != NONE {
+            let s = &mut self.labels[i as usize];
+            let next = s.next_in_state;
+            if !s.dead && !dominated && dominates(s, label) {
+                dominated = true;
+            } else if !s.dead && !dominated && dominates(label, s) {
+                s.dead = true;
+            }
+            if s.dead {
+                // Unlink: a dead label never dominates again (its continuations check its
+                // flag, not the list).
+                if prev == NONE {
+                    self.states[node][k].head = next;
+                } else {
+                    self.labels[prev as usize].next_in_state = next;
+                }
+            } else {
+                prev = i;
+            }
+            i = next;
+        }
+        self.states[node][k].tail = prev;
+        dominated
     }
 
     /// Queues the continuation `label` of label `of` (not in any state list: `of` stands for
     /// it in dominance).
     pub(super) fn push_continuation(&mut self, of: u32, label: Label, key: Key) {
+        if key.0 > self.deadline {
+            return;
+        }
         let idx = self.labels.len() as u32;
         let owner = self.labels[of as usize].alias;
         self.labels.push(Label {

@@ -136,6 +136,8 @@ pub(crate) struct Problem<'a> {
     pub remaining: Remaining<'a>,
     /// Battery swaps, if the drone may land between legs.
     pub swaps: Option<Swaps>,
+    /// The latest landing allowed (`INF`: none).
+    pub deadline: i64,
 }
 
 impl Problem<'_> {
@@ -196,7 +198,7 @@ pub(crate) fn search(
     goal: Goal,
     scratch: &mut Scratch,
 ) -> Option<Plan> {
-    scratch.reset(p.airspace.node_count());
+    scratch.reset(p.airspace.node_count(), p.deadline);
     seed(p, schedule, start, scratch);
     let is_goal = |l: &Label| {
         !l.ground
@@ -210,6 +212,10 @@ pub(crate) fn search(
     while let Some(Reverse(((key, _, _), idx))) = scratch.heap.pop() {
         if scratch.is_dead(idx) {
             continue;
+        }
+        if key > p.deadline {
+            // Keys never decrease: nothing left can land in time.
+            break;
         }
         let label = scratch.labels[idx as usize];
         if let Some(best) = found {

@@ -61,6 +61,8 @@ struct Parameters {
     battery_swap_s: Option<f64>,
     /// With swaps: the most legs a trip may have (`null`: no bound).
     max_legs: Option<u32>,
+    /// The delivery deadline after the requested departure, minutes (`null`: none).
+    max_trip_min: Option<f64>,
 }
 
 pub(super) async fn healthz(AxumState(app): AxumState<Arc<App>>) -> Response {
@@ -92,6 +94,7 @@ pub(super) async fn healthz(AxumState(app): AxumState<Arc<App>>) -> Response {
                     max_ground_delay_s: p.max_ground_delay.as_secs_f64(),
                     battery_swap_s: p.battery_swap.map(|s| s.time.as_secs_f64()),
                     max_legs: p.battery_swap.and_then(|s| s.max_legs),
+                    max_trip_min: p.max_trip.map(|m| m.as_secs_f64() / 60.0),
                 }
             },
         },

@@ -85,6 +85,9 @@ pub struct ParamsRecord {
     /// With swaps: the most legs a trip may have; absent when unbounded.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub max_legs: Option<u32>,
+    /// The delivery deadline after the requested departure, minutes; absent when none.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_trip_min: Option<f64>,
 }
 
 /// A booking lead as recorded in a summary: uniform in `[from, to]` minutes.
@@ -120,6 +123,7 @@ impl From<&FlightParams> for ParamsRecord {
             booking_lead_min: None,
             battery_swap_s: p.battery_swap.map(|s| s.time.as_secs_f64()),
             max_legs: p.battery_swap.and_then(|s| s.max_legs),
+            max_trip_min: p.max_trip.map(|m| m.as_secs_f64() / 60.0),
         }
     }
 }
