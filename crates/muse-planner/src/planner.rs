@@ -146,7 +146,7 @@ impl<'a> Planner<'a> {
             earliest: earliest.0,
             latest: latest.0,
         };
-        let mut problem = self.problem(remaining, request.origin);
+        let mut problem = self.problem(remaining, request.origin, 1);
         if let Some(m) = self.params.max_trip {
             problem.deadline = (request.departure + m).0;
         }
@@ -192,7 +192,7 @@ impl<'a> Planner<'a> {
     /// let planner = Planner::new(&airspace, FlightParams::default());
     /// let schedule = Schedule::new(&airspace, planner.params(), &Closures::none(&airspace));
     /// // At waypoint W 2 minutes after take-off from A: back to A is the nearest landing.
-    /// let from = Resume { origin: NodeId(0), departure: Instant(0), node: NodeId(1),
+    /// let from = Resume { leg_origin: NodeId(0), departure: Instant(0), node: NodeId(1),
     ///                     at: Instant(120_000), airborne_since: Some(Instant(0)),
     ///                     first_takeoff: Instant(0), legs: 1 };
     /// let (rest, _) = planner.resume(&schedule, &from, Landing::AnyStation, &mut Scratch::new());
@@ -215,7 +215,7 @@ impl<'a> Planner<'a> {
     /// let planner = Planner::new(&airspace, params);
     /// let schedule = Schedule::new(&airspace, planner.params(), &Closures::none(&airspace));
     /// // On the ground at B after the first leg, which landed at 12 min; ready at 17 min.
-    /// let from = Resume { origin: NodeId(0), departure: Instant(0), node: NodeId(1),
+    /// let from = Resume { leg_origin: NodeId(1), departure: Instant(0), node: NodeId(1),
     ///                     at: Instant(1_020_000), airborne_since: None,
     ///                     first_takeoff: Instant(0), legs: 1 };
     /// let (rest, _) = planner.resume(&schedule, &from, Landing::At(NodeId(2)), &mut Scratch::new());
@@ -261,7 +261,10 @@ impl<'a> Planner<'a> {
             },
             None => return (None, 0),
         };
-        let mut problem = self.problem(remaining, from.origin);
+        // The leg the search starts with (in the air: the current one; on the ground: the
+        // next) may not land where it took off.
+        let leg = from.legs + u32::from(from.airborne_since.is_none());
+        let mut problem = self.problem(remaining, from.leg_origin, leg);
         if !swaps {
             problem.swaps = None;
         }
@@ -272,7 +275,12 @@ impl<'a> Planner<'a> {
         (plan, scratch.expanded)
     }
 
-    fn problem<'h>(&'h self, remaining: Remaining<'h>, origin: NodeId) -> Problem<'h> {
+    fn problem<'h>(
+        &'h self,
+        remaining: Remaining<'h>,
+        no_return: NodeId,
+        no_return_legs: u32,
+    ) -> Problem<'h> {
         Problem {
             airspace: self.airspace,
             params: &self.params,
@@ -280,7 +288,8 @@ impl<'a> Planner<'a> {
             swaps: self.params.battery_swap.map(|s| Swaps {
                 time: s.time.0,
                 max_legs: s.leg_limit(),
-                origin,
+                no_return,
+                no_return_legs,
             }),
             deadline: INF,
         }
@@ -290,8 +299,9 @@ impl<'a> Planner<'a> {
 /// Where a trip that has begun resumes ([`Planner::resume`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Resume {
-    /// The trip's origin (its first leg may not land there).
-    pub origin: NodeId,
+    /// Where the current leg took off (in the air), or `node` (on the ground): a leg may not
+    /// land where it took off.
+    pub leg_origin: NodeId,
     /// The trip's requested departure (a delivery deadline counts from it).
     pub departure: Instant,
     /// Where the drone is: the node it reaches in the air, or the station it is on the ground

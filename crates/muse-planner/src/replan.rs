@@ -264,7 +264,7 @@ fn fly_on(
             return (Fate::Contingency(part_plan(part)), 0);
         }
         Commitment::Airborne(p) => Resume {
-            origin: request.origin,
+            leg_origin: p.legs().last().expect("not empty")[0].node,
             departure: request.departure,
             node: last.node,
             at: last.arrive,
@@ -278,7 +278,7 @@ fn fly_on(
                 .battery_swap
                 .map_or(Millis::ZERO, |s| s.time);
             Resume {
-                origin: request.origin,
+                leg_origin: last.node,
                 departure: request.departure,
                 node: last.node,
                 at: (last.depart + swap).max(at),

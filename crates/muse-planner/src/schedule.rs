@@ -187,6 +187,9 @@ pub struct Schedule {
     edges: Vec<EdgeBook>,
     /// No query before this instant is expected (see [`Schedule::set_horizon`]).
     horizon: i64,
+    /// No node or edge changes between free and blocked after this instant (an upper bound:
+    /// removals leave it).
+    quiet_from: i64,
     flights: usize,
     reservations: usize,
 }
@@ -236,13 +239,38 @@ impl Schedule {
                 zones: barriers(closures.edge(EdgeId(i as u32)), w.0),
             })
             .collect();
-        Schedule {
+        let mut schedule = Schedule {
             tau: params.node_separation.0,
             nodes,
             edges,
             horizon: NEG_INF,
+            quiet_from: NEG_INF,
             flights: 0,
             reservations: 0,
+        };
+        schedule.note_zone_changes();
+        schedule
+    }
+
+    /// From this instant on, every node and every edge stays as it is (free, or blocked for
+    /// good) as far as the schedule knows: the answers to every query are the same for all
+    /// later instants. The planner uses it to stop exploring later and later copies of the
+    /// same move. An upper bound: it never moves back when flights are removed.
+    pub fn quiet_from(&self) -> i64 {
+        self.quiet_from
+    }
+
+    /// Moves [`Schedule::quiet_from`] past every zone barrier.
+    fn note_zone_changes(&mut self) {
+        let zones = self
+            .nodes
+            .iter()
+            .flat_map(|n| &n.zones)
+            .chain(self.edges.iter().flat_map(|e| &e.zones));
+        for o in zones {
+            // A barrier's last change is its end, or its start when it never ends.
+            let last = if o.end >= INF { o.start } else { o.end };
+            self.quiet_from = self.quiet_from.max(last + 1);
         }
     }
 
@@ -255,6 +283,7 @@ impl Schedule {
         for (i, book) in self.edges.iter_mut().enumerate() {
             book.zones = barriers(closures.edge(EdgeId(i as u32)), book.w);
         }
+        self.note_zone_changes();
     }
 
     /// The traversal time of edge `e`, ms.
@@ -397,6 +426,7 @@ impl Schedule {
         let horizon = self.horizon;
         for_each_reservation(airspace, flight, plan, |target, occ| {
             let grow_max = self.grow_max(target);
+            self.quiet_from = self.quiet_from.max(occ.end + grow_max + 1);
             let book = self.book_mut(target);
             let i = book
                 .occ

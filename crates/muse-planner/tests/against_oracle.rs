@@ -214,6 +214,7 @@ fn line(secs: &[u32], waypoints: &[usize]) -> Instance {
         t_max: 100,
         requests: vec![],
         zones: vec![],
+        swap: None,
     }
 }
 
@@ -404,6 +405,7 @@ fn oracle_free_flow_and_plan_shape() {
         edge_rule: EdgeRule::Exclusive,
         max_ground_delay: Millis::ZERO,
         battery_swap: None,
+        max_trip: None,
     };
     assert_eq!(
         oracle::free_flow(&airspace, &params, NodeId(0), NodeId(2)),

@@ -124,6 +124,7 @@ fn plan_insert_remove_replan() {
             start: 40,
             len: 10,
         }],
+        swap: None,
     };
     let b = instance.build();
     let planner = Planner::new(&b.airspace, b.params);

@@ -8,7 +8,7 @@
 use std::sync::Once;
 
 use divan::Bencher;
-use muse_model::{FlightParams, Instant, Millis};
+use muse_model::{BatterySwap, FlightParams, Instant, Millis};
 use muse_sim::day::{DayRun, plan_requests};
 use muse_sim::demand::{BookingLead, DemandSpec, OdRule, generate};
 
@@ -90,6 +90,36 @@ fn singapore_all_in_range(bencher: Bencher, count: usize) {
     let run = plan_requests(&s.airspace, &s.zones, params, requests.clone(), |_| {}).unwrap();
     report("singapore-all (in range)", &run);
     bencher
+        .with_inputs(|| requests.clone())
+        .bench_local_values(|reqs| {
+            plan_requests(&s.airspace, &s.zones, params, reqs, |_| {}).unwrap()
+        });
+}
+
+static PRINT_SWAPS: [Once; 2] = [Once::new(), Once::new()];
+
+/// The same 5,000-request day with battery swaps of 5 minutes (SPEC §12): with no deadline
+/// (`0`: waits between legs are unbounded) and with a one-hour delivery deadline (`60`).
+#[divan::bench(args = [0, 60], sample_count = 5)]
+fn singapore_77_cbd_swaps(bencher: Bencher, deadline_min: i64) {
+    let s = muse_scenario::singapore_77();
+    let params = FlightParams {
+        battery_swap: Some(BatterySwap::new(Millis::from_mins(5))),
+        max_trip: (deadline_min > 0).then(|| Millis::from_mins(deadline_min)),
+        ..FlightParams::default()
+    };
+    let requests = day(5_000);
+    PRINT_SWAPS[usize::from(deadline_min > 0)].call_once(|| {
+        let run = plan_requests(&s.airspace, &s.zones, params, requests.clone(), |_| {}).unwrap();
+        let label = if deadline_min > 0 {
+            format!("singapore-77, swaps 5 min, deadline {deadline_min} min")
+        } else {
+            "singapore-77, swaps 5 min, no deadline".to_owned()
+        };
+        report(&label, &run);
+    });
+    bencher
+        .counter(divan::counter::ItemsCount::new(5_000usize))
         .with_inputs(|| requests.clone())
         .bench_local_values(|reqs| {
             plan_requests(&s.airspace, &s.zones, params, reqs, |_| {}).unwrap()

@@ -251,7 +251,7 @@ mod tests {
         let a = line();
         let to = |x: NodeId| {
             (0..a.node_count())
-                .map(|v| (v as i64 - x.0 as i64).abs() * 120_000)
+                .map(|v| (v as i64 - i64::from(x.0)).abs() * 120_000)
                 .collect::<Vec<_>>()
         };
         let near = Near::new(&a, t_max, to);
@@ -270,7 +270,7 @@ mod tests {
         // In the air at 1 with 100 s flown: only station 1 or 2 is reachable (≤ 150 s).
         assert_eq!(t.remaining(NodeId(1), 100_000), 120_000 + 60_000 + 120_000);
         assert_eq!(t.remaining(NodeId(1), 0), 240_000);
-        assert_eq!(t.remaining(NodeId(1), 200_000), 0 + 60_000 + 240_000);
+        assert_eq!(t.remaining(NodeId(1), 200_000), 60_000 + 240_000);
         assert_eq!(t.remaining(NodeId(1), 250_001), UNREACHABLE);
         assert_eq!(t.max_used(NodeId(1)), 250_000);
         assert_eq!(t.free_flow(NodeId(0)), Some(420_000));

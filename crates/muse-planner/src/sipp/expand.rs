@@ -39,6 +39,7 @@ pub(super) fn fly(
                 break;
             }
             match schedule.node_slot(v, first + w) {
+                NodeSlot::Blocked { next_free } if next_free >= INF => break,
                 NodeSlot::Blocked { next_free } => s = next_free - w,
                 NodeSlot::Safe { lo, hi, next } => {
                     let last = run_end.min(hi - w).min(s_max);
@@ -72,6 +73,9 @@ pub(super) fn fly(
                     // (Progress: either `s` grows, or the next interval starts at `hi` and
                     // `node_slot` answers with it, a different state.)
                     s = if first + slack >= a + sigma || last == hi - w {
+                        if next >= INF {
+                            break; // no later interval
+                        }
                         next - w
                     } else {
                         last + 1
@@ -83,14 +87,14 @@ pub(super) fn fly(
 }
 
 /// Lands airborne `label` for a battery swap, if it is at a station where it may (SPEC §12):
-/// not the destination (reaching it ends the search), not the trip's origin on the first leg,
-/// and only if another leg is allowed.
+/// not the destination (reaching it ends the search), not where its leg took off (see
+/// [`super::Swaps::no_return`]), and only if another leg is allowed.
 pub(super) fn land(p: Problem<'_>, scratch: &mut Scratch, idx: u32, label: &Label) {
     let Some(swaps) = p.swaps else { return };
     let u = NodeId(label.node);
     if label.legs >= swaps.max_legs
         || !p.airspace.is_station(u)
-        || (label.legs == 1 && u == swaps.origin)
+        || (label.legs == swaps.no_return_legs && u == swaps.no_return)
     {
         return;
     }

@@ -94,6 +94,8 @@ pub struct Scratch {
     touched: Vec<u32>,
     /// Labels whose key passes this are never queued (the search's deadline).
     pub(super) deadline: i64,
+    /// The leg that may not land where it took off ([`super::Swaps::no_return_legs`]).
+    no_return_legs: u32,
     /// Labels expanded by the last search.
     pub expanded: u64,
 }
@@ -104,8 +106,9 @@ impl Scratch {
         Scratch::default()
     }
 
-    pub(super) fn reset(&mut self, node_count: usize, deadline: i64) {
+    pub(super) fn reset(&mut self, node_count: usize, deadline: i64, no_return_legs: u32) {
         self.deadline = deadline;
+        self.no_return_legs = no_return_legs;
         self.labels.clear();
         self.heap.clear();
         if self.states.len() < node_count {
@@ -171,15 +174,16 @@ impl Scratch {
     /// Whether a label of state `k` of `node` dominates `label`; marks dead those `label`
     /// dominates and unlinks every dead label met, so that lists stay short.
     fn dominated_in(&mut self, node: usize, k: usize, label: &Label) -> bool {
+        let r = self.no_return_legs;
         let mut prev = NONE;
         let mut i = self.states[node][k].head;
         let mut dominated = false;
         while i != NONE {
             let s = &mut self.labels[i as usize];
             let next = s.next_in_state;
-            if !s.dead && !dominated && dominates(s, label) {
+            if !s.dead && !dominated && dominates(s, label, r) {
                 dominated = true;
-            } else if !s.dead && !dominated && dominates(label, s) {
+            } else if !s.dead && !dominated && dominates(label, s, r) {
                 s.dead = true;
             }
             if s.dead {
@@ -219,19 +223,19 @@ impl Scratch {
 /// Whether `s` dominates `n` (same state assumed): every member of `n` is matched by a member
 /// of `s` that is there no later, has flown its leg no longer, took off first no earlier and
 /// has begun no more legs (hovering, or waiting on the ground, closes the gap in arrival).
+/// `r` is the leg that may not land where it took off: a label of that leg never dominates one
+/// of a later leg, which may.
 ///
 /// For member `x` of `n` the best member of `s` is `y = min(σ_s, a_n − a_s + x)`; it exists
 /// and is no worse in arrival and battery for every `x` exactly when the first three
-/// conditions hold, and no worse in first take-off when [`first_no_earlier`] holds. A label
-/// of the first leg never dominates one of a later leg: the first leg may not land at the
-/// trip's origin, later legs may (SPEC §12 as MUSE reads it).
+/// conditions hold, and no worse in first take-off when [`first_no_earlier`] holds.
 #[inline]
-fn dominates(s: &Label, n: &Label) -> bool {
+fn dominates(s: &Label, n: &Label, r: u32) -> bool {
     n.arrive >= s.arrive
         && n.arrive - n.takeoff >= s.arrive - s.takeoff
         && n.takeoff + n.slack <= s.takeoff + s.slack
         && s.legs <= n.legs
-        && (s.legs > 1 || n.legs == 1)
+        && (s.legs != r || n.legs == r)
         && first_no_earlier(s, n)
 }
 
@@ -290,8 +294,8 @@ mod tests {
                         for rho in 0..=slack {
                             let s = label(1, -1, 2, -1, 1, 2);
                             let n = label(a, t, slack, f, rho, 2);
-                            assert_eq!(dominates(&s, &n), dominates_by_members(&s, &n), "{n:?}");
-                            assert_eq!(dominates(&n, &s), dominates_by_members(&n, &s), "{n:?}");
+                            assert_eq!(dominates(&s, &n, 1), dominates_by_members(&s, &n), "{n:?}");
+                            assert_eq!(dominates(&n, &s, 1), dominates_by_members(&n, &s), "{n:?}");
                             checked += 1;
                         }
                     }
@@ -302,11 +306,12 @@ mod tests {
     }
 
     #[test]
-    fn the_first_leg_never_dominates_a_later_one() {
+    fn the_leg_that_may_not_land_back_never_dominates_a_later_one() {
         let s = label(0, 0, 5, 0, 5, 1);
         let n = label(3, 0, 0, 0, 0, 2);
-        assert!(!dominates(&s, &n));
-        assert!(dominates(&label(0, 0, 5, 0, 5, 2), &n));
+        assert!(!dominates(&s, &n, 1));
+        assert!(dominates(&label(0, 0, 5, 0, 5, 2), &n, 1));
+        assert!(dominates(&s, &n, 0), "no leg is bound by the rule");
     }
 
     #[test]

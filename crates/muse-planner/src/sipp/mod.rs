@@ -123,8 +123,13 @@ pub(crate) struct Swaps {
     pub time: i64,
     /// Most legs a trip may have.
     pub max_legs: u32,
-    /// The trip's origin, where the first leg may not land.
-    pub origin: NodeId,
+    /// A leg may not land where it took off: the station the search's first leg takes off
+    /// from (the trip's origin for a new trip), which the `no_return_legs`-th leg may not land
+    /// at. Later legs never gain by landing back (waiting on the ground is better), so only
+    /// that one leg needs the rule.
+    pub no_return: NodeId,
+    /// The leg the rule binds.
+    pub no_return_legs: u32,
 }
 
 /// What a search needs besides the schedule.
@@ -198,7 +203,8 @@ pub(crate) fn search(
     goal: Goal,
     scratch: &mut Scratch,
 ) -> Option<Plan> {
-    scratch.reset(p.airspace.node_count(), p.deadline);
+    let no_return_legs = p.swaps.map_or(0, |s| s.no_return_legs);
+    scratch.reset(p.airspace.node_count(), p.deadline, no_return_legs);
     seed(p, schedule, start, scratch);
     let is_goal = |l: &Label| {
         !l.ground
@@ -242,7 +248,9 @@ pub(crate) fn search(
             expand::take_off(p, schedule, scratch, idx, &label);
             continue;
         }
-        let cap = if label.slack > split {
+        // Members from the instant the schedule stops changing on are only later copies of the
+        // member there: no continuation past it (it would never end on an open interval).
+        let cap = if label.slack > split && label.arrive + split <= schedule.quiet_from() {
             let later = label.later_members(split);
             let key = key_of(p, &later);
             scratch.push_continuation(idx, later, key);

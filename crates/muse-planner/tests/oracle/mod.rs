@@ -44,6 +44,8 @@
 //! exact: with `tau = 0` a stay `[x - 1 s, x + 1 s]` conflicts with another flight's
 //! instantaneous stay `[x, x]`, although both hover seconds only touch it at an end.)
 
+pub mod multileg;
+
 use muse_model::{
     Airspace, EdgeId, EdgeRule, FlightParams, Instant, Millis, NodeId, Plan, RejectReason, Request,
     Stay,
@@ -97,6 +99,10 @@ pub fn free_flow(
 }
 
 /// The other flights' stays per node `(a, d)` and traversals per edge `(s, f, forward)`.
+///
+/// Other flights may be multi-leg trips (SPEC §12): every stay of every leg occupies its node
+/// (landing and take-off stays included), every traversal within a leg its edge, and the time
+/// on the ground between legs nothing.
 struct Traffic {
     stays: Vec<Vec<(i64, i64)>>,
     traversals: Vec<Vec<(i64, i64, bool)>>,
@@ -110,13 +116,15 @@ impl Traffic {
             for s in &plan.path {
                 stays[s.node.index()].push((s.arrive.0, s.depart.0));
             }
-            for pair in plan.path.windows(2) {
+            // Traversals within legs only: between a landing and the next take-off (two
+            // stays at the same station) the drone is on the ground.
+            for (from, to) in plan.hops() {
                 let e = airspace
-                    .edge_between(pair[0].node, pair[1].node)
+                    .edge_between(from.node, to.node)
                     .expect("plans follow edges");
                 let w = params.speed.traversal_time(airspace.edge(e).length_m).0;
-                let forward = airspace.edge(e).from == pair[0].node;
-                traversals[e.index()].push((pair[0].depart.0, pair[0].depart.0 + w, forward));
+                let forward = airspace.edge(e).from == from.node;
+                traversals[e.index()].push((from.depart.0, from.depart.0 + w, forward));
             }
         }
         Traffic { stays, traversals }
