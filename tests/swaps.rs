@@ -150,7 +150,7 @@ fn a_leg_limit_bounds_every_trip_and_needs_swaps() {
     let o = muse(&["simulate", "--max-legs", "2", "--out", &out]);
     assert_eq!(o.status.code(), Some(2), "a usage error: {}", said(&o));
     assert!(said(&o).contains("--battery-swap-s"), "{}", said(&o));
-    let o = muse(&["simulate", "--battery-swap-s", "-5", "--out", &out]);
+    let o = muse(&["simulate", "--battery-swap-s=-5", "--out", &out]);
     assert!(!o.status.success());
     assert!(said(&o).contains("--battery-swap-s"), "{}", said(&o));
 }
