@@ -7,8 +7,8 @@
 //! Property runs are deterministic: a fixed `ChaCha` seed per test, no failure persistence
 //! (see `scenario::runner` for soak runs). On a failure proptest shrinks the instance and the
 //! panic message shows the seed and the minimal instance. A planner call that does not
-//! answer within `scenario::HANG` cannot be shrunk: the watchdog prints the instance and
-//! ends the test process (`scenario::watched`).
+//! answer within `scenario::multileg::HANG` cannot be shrunk: the watchdog prints the
+//! instance and ends the test process (`scenario::multileg::watched`).
 
 #[allow(dead_code)] // The single-leg replanning helpers are not used here.
 mod oracle;
@@ -21,7 +21,8 @@ use oracle::Goal;
 use oracle::multileg::{self, Resume, Trip};
 use proptest::prelude::{Strategy, prop_assert_eq};
 use proptest::test_runner::TestCaseError;
-use scenario::{Instance, Shape, SwapSpec, Tally, ZoneSpec, runner};
+use scenario::multileg::{SwapSpec, check_rules, check_trip, multileg_instances, watched};
+use scenario::{Instance, Shape, Tally, ZoneSpec, runner};
 
 /// Runs `cases` random instances of `shape` (half of them with swaps) through `run`; panics
 /// with the seed and the minimal failing instance.
@@ -33,7 +34,7 @@ fn property_of(
     seed: u64,
 ) -> Tally {
     let total = std::cell::Cell::new(Tally::default());
-    let result = runner(cases, seed).run(&scenario::multileg_instances(shape), |instance| {
+    let result = runner(cases, seed).run(&multileg_instances(shape), |instance| {
         let tally = run(&instance).map_err(TestCaseError::fail)?;
         let mut t = total.get();
         t.add(&tally);
@@ -155,7 +156,7 @@ fn multileg_oracle_without_swaps_is_the_single_leg_oracle() {
 /// oracle's plans are sound trips.
 #[test]
 fn multileg_oracle_grid_equals_every_millisecond() {
-    let strategy = scenario::multileg_instances(Shape::MULTILEG_CROWDED).prop_map(|mut i| {
+    let strategy = multileg_instances(Shape::MULTILEG_CROWDED).prop_map(|mut i| {
         i.unit = if i.t_max % 2 == 0 { 7 } else { 37 };
         i.swap = i.swap.or(Some(SwapSpec {
             time: i.tau,
@@ -172,8 +173,8 @@ fn multileg_oracle_grid_equals_every_millisecond() {
         for (i, (c, f)) in coarse.iter().zip(&fine).enumerate() {
             prop_assert_eq!(c.result, f.result, "request {}", b.requests[i].id);
             if let Some(plan) = &c.plan {
-                scenario::check_trip(&b, &b.requests[i], plan).map_err(TestCaseError::fail)?;
-                scenario::check_rules(&b, &accepted, plan).map_err(TestCaseError::fail)?;
+                check_trip(&b, &b.requests[i], plan).map_err(TestCaseError::fail)?;
+                check_rules(&b, &accepted, plan).map_err(TestCaseError::fail)?;
                 accepted.push((i, plan.clone()));
             }
         }
@@ -514,7 +515,7 @@ fn resume_case(
     let mut day = Schedule::new(&full.airspace, &full.params, &base.closures);
     let context: std::sync::Arc<str> =
         format!("resume {instance:?} pick {pick} frac {frac}").into();
-    let outcomes = scenario::watched(&context, "(the day)", || {
+    let outcomes = watched(&context, "(the day)", || {
         muse_planner::plan_day(&planner, &mut day, &base.requests, &mut scratch, |_| {})
     });
     let accepted: Vec<(usize, Plan)> = outcomes
@@ -651,7 +652,7 @@ fn resume_case(
             goal,
             unit,
         );
-        let (got, _) = scenario::watched(&context, &request.id, || {
+        let (got, _) = watched(&context, &request.id, || {
             planner.resume(&schedule, &from, landing, &mut scratch)
         });
         let fail = |what: String| {
@@ -683,7 +684,7 @@ fn resume_case(
             if !starts {
                 return Err("does not start where the flight is".into());
             }
-            scenario::check_rules(&full, &others, rest)?;
+            check_rules(&full, &others, rest)?;
             if divert {
                 let leg = rest.legs().next().expect("non-empty");
                 let lands = leg.len() == rest.path.len()
@@ -694,7 +695,7 @@ fn resume_case(
                     .then_some(())
                     .ok_or_else(|| "not one landing in range".into())
             } else {
-                scenario::check_trip(&full, request, &whole(rest))
+                check_trip(&full, request, &whole(rest))
             }
         };
         if let Some((_, rest)) = &want {
@@ -748,7 +749,7 @@ fn resume_case(
 /// Runs `cases` random resumptions on instances of `shape`, all with swaps.
 fn property_resume(shape: Shape, cases: u32, seed: u64) -> Resumed {
     let total = std::cell::Cell::new(Resumed::default());
-    let instances = scenario::multileg_instances(shape).prop_map(|mut i| {
+    let instances = multileg_instances(shape).prop_map(|mut i| {
         i.swap = i.swap.or(Some(SwapSpec {
             time: i.tau,
             max_legs: None,
