@@ -317,7 +317,7 @@ pub struct Resume {
     pub legs: u32,
 }
 
-/// Where an airborne flight must land ([`Planner::continue_from`]).
+/// Where a trip that has begun must land ([`Planner::resume`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Landing {
     /// At this station (its destination).

@@ -41,11 +41,11 @@
 //! to the next safe interval. The first leg may not land at the trip's origin (a leg joins two
 //! different stations; landing back would only lift the ground-delay bound). The dominance
 //! rule gains two conditions: no more legs, and a first take-off no earlier for every member
-//! ([`label`]).
+//! (`label.rs`).
 //!
 //! A label with a long slack (a take-off from the ground, or a wide ground-delay window) would
 //! generate a successor for every free run of every corridor up to the end of its interval,
-//! most of them never needed. Its members beyond [`Problem::split`] are queued apart as a
+//! most of them never needed. Its members beyond half a battery are queued apart as a
 //! *continuation* that expands only when its turn comes; it shares the state's dominance with
 //! the label it came from.
 //!
