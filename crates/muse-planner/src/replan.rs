@@ -165,6 +165,13 @@ impl Commitment {
             Commitment::Airborne(p) | Commitment::Landed(p) => p,
         }
     }
+
+    /// The committed plan, owned.
+    pub fn into_plan(self) -> Plan {
+        match self {
+            Commitment::Airborne(p) | Commitment::Landed(p) => p,
+        }
+    }
 }
 
 /// Replans the flights `zone` (announced at `at`) affects, as SPEC §11 states (see the module
@@ -261,7 +268,7 @@ fn fly_on(
     let from = match &part {
         // Committed to a stay or traversal the zone closes: nothing can comply.
         Commitment::Airborne(p) if breaks(planner.airspace(), zone, p, at) => {
-            return (Fate::Contingency(part_plan(part)), 0);
+            return (Fate::Contingency(part.into_plan()), 0);
         }
         Commitment::Airborne(p) => Resume {
             leg_origin: p.legs().last().expect("not empty")[0].node,
@@ -299,13 +306,7 @@ fn fly_on(
     let (other, e2) = planner.resume(schedule, &from, Landing::AnyStation, scratch);
     match other {
         Some(rest) => (Fate::Diverted(join(&part, rest)), e1 + e2),
-        None => (Fate::Contingency(part_plan(part)), e1 + e2),
-    }
-}
-
-fn part_plan(part: Commitment) -> Plan {
-    match part {
-        Commitment::Airborne(p) | Commitment::Landed(p) => p,
+        None => (Fate::Contingency(part.into_plan()), e1 + e2),
     }
 }
 

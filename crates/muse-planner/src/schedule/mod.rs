@@ -42,8 +42,12 @@
 //! or edge, so this is a short `memmove`). Memory is proportional to the reservations held:
 //! 24 bytes per stay and per traversal.
 
+mod barriers;
+
 use muse_airspace::closures::Closures;
 use muse_model::{Airspace, EdgeId, EdgeRule, FlightParams, NodeId, Plan};
+
+use barriers::{Book, Occ, View, barriers, position, slot};
 
 /// "Never": later than any instant MUSE handles (±1.4 × 10¹⁵ years in ms, with headroom so
 /// that adding durations cannot overflow).
@@ -54,107 +58,6 @@ pub const NEG_INF: i64 = i64::MIN / 4;
 /// An identifier of an accepted flight in a schedule (the caller's choice, e.g. the request's
 /// position in the day).
 pub type FlightId = u64;
-
-/// One reservation: a stay `[start, end]`, an entry instant (`start == end`), or a zone
-/// barrier already in `(L, R)` form.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct Occ {
-    start: i64,
-    end: i64,
-    flight: FlightId,
-}
-
-/// A read-only view of a sorted list whose barriers are `(start − grow, end + grow)`.
-///
-/// `occ` may be a suffix of the list (see [`Book`]); `before` is then the last entry left
-/// out, whose `R` is all the left-out entries can still answer (read only when needed: it is
-/// usually a cache miss).
-#[derive(Clone, Copy)]
-struct View<'a> {
-    occ: &'a [Occ],
-    grow: i64,
-    before: Option<&'a Occ>,
-}
-
-impl View<'_> {
-    #[inline]
-    fn l(self, o: &Occ) -> i64 {
-        o.start - self.grow
-    }
-
-    #[inline]
-    fn r(self, o: &Occ) -> i64 {
-        o.end + self.grow
-    }
-
-    /// The index of the first entry with `R > t`: every entry before it ends by `t`, and it
-    /// has the smallest `L` of those after (both `L` and `R` are sorted).
-    #[inline]
-    fn first_after(self, t: i64) -> usize {
-        self.occ.partition_point(|o| self.r(o) <= t)
-    }
-
-    /// Moves `i` (a `first_after` of an earlier, smaller `t`) to `first_after(t)`: a few
-    /// linear steps, then a binary search for long jumps.
-    #[inline]
-    fn advance(self, mut i: usize, t: i64) -> usize {
-        for _ in 0..8 {
-            match self.occ.get(i) {
-                Some(o) if self.r(o) <= t => i += 1,
-                _ => return i,
-            }
-        }
-        i + self.occ[i..].partition_point(|o| self.r(o) <= t)
-    }
-
-    /// `R` of the last entry before index `i` (`NEG_INF` if none).
-    #[inline]
-    fn r_before(self, i: usize) -> i64 {
-        match i.checked_sub(1) {
-            Some(j) => self.r(&self.occ[j]),
-            None => self.before.map_or(NEG_INF, |o| self.r(o)),
-        }
-    }
-}
-
-/// One reservation list with its *floor*: entries below `floor` have `R ≤ horizon` for every
-/// view of the list, so no query at or after the schedule's horizon can be blocked or bounded
-/// by them except through the last one's `R`. Searches skip them, which keeps every binary
-/// search inside the short, cache-hot window of current traffic when requests are planned in
-/// departure order; the entries stay, for removal and for memory accounting.
-#[derive(Clone, Debug, Default)]
-struct Book {
-    occ: Vec<Occ>,
-    floor: usize,
-}
-
-impl Book {
-    /// The view with widening `grow`, skipping the floor when `t` is at or after `horizon`.
-    #[inline]
-    fn view(&self, grow: i64, t: i64, horizon: i64) -> View<'_> {
-        if t >= horizon && self.floor > 0 {
-            let (left_out, rest) = self.occ.split_at(self.floor);
-            View {
-                occ: rest,
-                grow,
-                before: left_out.last(),
-            }
-        } else {
-            View {
-                occ: &self.occ,
-                grow,
-                before: None,
-            }
-        }
-    }
-
-    /// Moves the floor past every entry whose widest barrier (`grow_max`) ends by `horizon`.
-    fn advance(&mut self, horizon: i64, grow_max: i64) {
-        while self.floor < self.occ.len() && self.occ[self.floor].end + grow_max <= horizon {
-            self.floor += 1;
-        }
-    }
-}
 
 /// What a node (or an edge's entry instants) says about an instant.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -487,38 +390,6 @@ impl Schedule {
     }
 }
 
-/// Where `occ` is in a sorted list, if it is there.
-fn position(list: &[Occ], occ: Occ) -> Option<usize> {
-    let i = list.partition_point(|o| (o.start, o.end, o.flight) < (occ.start, occ.end, occ.flight));
-    (list.get(i) == Some(&occ)).then_some(i)
-}
-
-/// Zone windows `[start, end)` of one element as merged barriers `(start − 1 − before, end)`
-/// (`before`: the traversal time on an edge, 0 at a node; see the module docs).
-fn barriers(windows: &[muse_airspace::closures::Window], before: i64) -> Vec<Occ> {
-    let mut v: Vec<(i64, i64)> = windows
-        .iter()
-        .filter(|win| win.start < win.end)
-        .map(|win| (win.start.0, win.end.0))
-        .collect();
-    v.sort_unstable();
-    let mut merged: Vec<(i64, i64)> = Vec::with_capacity(v.len());
-    for (a, b) in v {
-        match merged.last_mut() {
-            Some(last) if a <= last.1 => last.1 = last.1.max(b),
-            _ => merged.push((a, b)),
-        }
-    }
-    merged
-        .into_iter()
-        .map(|(a, b)| Occ {
-            start: a - 1 - before,
-            end: b,
-            flight: FlightId::MAX,
-        })
-        .collect()
-}
-
 /// Where a reservation is held.
 #[derive(Clone, Copy, Debug)]
 enum Target {
@@ -559,54 +430,6 @@ fn for_each_reservation(
             },
         );
     }
-}
-
-/// The slot of instant `t` over several views: one binary search per view, then cursors
-/// that only move forward while blocked stretches are skipped.
-#[inline]
-fn slot<const N: usize>(views: &[View<'_>; N], t: i64) -> NodeSlot {
-    let mut t = t;
-    let mut idx = [0usize; N];
-    for (i, v) in idx.iter_mut().zip(views) {
-        *i = v.first_after(t);
-    }
-    let mut blocked = false;
-    loop {
-        // `t` is blocked by a view exactly when its first entry with `R > t` has `L < t`.
-        let mut end: Option<i64> = None;
-        for (i, v) in idx.iter_mut().zip(views) {
-            *i = v.advance(*i, t);
-            if let Some(o) = v.occ.get(*i)
-                && v.l(o) < t
-            {
-                end = Some(end.map_or(v.r(o), |e| e.max(v.r(o))));
-            }
-        }
-        match end {
-            Some(r) => {
-                blocked = true;
-                t = r;
-            }
-            None => break,
-        }
-    }
-    if blocked {
-        return NodeSlot::Blocked { next_free: t };
-    }
-    let mut lo = NEG_INF;
-    let (mut hi, mut next) = (INF, INF);
-    for (&i, v) in idx.iter().zip(views) {
-        lo = lo.max(v.r_before(i));
-        if let Some(o) = v.occ.get(i) {
-            let (l, r) = (v.l(o), v.r(o));
-            if l < hi {
-                (hi, next) = (l, r);
-            } else if l == hi {
-                next = next.max(r);
-            }
-        }
-    }
-    NodeSlot::Safe { lo, hi, next }
 }
 
 #[cfg(test)]
