@@ -223,8 +223,9 @@ impl Scratch {
 /// Whether `s` dominates `n` (same state assumed): every member of `n` is matched by a member
 /// of `s` that is there no later, has flown its leg no longer, took off first no earlier and
 /// has begun no more legs (hovering, or waiting on the ground, closes the gap in arrival).
-/// `r` is the leg that may not land where it took off: a label of that leg never dominates one
-/// of a later leg, which may.
+/// `r` is the leg that may not land where it took off: an airborne label of that leg never
+/// dominates one of a later leg, which may. A ground label is past that rule whatever its
+/// count (the leg it counts has landed; the next is free to land anywhere).
 ///
 /// For member `x` of `n` the best member of `s` is `y = min(σ_s, a_n − a_s + x)`; it exists
 /// and is no worse in arrival and battery for every `x` exactly when the first three
@@ -235,7 +236,7 @@ fn dominates(s: &Label, n: &Label, r: u32) -> bool {
         && n.arrive - n.takeoff >= s.arrive - s.takeoff
         && n.takeoff + n.slack <= s.takeoff + s.slack
         && s.legs <= n.legs
-        && (s.legs != r || n.legs == r)
+        && (s.ground || s.legs != r || n.legs == r)
         && first_no_earlier(s, n)
 }
 
@@ -312,6 +313,11 @@ mod tests {
         assert!(!dominates(&s, &n, 1));
         assert!(dominates(&label(0, 0, 5, 0, 5, 2), &n, 1));
         assert!(dominates(&s, &n, 0), "no leg is bound by the rule");
+        let on_ground = |l: Label| Label { ground: true, ..l };
+        assert!(
+            dominates(&on_ground(s), &on_ground(n), 1),
+            "on the ground after the bound leg, the rule is behind"
+        );
     }
 
     #[test]

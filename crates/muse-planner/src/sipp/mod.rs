@@ -259,7 +259,12 @@ pub(crate) fn search(
             INF
         };
         expand::fly(p, schedule, scratch, idx, &label, cap);
-        expand::land(p, scratch, idx, &label);
+        // A leg that has not left the station it took off from gains nothing by landing
+        // there again: the ground label it took off from stands for that landing already.
+        let just_took_off = label.parent != NONE && scratch.labels[label.parent as usize].ground;
+        if !just_took_off {
+            expand::land(p, scratch, idx, &label);
+        }
     }
     found.map(|idx| reconstruct(schedule, &scratch.labels, idx))
 }
