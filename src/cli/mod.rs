@@ -12,6 +12,7 @@ mod simulate;
 mod sweep;
 mod sweep_lead;
 mod verify;
+mod view;
 
 use std::process::ExitCode;
 
@@ -55,6 +56,9 @@ enum Command {
     Sweep(sweep::SweepArgs),
     /// Check a plans file against every rule, independently of the planner (exit 1 on a violation).
     Verify(verify::VerifyArgs),
+    /// Write one self-contained HTML page that plays a plans file's day on a map (no network
+    /// needed to open it).
+    View(view::ViewArgs),
 }
 
 /// Parses the command line and runs it. Input errors come back as `Err` (exit 2).
@@ -71,6 +75,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Simulate(args) => simulate::run(&args),
         Command::Sweep(args) => sweep::run(&args),
         Command::Verify(args) => verify::run(&args),
+        Command::View(args) => view::run(&args),
     }
 }
 

@@ -44,7 +44,7 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         requests: args.requests.display().to_string(),
         seed: None,
     };
-    let summary = write_outputs(&world, &run, &params, provenance, None, &args.out)?;
+    let (summary, _) = write_outputs(&world, &run, &params, provenance, None, &args.out)?;
     if let Some(r) = &summary.replanning {
         println!("{}", replanning_line(r));
     }
@@ -61,7 +61,8 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Writes `plans.jsonl` and `summary.json` for a planned day into `out`; returns the summary.
+/// Writes `plans.jsonl` and `summary.json` for a planned day into `out`; returns the summary
+/// and the records written.
 /// `booking_lead` is the lead of generated demand, recorded in the summary's parameters
 /// (`None` for requests read from a file).
 pub fn write_outputs(
@@ -71,9 +72,10 @@ pub fn write_outputs(
     provenance: Provenance,
     booking_lead: Option<BookingLead>,
     out: &std::path::Path,
-) -> anyhow::Result<Summary> {
+) -> anyhow::Result<(Summary, Vec<PlanRecord>)> {
     let a = &world.airspace;
     let mut text = String::with_capacity(run.requests.len() * 400);
+    let mut records = Vec::with_capacity(run.requests.len());
     for (i, (r, o)) in run.requests.iter().zip(&run.outcomes).enumerate() {
         let record = PlanRecord {
             changes: run.changes[i]
@@ -97,6 +99,7 @@ pub fn write_outputs(
             )
         };
         write_plan_line(&mut text, a, world.offset, &record);
+        records.push(record);
     }
     let items = run
         .requests
@@ -118,7 +121,7 @@ pub fn write_outputs(
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     write_atomically(&out.join("plans.jsonl"), &text)?;
     write_atomically(&out.join("summary.json"), &summary.to_json())?;
-    Ok(summary)
+    Ok((summary, records))
 }
 
 /// One line on what zone announcements did, for the terminal.

@@ -7,9 +7,10 @@ use std::process::ExitCode;
 use anyhow::Context as _;
 use clap::Args;
 use muse_formats::flights::{FlightFeature, write_flights};
+use muse_formats::plans::PlanRecord;
 use muse_formats::requests::{LocalDay, read_requests_file, write_requests};
 use muse_model::Request;
-use muse_sim::day::plan_requests;
+use muse_sim::day::{DayRun, plan_requests};
 use muse_sim::demand::generate;
 use muse_sim::metrics::{Provenance, Summary};
 use muse_verify::{Flight, verify_known};
@@ -18,6 +19,7 @@ use super::common::{FlightArgs, World, WorldArgs, render_world_map, write_atomic
 use super::demand::DemandArgs;
 use super::plan::write_outputs;
 use super::progress::LazyProgress;
+use super::view::write_view;
 
 /// Arguments of `muse simulate`.
 #[derive(Debug, Args)]
@@ -102,7 +104,34 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         &args.out.join("requests.csv"),
         &write_requests(&owned, &world.airspace, world.offset),
     )?;
-    let summary = write_outputs(&world, &run, &params, provenance, booking_lead, &args.out)?;
+    let (summary, records) =
+        write_outputs(&world, &run, &params, provenance, booking_lead, &args.out)?;
+    write_maps(&world, &run, &flights, &records, &summary, &args.out)?;
+
+    print!(
+        "{}",
+        report(&world, &summary, &source, violations.len(), &args.out)
+    );
+    for v in violations.iter().take(20) {
+        println!("  {v}");
+    }
+    Ok(if violations.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    })
+}
+
+/// Writes the day's drawings into `out`: `flights.geojson`, `map.svg` (corridor load) and
+/// `view.html` (the page that plays the day).
+fn write_maps(
+    world: &World,
+    run: &DayRun,
+    flights: &[Flight<'_>],
+    records: &[PlanRecord],
+    summary: &Summary,
+    out: &std::path::Path,
+) -> anyhow::Result<()> {
     let features: Vec<FlightFeature<'_>> = run
         .requests
         .iter()
@@ -118,29 +147,20 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         })
         .collect();
     write_atomically(
-        &args.out.join("flights.geojson"),
+        &out.join("flights.geojson"),
         &write_flights(&features, &world.airspace, world.offset),
     )?;
-    let load = edge_load(&world, &flights);
+    let load = edge_load(world, flights);
     let svg = render_world_map(
-        &world,
+        world,
         1_800,
         Some((load, "Flights per corridor".to_owned())),
     )?;
-    write_atomically(&args.out.join("map.svg"), &svg)?;
-
-    print!(
-        "{}",
-        report(&world, &summary, &source, violations.len(), &args.out)
-    );
-    for v in violations.iter().take(20) {
-        println!("  {v}");
-    }
-    Ok(if violations.is_empty() {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::FAILURE
-    })
+    write_atomically(&out.join("map.svg"), &svg)?;
+    let summary_json =
+        serde_json::from_str(&summary.to_json()).context("re-reading the summary")?;
+    write_view(world, records, Some(summary_json), &out.join("view.html"))?;
+    Ok(())
 }
 
 /// Traversals per edge.
@@ -252,7 +272,7 @@ fn report(
     let _ = writeln!(o, "  verified      {verdict}");
     let _ = writeln!(
         o,
-        "  wrote         {}/{{requests.csv, plans.jsonl, summary.json, flights.geojson, map.svg}}",
+        "  wrote         {}/{{requests.csv, plans.jsonl, summary.json, flights.geojson, map.svg, view.html}}",
         out.display()
     );
     o

@@ -1,0 +1,119 @@
+//! The page: the template of `web/index.html` with the style, the script and the scene
+//! inlined, so that the file opens with no network at all.
+
+use crate::Scene;
+
+const TEMPLATE: &str = include_str!("../web/index.html");
+const STYLE: &str = include_str!("../web/style.css");
+/// Decoding and querying a scene (no DOM; `web/test` runs it under node).
+const MODEL: &str = include_str!("../web/src/model.js");
+/// Decoding the live feed (no DOM either).
+const FEED: &str = include_str!("../web/src/feed.js");
+/// Drawing and controls.
+const VIEWER: &str = include_str!("../web/src/viewer.js");
+/// The live feed (`muse serve`).
+const LIVE: &str = include_str!("../web/src/live.js");
+
+/// The self-contained page of `scene`: a day to play.
+///
+/// ```
+/// use muse_model::{Airspace, Instant, UtcOffset};
+/// use muse_view::{SceneInput, page, scene};
+/// let airspace = Airspace::line(&[1_000.0]);
+/// let s = scene(&SceneInput::new(&airspace, UtcOffset(0), (Instant(0), Instant(1)))).unwrap();
+/// let html = page(&s);
+/// assert!(!html.contains("<script src") && !html.contains("http://") && !html.contains("https://"));
+/// ```
+pub fn page(scene: &Scene) -> String {
+    render(scene)
+}
+
+/// The live page of `muse serve`: the map layers of `scene` (its flights are ignored); the
+/// page fetches flights from the service's API and follows its events stream.
+pub fn live_page(scene: &Scene) -> String {
+    let live = Scene {
+        flights: Vec::new(),
+        live: true,
+        ..scene.clone()
+    };
+    render(&live)
+}
+
+fn render(scene: &Scene) -> String {
+    // Serializing plain structs of numbers and strings cannot fail; `<` is escaped so that
+    // no string in the data can close the script element.
+    let json = serde_json::to_string(scene)
+        .expect("a scene always serializes")
+        .replace('<', "\\u003c");
+    let script = format!(
+        "(() => {{\n'use strict';\n{}\n{}\n{VIEWER}\n{LIVE}\n}})();\n",
+        without_exports(MODEL),
+        without_exports(FEED)
+    );
+    let mut out = String::with_capacity(TEMPLATE.len() + STYLE.len() + script.len() + json.len());
+    let mut rest = TEMPLATE;
+    for (marker, text) in [
+        ("/*STYLE*/", STYLE),
+        ("/*SCENE*/", json.as_str()),
+        ("/*SCRIPT*/", script.as_str()),
+    ] {
+        let (head, tail) = rest
+            .split_once(marker)
+            .expect("web/index.html holds each marker once, in this order");
+        out.push_str(head);
+        out.push_str(text);
+        rest = tail;
+    }
+    out.push_str(rest);
+    out
+}
+
+/// `model.js` as plain script: its `export` keywords (at the start of a line) dropped, since
+/// the page inlines every file into one script.
+fn without_exports(module: &str) -> String {
+    module
+        .lines()
+        .map(|l| l.strip_prefix("export ").unwrap_or(l))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn markers_are_filled_and_data_cannot_close_the_script() {
+        let airspace = muse_model::Airspace::line(&[1_000.0]);
+        let mut input = crate::SceneInput::new(
+            &airspace,
+            muse_model::UtcOffset(0),
+            (muse_model::Instant(0), muse_model::Instant(1)),
+        );
+        input.title = "</script><b>".into();
+        let html = page(&crate::scene(&input).unwrap());
+        for marker in ["/*STYLE*/", "/*SCENE*/", "/*SCRIPT*/"] {
+            assert!(!html.contains(marker), "{marker} left");
+        }
+        assert!(!html.contains("</script><b>"));
+        assert!(html.contains("\\u003c/script>\\u003cb>"));
+        assert!(!html.contains("\nexport "), "exports dropped");
+        assert_eq!(
+            html.matches("<script").count(),
+            2,
+            "the scene and the script"
+        );
+    }
+
+    #[test]
+    fn the_live_page_has_no_flights_and_says_it_is_live() {
+        let airspace = muse_model::Airspace::line(&[1_000.0]);
+        let input = crate::SceneInput::new(
+            &airspace,
+            muse_model::UtcOffset(0),
+            (muse_model::Instant(0), muse_model::Instant(1)),
+        );
+        let html = live_page(&crate::scene(&input).unwrap());
+        assert!(html.contains("\"live\":true") && html.contains("\"flights\":[]"));
+    }
+}

@@ -1,0 +1,375 @@
+//! The scene: everything the page draws, as compact JSON. Times are integer milliseconds
+//! from [`Scene::t0`] (the start of the local hour the day begins in), coordinates WGS84
+//! degrees rounded to 1e-5 (about a metre).
+
+use geo::Simplify;
+use geo_types::{LineString, Polygon};
+use muse_airspace::closures::{closed_elements, zone_windows};
+use muse_formats::plans::PlanRecord;
+use muse_model::plan::Fate;
+use muse_model::{Airspace, Instant, NodeKind, Plan, UtcOffset, Zone};
+use serde::Serialize;
+
+use crate::ViewError;
+
+/// Tolerance of the land outline's simplification, degrees (about 20 m: far below what the
+/// page can show at the island's scale, and it keeps the outline to a few hundred kB).
+const LAND_TOLERANCE_DEG: f64 = 0.000_2;
+
+/// One hour, ms.
+const HOUR_MS: i64 = 3_600_000;
+
+/// What a scene is made from.
+#[derive(Clone, Debug)]
+pub struct SceneInput<'a> {
+    /// The airspace.
+    pub airspace: &'a Airspace,
+    /// The local UTC offset clocks are shown in.
+    pub offset: UtcOffset,
+    /// The stretch of time to show at least (the scene widens it to every flight, then to
+    /// whole local hours).
+    pub range: (Instant, Instant),
+    /// A one-line title.
+    pub title: String,
+    /// Data attribution shown under the map (empty: none).
+    pub attribution: String,
+    /// Land polygons (WGS84 degrees), drawn filled under everything; simplified.
+    pub land: &'a [Polygon<f64>],
+    /// No-fly zones, known from the start or announced during the day.
+    pub zones: &'a [Zone],
+    /// The flights: each record's final plan is drawn (a contingency's committed part);
+    /// rejected and cancelled requests are counted in the summary only.
+    pub flights: &'a [PlanRecord],
+    /// The day's summary (`summary.json`), shown beside the map.
+    pub summary: Option<serde_json::Value>,
+}
+
+impl<'a> SceneInput<'a> {
+    /// A scene of `airspace` alone over `range`: no land, zones, flights or summary.
+    pub fn new(airspace: &'a Airspace, offset: UtcOffset, range: (Instant, Instant)) -> Self {
+        SceneInput {
+            airspace,
+            offset,
+            range,
+            title: String::new(),
+            attribution: String::new(),
+            land: &[],
+            zones: &[],
+            flights: &[],
+            summary: None,
+        }
+    }
+}
+
+/// Everything the page draws (see the module docs for units).
+#[derive(Clone, Debug, Serialize)]
+pub struct Scene {
+    /// A one-line title.
+    pub title: String,
+    /// Data attribution.
+    pub attribution: String,
+    /// The local UTC offset, seconds east.
+    pub offset_s: i32,
+    /// Epoch milliseconds every other time counts from.
+    pub t0: i64,
+    /// The length of the day shown, ms.
+    pub span: i64,
+    /// Nodes, in airspace order (their index is their number everywhere else).
+    pub nodes: Vec<SceneNode>,
+    /// Corridors, in airspace order, as `[from, to]` node indices.
+    pub edges: Vec<[u32; 2]>,
+    /// Land polygons: rings (outer first) of `[lon, lat]`.
+    pub land: Vec<Vec<Vec<[f64; 2]>>>,
+    /// No-fly zones.
+    pub zones: Vec<SceneZone>,
+    /// Flights with something to draw, in the records' order.
+    pub flights: Vec<SceneFlight>,
+    /// The day's summary, if any.
+    pub summary: Option<serde_json::Value>,
+    /// Whether the page is fed live by `muse serve` (flights come from its API).
+    pub live: bool,
+}
+
+/// A node of the airspace.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneNode {
+    /// Its id, e.g. `S001`.
+    pub id: String,
+    /// Longitude, degrees.
+    pub lon: f64,
+    /// Latitude, degrees.
+    pub lat: f64,
+    /// Whether drones take off and land there.
+    pub station: bool,
+}
+
+/// A no-fly zone.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneZone {
+    /// Its id.
+    pub id: String,
+    /// Its name.
+    pub name: String,
+    /// Its area as polygons of rings of `[lon, lat]` (empty for a zone given as node and
+    /// corridor ids).
+    pub area: Vec<Vec<Vec<[f64; 2]>>>,
+    /// When it is active, `[start, end)` in ms from `t0`, within the day shown.
+    pub windows: Vec<[i64; 2]>,
+    /// When it was announced (ms from `t0`); absent for a zone known from the start.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub announced: Option<i64>,
+    /// The nodes it closes (indices).
+    pub nodes: Vec<u32>,
+    /// The corridors it closes (indices).
+    pub edges: Vec<u32>,
+}
+
+/// One flight.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneFlight {
+    /// The request id.
+    pub id: String,
+    /// Origin node index.
+    pub o: u32,
+    /// Destination node index.
+    pub d: u32,
+    /// Requested departure, ms from `t0`.
+    pub dep: i64,
+    /// Free-flow time, ms (absent if the destination is unreachable).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ff: Option<i64>,
+    /// Status as in `plans.jsonl`: `planned`, `replanned`, `diverted` or `contingency`.
+    pub status: &'static str,
+    /// The stays, flat: node index, arrival and departure (ms from `t0`) for each. A station
+    /// met twice in a row is a battery swap: the drone is on the ground between the two.
+    pub s: Vec<i64>,
+}
+
+/// Builds the scene of `input`.
+///
+/// Errors: a zone whose schedule or area cannot be resolved over the day, or a flight
+/// whose origin or destination is not a node of the airspace.
+pub fn scene(input: &SceneInput<'_>) -> Result<Scene, ViewError> {
+    let a = input.airspace;
+    let drawn: Vec<(&PlanRecord, &Plan, &'static str)> = input
+        .flights
+        .iter()
+        .filter_map(|r| {
+            let plan = match &r.fate {
+                Some(Fate::Contingency(c)) => Some(c),
+                _ => r.final_plan(),
+            }?;
+            (!plan.path.is_empty()).then_some((r, plan, r.status()))
+        })
+        .collect();
+    let first = drawn
+        .iter()
+        .map(|(r, p, _)| p.takeoff().min(r.requested_departure))
+        .fold(input.range.0, Instant::min);
+    let last = drawn
+        .iter()
+        .map(|(_, p, _)| p.landing())
+        .fold(input.range.1, Instant::max);
+    let off = i64::from(input.offset.0) * 1_000;
+    let t0 = (first.0 + off).div_euclid(HOUR_MS) * HOUR_MS - off;
+    let end = (last.0 + off + HOUR_MS - 1).div_euclid(HOUR_MS) * HOUR_MS - off;
+
+    let nodes = a
+        .nodes()
+        .iter()
+        .map(|n| SceneNode {
+            id: n.id.clone(),
+            lon: round5(n.pos.lon),
+            lat: round5(n.pos.lat),
+            station: n.kind == NodeKind::Station,
+        })
+        .collect();
+    let edges = a.edges().iter().map(|e| [e.from.0, e.to.0]).collect();
+    let land = input
+        .land
+        .iter()
+        .map(|p| polygon_rings(&p.simplify(LAND_TOLERANCE_DEG)))
+        .filter(|rings: &Vec<Vec<[f64; 2]>>| rings.first().is_some_and(|r| r.len() >= 4))
+        .collect();
+
+    let zones = input
+        .zones
+        .iter()
+        .map(|z| scene_zone(a, z, t0, end))
+        .collect::<Result<_, _>>()?;
+    let flights = drawn
+        .into_iter()
+        .map(|(r, plan, status)| scene_flight(a, r, plan, status, t0))
+        .collect::<Result<_, _>>()?;
+
+    Ok(Scene {
+        title: input.title.clone(),
+        attribution: input.attribution.clone(),
+        offset_s: input.offset.0,
+        t0,
+        span: end - t0,
+        nodes,
+        edges,
+        land,
+        zones,
+        flights,
+        summary: input.summary.clone(),
+        live: false,
+    })
+}
+
+/// Zone `z` over `[t0, end)`.
+fn scene_zone(a: &Airspace, z: &Zone, t0: i64, end: i64) -> Result<SceneZone, ViewError> {
+    let err = |e: &dyn std::fmt::Display| ViewError::Zone {
+        zone: z.id.clone(),
+        message: e.to_string(),
+    };
+    let windows = zone_windows(z, Instant(t0), Instant(end)).map_err(|e| err(&e))?;
+    let (closed_nodes, closed_edges) = closed_elements(a, z).map_err(|e| err(&e))?;
+    Ok(SceneZone {
+        id: z.id.clone(),
+        name: z.name.clone(),
+        area: z
+            .area
+            .as_ref()
+            .map(muse_render::zone_area_polygons)
+            .unwrap_or_default()
+            .iter()
+            .map(polygon_rings)
+            .collect(),
+        windows: windows
+            .iter()
+            .map(|w| [w.start.0 - t0, w.end.0 - t0])
+            .collect(),
+        announced: z.announced.map(|t| t.0 - t0),
+        nodes: closed_nodes.iter().map(|n| n.0).collect(),
+        edges: closed_edges.iter().map(|e| e.0).collect(),
+    })
+}
+
+/// The flight of record `r`, drawn along `plan`.
+fn scene_flight(
+    a: &Airspace,
+    r: &PlanRecord,
+    plan: &Plan,
+    status: &'static str,
+    t0: i64,
+) -> Result<SceneFlight, ViewError> {
+    let node = |id: &str| {
+        a.node_id(id).map(|n| n.0).ok_or_else(|| ViewError::Flight {
+            flight: r.request.clone(),
+            message: format!("station `{id}` is not in the airspace"),
+        })
+    };
+    Ok(SceneFlight {
+        id: r.request.clone(),
+        o: node(&r.origin)?,
+        d: node(&r.destination)?,
+        dep: r.requested_departure.0 - t0,
+        ff: r.free_flow.map(|m| m.0),
+        status,
+        s: plan
+            .path
+            .iter()
+            .flat_map(|s| [i64::from(s.node.0), s.arrive.0 - t0, s.depart.0 - t0])
+            .collect(),
+    })
+}
+
+/// `v` rounded to 1e-5.
+fn round5(v: f64) -> f64 {
+    (v * 1e5).round() / 1e5
+}
+
+/// The rings of `p`, outer first, rounded.
+fn polygon_rings(p: &Polygon<f64>) -> Vec<Vec<[f64; 2]>> {
+    let ring = |l: &LineString<f64>| l.0.iter().map(|c| [round5(c.x), round5(c.y)]).collect();
+    std::iter::once(p.exterior())
+        .chain(p.interiors())
+        .map(ring)
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use muse_model::{Millis, NodeId, Stay};
+
+    fn record(id: &str, stays: &[(u32, i64, i64)]) -> PlanRecord {
+        PlanRecord::first(
+            id.into(),
+            "A".into(),
+            "B".into(),
+            Instant(stays[0].1),
+            Ok(Plan {
+                path: stays
+                    .iter()
+                    .map(|&(n, a, d)| Stay {
+                        node: NodeId(n),
+                        arrive: Instant(a),
+                        depart: Instant(d),
+                    })
+                    .collect(),
+            }),
+            Some(Millis(60_000)),
+            1,
+        )
+    }
+
+    #[test]
+    fn times_count_from_the_local_hour_and_stays_are_flat() {
+        let a = Airspace::line(&[1_000.0]);
+        // 08:30 local in Singapore (+08:00) is 00:30 UTC.
+        let half_past = 30 * 60_000;
+        let flights = [record(
+            "r1",
+            &[
+                (0, half_past, half_past),
+                (1, half_past + 120_000, half_past + 120_000),
+            ],
+        )];
+        let mut input = SceneInput::new(
+            &a,
+            UtcOffset::SINGAPORE,
+            (Instant(half_past), Instant(half_past)),
+        );
+        input.flights = &flights;
+        let s = scene(&input).unwrap();
+        assert_eq!(s.t0, 0, "floored to the local hour");
+        assert_eq!(s.span, HOUR_MS, "ceiled to the next hour");
+        assert_eq!(
+            s.flights[0].s,
+            vec![
+                0,
+                half_past,
+                half_past,
+                1,
+                half_past + 120_000,
+                half_past + 120_000
+            ]
+        );
+        assert_eq!(
+            (s.flights[0].o, s.flights[0].d, s.flights[0].ff),
+            (0, 1, Some(60_000))
+        );
+        assert_eq!(s.nodes.len(), 2);
+        assert_eq!(s.edges, vec![[0, 1]]);
+    }
+
+    #[test]
+    fn rejected_requests_are_not_drawn_and_unknown_stations_are_errors() {
+        let a = Airspace::line(&[1_000.0]);
+        let mut rejected = record("r2", &[(0, 0, 0)]);
+        rejected.result = Err(muse_model::RejectReason::NoFeasiblePlan);
+        let flights = [rejected];
+        let mut input = SceneInput::new(&a, UtcOffset(0), (Instant(0), Instant(1)));
+        input.flights = &flights;
+        assert!(scene(&input).unwrap().flights.is_empty());
+        let mut bad = record("r3", &[(0, 0, 0), (1, 5, 5)]);
+        bad.origin = "nowhere".into();
+        let flights = [bad];
+        input.flights = &flights;
+        let e = scene(&input).unwrap_err().to_string();
+        assert!(e.contains("r3") && e.contains("nowhere"), "{e}");
+    }
+}

@@ -1,0 +1,207 @@
+// The scene and the questions asked of it: where each flight is at an instant, which are
+// airborne, how busy each corridor is, what a zone is doing. No DOM here, so that node's
+// test runner can load this file (`npm test`); the page inlines it with its `export`
+// keywords dropped.
+//
+// Times are integer milliseconds from `scene.t0` (see the Rust `muse_view::Scene`).
+
+/** Decodes a scene as embedded in the page (or built by the live feed). */
+export function decodeScene(raw) {
+  const scene = { ...raw, flights: [], byId: new Map() };
+  scene.edgeIndex = new Map();
+  raw.edges.forEach(([a, b], i) => scene.edgeIndex.set(edgeKey(a, b), i));
+  for (const f of raw.flights) addFlight(scene, f);
+  return scene;
+}
+
+/** Adds (or replaces) a flight in `scene`; returns the decoded flight. */
+export function addFlight(scene, raw) {
+  const f = decodeFlight(raw);
+  const old = scene.byId.get(f.id);
+  if (old) scene.flights[scene.flights.indexOf(old)] = f;
+  else scene.flights.push(f);
+  scene.byId.set(f.id, f);
+  return f;
+}
+
+/** Removes a flight from `scene` (a cancellation); true if it was there. */
+export function removeFlight(scene, id) {
+  const old = scene.byId.get(id);
+  if (!old) return false;
+  scene.flights.splice(scene.flights.indexOf(old), 1);
+  scene.byId.delete(id);
+  return true;
+}
+
+/** The key of the corridor between nodes `a` and `b`, either way round. */
+export function edgeKey(a, b) {
+  return a < b ? `${a}-${b}` : `${b}-${a}`;
+}
+
+/**
+ * A flight from its compact form: `s` is flat `[node, arrive, depart, ...]`. Legs split
+ * where a station repeats (a battery swap: on the ground between the two stays).
+ */
+export function decodeFlight(raw) {
+  const stays = [];
+  for (let i = 0; i + 2 < raw.s.length; i += 3) {
+    stays.push({ node: raw.s[i], arrive: raw.s[i + 1], depart: raw.s[i + 2] });
+  }
+  if (stays.length === 0) throw new Error(`flight ${raw.id} has no stays`);
+  const legs = [];
+  let first = 0;
+  for (let i = 1; i <= stays.length; i++) {
+    if (i === stays.length || stays[i].node === stays[i - 1].node) {
+      legs.push({ first, last: i - 1, takeoff: stays[first].arrive, landing: stays[i - 1].depart });
+      first = i;
+    }
+  }
+  return {
+    id: raw.id, o: raw.o, d: raw.d, dep: raw.dep, ff: raw.ff ?? null,
+    status: raw.status ?? 'planned', operator: raw.operator ?? null,
+    stays, legs, takeoff: stays[0].arrive, landing: stays[stays.length - 1].depart,
+  };
+}
+
+/** The leg of `f` in the air at `t` (take-off <= t < landing), or null. */
+export function legAt(f, t) {
+  if (t < f.takeoff || t >= f.landing) return null;
+  for (const leg of f.legs) {
+    if (t >= leg.takeoff && t < leg.landing) return leg;
+  }
+  return null;
+}
+
+/** Whether `f` is in the air at `t`. */
+export function isAirborne(f, t) {
+  return legAt(f, t) !== null;
+}
+
+/** The flights in the air at `t`. */
+export function airborneAt(flights, t) {
+  return flights.filter((f) => isAirborne(f, t));
+}
+
+/**
+ * Where `f` is at `t`, if airborne: `{ x, y }` in the nodes' coordinates (lon, lat), and
+ * `hovering` (at a node, waiting) or the corridor `from`→`to` it flies along.
+ */
+export function positionAt(f, t, nodes) {
+  const leg = legAt(f, t);
+  if (leg === null) return null;
+  const st = f.stays;
+  // The last stay of the leg that has begun by `t`.
+  let lo = leg.first;
+  let hi = leg.last;
+  while (lo < hi) {
+    const mid = (lo + hi + 1) >> 1;
+    if (st[mid].arrive <= t) lo = mid;
+    else hi = mid - 1;
+  }
+  const s = st[lo];
+  const n = nodes[s.node];
+  if (t <= s.depart || lo === leg.last) {
+    return { x: n.lon, y: n.lat, node: s.node, hovering: s.depart > s.arrive };
+  }
+  const next = st[lo + 1];
+  const m = nodes[next.node];
+  const u = (t - s.depart) / Math.max(1, next.arrive - s.depart);
+  return {
+    x: n.lon + (m.lon - n.lon) * u,
+    y: n.lat + (m.lat - n.lat) * u,
+    from: s.node, to: next.node, hovering: false,
+  };
+}
+
+/** Traversals per corridor that begin in `[from, to)` (every flight, every leg). */
+export function edgeLoad(scene, from = -Infinity, to = Infinity) {
+  const load = new Array(scene.edges.length).fill(0);
+  for (const f of scene.flights) {
+    for (let i = 1; i < f.stays.length; i++) {
+      const a = f.stays[i - 1];
+      const b = f.stays[i];
+      if (a.node === b.node || a.depart < from || a.depart >= to) continue;
+      const e = scene.edgeIndex.get(edgeKey(a.node, b.node));
+      if (e !== undefined) load[e] += 1;
+    }
+  }
+  return load;
+}
+
+/** What zone `z` is doing at `t`: `unannounced`, `active` or `idle`. */
+export function zoneState(z, t) {
+  if (z.announced !== undefined && z.announced !== null && t < z.announced) return 'unannounced';
+  return z.windows.some(([a, b]) => t >= a && t < b) ? 'active' : 'idle';
+}
+
+/** `HH:MM:SS` local time of `t` (truncated to the second), with `+1d` past midnight. */
+export function clock(scene, t) {
+  const local = scene.t0 + t + scene.offset_s * 1000;
+  const day0 = Math.floor((scene.t0 + scene.offset_s * 1000) / 86400000);
+  const day = Math.floor(local / 86400000);
+  const ms = local - day * 86400000;
+  const hh = Math.floor(ms / 3600000);
+  const mm = Math.floor((ms % 3600000) / 60000);
+  const ss = Math.floor((ms % 60000) / 1000);
+  const two = (v) => String(v).padStart(2, '0');
+  const plus = day > day0 ? ` +${day - day0}d` : '';
+  return `${two(hh)}:${two(mm)}:${two(ss)}${plus}`;
+}
+
+/** A duration in ms as `1 h 02 min`, `3 min 20 s` or `12.5 s`. */
+export function duration(ms) {
+  const s = ms / 1000;
+  const sign = s < 0 ? '−' : '';
+  if (Math.abs(s) < 59.95) return `${s.toFixed(1)} s`;
+  const total = Math.round(Math.abs(s));
+  if (total < 3600) return `${sign}${Math.floor(total / 60)} min ${String(total % 60).padStart(2, '0')} s`;
+  const mins = Math.floor(total / 60);
+  return `${sign}${Math.floor(mins / 60)} h ${String(mins % 60).padStart(2, '0')} min`;
+}
+
+/**
+ * The instant (ms from `t0`) of local clock time `hh:mm[:ss]` on the scene's first day,
+ * or null if `text` is not one.
+ */
+export function parseClock(scene, text) {
+  const m = /^(\d{1,2}):(\d{2})(?::(\d{2}))?$/.exec(text.trim());
+  if (!m) return null;
+  const [h, min, sec] = [Number(m[1]), Number(m[2]), Number(m[3] ?? 0)];
+  if (h > 47 || min > 59 || sec > 59) return null;
+  const local0 = scene.t0 + scene.offset_s * 1000;
+  const midnight = Math.floor(local0 / 86400000) * 86400000;
+  return midnight + ((h * 60 + min) * 60 + sec) * 1000 - local0;
+}
+
+/**
+ * The plan of `f` as rows for a table: each stay (node, arrival, departure, hover), and
+ * between legs the time on the ground; plus take-off, landing and delays.
+ */
+export function planDetails(scene, f) {
+  const rows = [];
+  f.legs.forEach((leg, k) => {
+    if (k > 0) {
+      const prev = f.legs[k - 1];
+      rows.push({ ground: true, node: scene.nodes[f.stays[leg.first].node].id, from: prev.landing, to: leg.takeoff });
+    }
+    for (let i = leg.first; i <= leg.last; i++) {
+      const s = f.stays[i];
+      rows.push({ ground: false, leg: k + 1, node: scene.nodes[s.node].id, arrive: s.arrive, depart: s.depart, hover: s.depart - s.arrive });
+    }
+  });
+  const airborne = f.landing - f.takeoff;
+  return {
+    id: f.id,
+    status: f.status,
+    origin: scene.nodes[f.o].id,
+    destination: scene.nodes[f.d].id,
+    requested: f.dep,
+    takeoff: f.takeoff,
+    landing: f.landing,
+    groundDelay: f.takeoff - f.dep,
+    airDelay: f.ff === null || f.status === 'diverted' ? null : airborne - f.ff,
+    legs: f.legs.length,
+    hover: f.stays.reduce((sum, s) => sum + (s.depart - s.arrive), 0),
+    rows,
+  };
+}

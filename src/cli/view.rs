@@ -1,0 +1,117 @@
+//! `muse view`: one self-contained HTML page that plays a day of deliveries (also written
+//! by `muse simulate` as `view.html`).
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::Context as _;
+use clap::Args;
+use muse_formats::plans::{PlanRecord, read_plans_file};
+use muse_model::{Instant, Millis};
+
+use super::common::{World, WorldArgs, write_atomically};
+
+/// Arguments of `muse view`.
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// Plans file (JSON Lines, as written by `muse simulate` or `muse plan`).
+    #[arg(long, value_name = "FILE")]
+    plans: PathBuf,
+    /// The day's summary to show beside the map. Default: `summary.json` beside the plans
+    /// file, if there is one.
+    #[arg(long, value_name = "FILE")]
+    summary: Option<PathBuf>,
+    #[command(flatten)]
+    world: WorldArgs,
+    /// Output file.
+    #[arg(long, value_name = "FILE", default_value = "view.html")]
+    out: PathBuf,
+}
+
+/// Runs `muse view`.
+pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
+    let world = args.world.load()?;
+    let records = read_plans_file(&args.plans, &world.airspace)?;
+    let summary_path = args.summary.clone().or_else(|| {
+        let beside = args.plans.with_file_name("summary.json");
+        beside.is_file().then_some(beside)
+    });
+    let summary = match &summary_path {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("reading {}", path.display()))?;
+            Some(
+                serde_json::from_str(&text)
+                    .with_context(|| format!("{}: not a JSON summary", path.display()))?,
+            )
+        }
+        None => None,
+    };
+    let bytes = write_view(&world, &records, summary, &args.out)?;
+    let drawn = records.iter().filter(|r| r.final_plan().is_some()).count();
+    println!(
+        "wrote {} ({:.1} MB): {drawn} flights of {} requests{}; open it in a browser, no network needed",
+        args.out.display(),
+        bytes as f64 / 1e6,
+        records.len(),
+        summary_path.map_or(String::new(), |p| format!(", summary from {}", p.display()))
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Writes the page of `records` over `world` to `path`; returns its size in bytes.
+pub fn write_view(
+    world: &World,
+    records: &[PlanRecord],
+    summary: Option<serde_json::Value>,
+    path: &Path,
+) -> anyhow::Result<usize> {
+    let land = if world.land {
+        muse_scenario::singapore_land().0
+    } else {
+        Vec::new()
+    };
+    let mut input =
+        muse_view::SceneInput::new(&world.airspace, world.offset, day_range(world, records));
+    input.title.clone_from(&world.title);
+    if world.scenario.is_some() {
+        muse_scenario::ATTRIBUTION.clone_into(&mut input.attribution);
+    }
+    input.land = &land;
+    input.zones = &world.zones;
+    input.flights = records;
+    input.summary = summary;
+    let scene = muse_view::scene(&input).context("building the viewer's scene")?;
+    let html = muse_view::page(&scene);
+    write_atomically(path, &html)?;
+    Ok(html.len())
+}
+
+/// The stretch of time the page shows at least: the requests' departures and the flights,
+/// or the scenario's whole day when there are none.
+fn day_range(world: &World, records: &[PlanRecord]) -> (Instant, Instant) {
+    let times = records.iter().flat_map(|r| {
+        let plan = r.final_plan();
+        [
+            Some(r.requested_departure),
+            plan.map(muse_model::Plan::landing),
+        ]
+        .into_iter()
+        .flatten()
+    });
+    let (lo, hi) = times.fold(
+        (None, None),
+        |(lo, hi): (Option<Instant>, Option<Instant>), t| {
+            (
+                Some(lo.map_or(t, |l| l.min(t))),
+                Some(hi.map_or(t, |h| h.max(t))),
+            )
+        },
+    );
+    if let (Some(lo), Some(hi)) = (lo, hi) {
+        (lo, hi)
+    } else {
+        let midnight = Instant::at_local(world.date, Millis::ZERO, world.offset);
+        (midnight, midnight + Millis::from_mins(24 * 60))
+    }
+}
