@@ -92,24 +92,9 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         None => Tokens::Open,
         Some(path) => Tokens::read(path)?,
     };
-    let label = format!(
-        "{}{}",
-        world.airspace_source,
-        if world.zones.is_empty() {
-            String::new()
-        } else {
-            format!(
-                " ({})",
-                world
-                    .zones
-                    .iter()
-                    .map(|z| z.id.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )
-        }
-    );
+    let label = world_label(&world);
     let stations = world.airspace.stations().count();
+    let page = super::view::live_page(&world, clock.now())?;
     let service_world = ServiceWorld::new(
         label.clone(),
         world.airspace,
@@ -125,6 +110,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     options.max_body = args.max_body_kib * 1024;
     options.rate_limit = args.rate_limit;
     options.burst = args.burst;
+    options.page = Some(page);
     options.retain = Millis::from_secs_f64(args.retain_hours * 3_600.0)
         .ok()
         .with_context(|| format!("--retain-hours {} must be a number >= 0", args.retain_hours))?;
@@ -172,6 +158,8 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
             writeln!(out, "  access     bearer tokens from {}", args.tokens.as_ref().map_or_else(String::new, |p| p.display().to_string()))?;
         }
         writeln!(out, "  API        http://{}/v1/openapi.json", running.addr)?;
+        let token_hint = if running.open { "" } else { "?token=YOUR_TOKEN" };
+        writeln!(out, "  viewer     http://{}/{token_hint}", running.addr)?;
         writeln!(out, "listening on http://{}", running.addr)?;
         out.flush()?;
         drop(out);
@@ -179,6 +167,15 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         anyhow::Ok(())
     })?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The service's name for its world: the airspace and its zones.
+fn world_label(world: &super::common::World) -> String {
+    if world.zones.is_empty() {
+        return world.airspace_source.clone();
+    }
+    let zones: Vec<&str> = world.zones.iter().map(|z| z.id.as_str()).collect();
+    format!("{} ({})", world.airspace_source, zones.join(", "))
 }
 
 /// Completes on Ctrl-C or SIGTERM.

@@ -66,13 +66,35 @@ pub fn write_view(
     summary: Option<serde_json::Value>,
     path: &Path,
 ) -> anyhow::Result<usize> {
+    let scene = scene_of(world, records, summary, day_range(world, records))?;
+    let html = muse_view::page(&scene);
+    write_atomically(path, &html)?;
+    Ok(html.len())
+}
+
+/// The live page of `muse serve` over `world`, its clock starting around `now`.
+pub fn live_page(world: &World, now: Instant) -> anyhow::Result<String> {
+    let range = (
+        now - Millis::from_mins(60),
+        now + Millis::from_mins(23 * 60),
+    );
+    let scene = scene_of(world, &[], None, range)?;
+    Ok(muse_view::live_page(&scene))
+}
+
+/// The scene of `records` over `world`, showing at least `range`.
+fn scene_of(
+    world: &World,
+    records: &[PlanRecord],
+    summary: Option<serde_json::Value>,
+    range: (Instant, Instant),
+) -> anyhow::Result<muse_view::Scene> {
     let land = if world.land {
         muse_scenario::singapore_land().0
     } else {
         Vec::new()
     };
-    let mut input =
-        muse_view::SceneInput::new(&world.airspace, world.offset, day_range(world, records));
+    let mut input = muse_view::SceneInput::new(&world.airspace, world.offset, range);
     input.title.clone_from(&world.title);
     if world.scenario.is_some() {
         muse_scenario::ATTRIBUTION.clone_into(&mut input.attribution);
@@ -81,10 +103,7 @@ pub fn write_view(
     input.zones = &world.zones;
     input.flights = records;
     input.summary = summary;
-    let scene = muse_view::scene(&input).context("building the viewer's scene")?;
-    let html = muse_view::page(&scene);
-    write_atomically(path, &html)?;
-    Ok(html.len())
+    muse_view::scene(&input).context("building the viewer's scene")
 }
 
 /// The stretch of time the page shows at least: the requests' departures and the flights,

@@ -1,5 +1,10 @@
 //! What the tests that run the real `muse serve` binary share: starting it on an ephemeral
-//! loopback port and killing it with SIGKILL (never a clean shutdown).
+//! loopback port and killing it with SIGKILL (never a clean shutdown). [`cdp`] is the small
+//! client of CDP (Chrome's debugging protocol) that the browser tests drive Chromium with.
+
+// The `muse serve` tests do not use the browser client.
+#[allow(dead_code)]
+pub mod cdp;
 
 use std::io::{BufRead as _, BufReader};
 use std::path::{Path, PathBuf};
@@ -18,6 +23,14 @@ impl Server {
     pub fn kill(mut self) {
         self.child.kill().expect("SIGKILL");
         self.child.wait().expect("reaped");
+    }
+}
+
+impl Drop for Server {
+    /// A test that fails still leaves no server behind (SIGKILL; an error means it is gone).
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
     }
 }
 

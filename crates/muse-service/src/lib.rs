@@ -69,6 +69,8 @@ pub struct Options {
     /// Events an event-stream listener may fall behind the live ones by before it reads the
     /// history instead ([`events::LIVE_CAPACITY`] by default).
     pub event_buffer: usize,
+    /// The page served at `GET /` (the live viewer, built by the caller), if any.
+    pub page: Option<String>,
 }
 
 impl Options {
@@ -84,6 +86,7 @@ impl Options {
             burst: 40_000.0,
             retain: Millis::from_secs(86_400),
             event_buffer: events::LIVE_CAPACITY,
+            page: None,
         }
     }
 }
@@ -170,6 +173,7 @@ pub async fn start(
         limiter: RateLimiter::new(options.rate_limit, options.burst),
         commands,
         airspace_geojson,
+        page: options.page,
         max_body: options.max_body,
         stopping: tokio::sync::watch::channel(false).0,
     });

@@ -9,7 +9,7 @@ use axum::response::{IntoResponse, Response};
 use serde::Serialize;
 
 use super::error::json;
-use super::{App, Authed, OPENAPI};
+use super::{ApiError, App, Authed, OPENAPI};
 
 fn geojson(text: &str) -> Response {
     (
@@ -24,6 +24,26 @@ fn geojson(text: &str) -> Response {
 
 pub(super) async fn airspace(AxumState(app): AxumState<Arc<App>>, Authed(_): Authed) -> Response {
     geojson(&app.airspace_geojson)
+}
+
+/// `GET /`: the live viewer page (HTML), or 404 when the service has none.
+pub(super) async fn page(AxumState(app): AxumState<Arc<App>>) -> Response {
+    match &app.page {
+        Some(html) => (
+            [(
+                header::CONTENT_TYPE,
+                HeaderValue::from_static("text/html; charset=utf-8"),
+            )],
+            html.clone(),
+        )
+            .into_response(),
+        None => ApiError::new(
+            StatusCode::NOT_FOUND,
+            "not_found",
+            "this service was started without a viewer page",
+        )
+        .into_response(),
+    }
 }
 
 pub(super) async fn openapi() -> Response {

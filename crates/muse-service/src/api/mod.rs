@@ -55,7 +55,7 @@ use crate::state::State;
 pub use caller::Authed;
 pub use error::ApiError;
 use flights::{cancel, create, list, read};
-use info::{airspace, healthz, metrics, openapi};
+use info::{airspace, healthz, metrics, openapi, page};
 pub use zones::MAX_ZONE_BODY;
 
 /// The `OpenAPI` description of this API.
@@ -64,6 +64,7 @@ pub const OPENAPI: &str = include_str!("openapi.json");
 /// Every route, as `(method, path)`: the router serves exactly these (checked against the
 /// `OpenAPI` document by a test).
 pub const ROUTES: &[(&str, &str)] = &[
+    ("get", "/"),
     ("post", "/v1/flights"),
     ("get", "/v1/flights"),
     ("get", "/v1/flights/{id}"),
@@ -94,6 +95,8 @@ pub struct App {
     pub commands: mpsc::Sender<Command>,
     /// `GET /v1/airspace`, rendered once.
     pub airspace_geojson: String,
+    /// `GET /`: the live viewer page, if the service was given one.
+    pub page: Option<String>,
     /// Largest request body, bytes (zone bodies: [`MAX_ZONE_BODY`]).
     pub max_body: usize,
     /// Set when the service stops: event streams end then.
@@ -104,6 +107,7 @@ pub struct App {
 pub fn router(app: Arc<App>) -> Router {
     let max_body = app.max_body;
     Router::new()
+        .route("/", get(page))
         .route("/v1/flights", get(list).post(create))
         .route("/v1/flights/{id}", get(read).delete(cancel))
         .route("/v1/airspace", get(airspace))

@@ -15,6 +15,7 @@ function startLive() {
   let offset = 0; // the service's clock minus this machine's
   let following = true;
   let connected = false;
+  let resync = null; // a pending refresh of the service's figures after events
 
   $('live').hidden = false;
   $('now').hidden = false;
@@ -22,6 +23,7 @@ function startLive() {
   state.speed = 1;
 
   const status = (text) => { $('status').textContent = text; };
+  const plural = (n, word) => `${n} ${word}${n === 1 ? '' : 's'}`;
   const now = () => Date.now() + offset - scene.t0;
 
   function showEvents() {
@@ -51,14 +53,16 @@ function startLive() {
     museView.redraw();
     museView.events += 1;
     if (state.selected === d.flight) select(scene.byId.has(d.flight) ? d.flight : null);
-    $('flights-count').textContent = String(scene.flights.length);
+    $('flights-count').textContent = plural(scene.flights.length, 'flight');
+    showSummary();
+    if (!resync) resync = setTimeout(() => { resync = null; syncClock(); }, 500);
   }
 
   async function syncClock() {
     try {
       const h = await (await fetch('/healthz', { headers: auth })).json();
       offset = Date.parse(h.now) - Date.now();
-      $('service').textContent = `${h.airspace} · ${h.flights} flights held`;
+      $('service').textContent = `${h.airspace} · ${plural(h.flights, 'flight')} held`;
     } catch (e) {
       status('service unreachable');
     }
@@ -99,6 +103,11 @@ function startLive() {
 
   // Follow the service's clock, at real speed, until the user scrubs.
   setInterval(() => {
+    // A service runs for days: the day shown grows with its clock.
+    if (now() > scene.span) {
+      scene.span = now() + HOUR;
+      $('slider').max = String(Math.ceil(scene.span / 1000));
+    }
     if (following && connected) { setT(now()); }
   }, 250);
   setInterval(syncClock, 10000);

@@ -253,13 +253,14 @@ function showSummary() {
       if (p.battery_swap_s !== null && p.battery_swap_s !== undefined) rows.push(['battery swap', duration(p.battery_swap_s * 1000)]);
     }
   } else {
-    rows.push(['flights', scene.flights.length]);
+    rows.push(['flights on the map', scene.flights.length]);
   }
   rows.push(['stations', scene.nodes.filter((n) => n.station).length]);
   rows.push(['corridors', scene.edges.length]);
   for (const z of scene.zones) {
-    const when = z.windows.map(([a, b]) => `${clock(scene, a).slice(0, 5)}–${clock(scene, b).slice(0, 5)}`).join(', ');
-    const ann = z.announced !== undefined ? `, announced ${clock(scene, z.announced).slice(0, 5)}` : '';
+    const hm = (t) => clock(scene, t).replace(/^(\d\d:\d\d):\d\d/, '$1');
+    const when = z.windows.map(([a, b]) => `${hm(a)}–${hm(b)}`).join(', ');
+    const ann = z.announced !== undefined ? `, announced ${hm(z.announced)}` : '';
     rows.push([`zone ${z.id}`, `${when || 'not active'}${ann}`]);
   }
   dl.innerHTML = rows.map(([k, v]) => `<dt>${esc(k)}</dt><dd>${esc(v)}</dd>`).join('');

@@ -1,0 +1,353 @@
+//! The viewer that `muse simulate` writes, driven in headless Chromium: `view.html` opens from
+//! `file://` on a machine with networking disabled, with no console errors and no request for
+//! anything but itself and `data:` URLs; at several instants of the day it draws exactly the
+//! flights airborne then according to `plans.jsonl`; and a click on a drone selects it and
+//! shows its plan. Skipped with a notice when Chromium is not installed, unless `CI` is set.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Duration;
+
+use serde_json::Value;
+
+// The `muse serve` helpers are not used here.
+#[allow(dead_code)]
+mod support;
+use support::cdp::{Page, browser_or_skip, file_url};
+
+/// One line of `plans.jsonl`, as far as the viewer shows it.
+struct Plan {
+    /// The request id.
+    request: String,
+    /// Take-off and landing as written (RFC 3339), if planned.
+    takeoff: Option<String>,
+    /// See `takeoff`.
+    landing: Option<String>,
+    /// The airborne intervals `[takeoff, landing)` in epoch milliseconds: one per leg.
+    airborne: Vec<(i64, i64)>,
+}
+
+impl Plan {
+    /// Whether the flight is in the air at `t` (epoch milliseconds).
+    fn airborne_at(&self, t: i64) -> bool {
+        self.airborne.iter().any(|&(from, to)| from <= t && t < to)
+    }
+}
+
+/// An RFC 3339 instant in epoch milliseconds.
+fn epoch_ms(text: &str) -> i64 {
+    text.parse::<jiff::Timestamp>()
+        .unwrap_or_else(|e| panic!("`{text}` is not RFC 3339: {e}"))
+        .as_millisecond()
+}
+
+/// A field that must be an RFC 3339 string.
+fn instant(value: &Value, what: &str) -> i64 {
+    epoch_ms(
+        value
+            .as_str()
+            .unwrap_or_else(|| panic!("{what} is not a string: {value}")),
+    )
+}
+
+/// Reads `plans.jsonl` (SPEC §7).
+fn read_plans(path: &Path) -> Vec<Plan> {
+    let text = std::fs::read_to_string(path).expect("plans.jsonl is readable");
+    text.lines()
+        .filter(|line| !line.trim().is_empty())
+        .map(|line| {
+            let v: Value = serde_json::from_str(line).expect("each line of plans.jsonl is JSON");
+            let request = v["request"].as_str().expect("a request id").to_owned();
+            let takeoff = v["takeoff"].as_str().map(str::to_owned);
+            let landing = v["landing"].as_str().map(str::to_owned);
+            let airborne = match v["legs"].as_array() {
+                Some(legs) if !legs.is_empty() => legs
+                    .iter()
+                    .map(|leg| {
+                        (
+                            instant(&leg["takeoff"], "a leg's takeoff"),
+                            instant(&leg["landing"], "a leg's landing"),
+                        )
+                    })
+                    .collect(),
+                _ => match (&takeoff, &landing) {
+                    (Some(up), Some(down)) => vec![(epoch_ms(up), epoch_ms(down))],
+                    _ => Vec::new(),
+                },
+            };
+            Plan {
+                request,
+                takeoff,
+                landing,
+                airborne,
+            }
+        })
+        .collect()
+}
+
+/// The `HH:MM:SS` of an RFC 3339 string (truncated to the second), as the page shows it.
+fn clock(rfc3339: &str) -> &str {
+    rfc3339
+        .get(11..19)
+        .unwrap_or_else(|| panic!("`{rfc3339}` is too short for RFC 3339"))
+}
+
+/// The local instant `HH:MM` on the day and at the offset of `sample` (an RFC 3339 string).
+fn local(sample: &str, hh_mm: &str) -> i64 {
+    let date = sample.get(..10).expect("an RFC 3339 date");
+    let offset = sample
+        .get(19..)
+        .expect("an RFC 3339 time")
+        .trim_start_matches(|c: char| c == '.' || c.is_ascii_digit());
+    epoch_ms(&format!("{date}T{hh_mm}:00{offset}"))
+}
+
+/// Evaluates `expr`, which must give a whole number.
+fn eval_count(page: &Page<'_>, expr: &str) -> u64 {
+    let value = page.eval(expr).unwrap_or_else(|e| panic!("{e}"));
+    value
+        .as_u64()
+        .unwrap_or_else(|| panic!("`{expr}` gave {value}, not a count"))
+}
+
+/// A drone the page has drawn.
+struct Drawn {
+    /// Its flight id.
+    id: String,
+    /// Its centre in CSS pixels from the viewport's top left.
+    x: f64,
+    /// See `x`.
+    y: f64,
+    /// Whether the topmost element at its centre is the canvas (no panel covers it).
+    on_canvas: bool,
+}
+
+/// `museView.flightsDrawn()`, with what lies on top of each drone.
+fn drawn(page: &Page<'_>) -> Vec<Drawn> {
+    let value = page
+        .eval(
+            "museView.flightsDrawn().map(f => {
+                const top = document.elementFromPoint(f.x, f.y);
+                return {id: f.id, x: f.x, y: f.y, canvas: !!top && top.tagName === 'CANVAS'};
+            })",
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+    value
+        .as_array()
+        .unwrap_or_else(|| panic!("flightsDrawn() is not an array: {value}"))
+        .iter()
+        .map(|f| Drawn {
+            id: f["id"]
+                .as_str()
+                .unwrap_or_else(|| panic!("a drawn flight without a string id: {f}"))
+                .to_owned(),
+            x: f["x"].as_f64().unwrap_or_else(|| panic!("no x: {f}")),
+            y: f["y"].as_f64().unwrap_or_else(|| panic!("no y: {f}")),
+            on_canvas: f["canvas"] == true,
+        })
+        .collect()
+}
+
+/// The drone easiest to click: inside the viewport, on the canvas if any is, and farthest
+/// from its nearest neighbour.
+fn easiest_to_click(drones: &[Drawn], width: f64, height: f64) -> &Drawn {
+    let inside =
+        |d: &&Drawn| d.x >= 10.0 && d.y >= 10.0 && d.x <= width - 10.0 && d.y <= height - 10.0;
+    let any_on_canvas = drones.iter().filter(inside).any(|d| d.on_canvas);
+    let isolation = |d: &Drawn| {
+        drones
+            .iter()
+            .filter(|o| !std::ptr::eq(*o, d))
+            .map(|o| (o.x - d.x).hypot(o.y - d.y))
+            .fold(f64::INFINITY, f64::min)
+    };
+    drones
+        .iter()
+        .filter(inside)
+        .filter(|d| d.on_canvas || !any_on_canvas)
+        .max_by(|a, b| isolation(a).total_cmp(&isolation(b)))
+        .expect("a drawn drone inside the viewport")
+}
+
+/// Runs `muse simulate --out OUT` (the default scenario and demand) and returns the plans it
+/// wrote and its `view.html`.
+fn simulate(out: &Path) -> (Vec<Plan>, PathBuf) {
+    let run = Command::new(env!("CARGO_BIN_EXE_muse"))
+        .args(["simulate", "--out"])
+        .arg(out)
+        .output()
+        .expect("muse simulate runs");
+    assert!(
+        run.status.success(),
+        "muse simulate failed ({}):\n{}{}",
+        run.status,
+        String::from_utf8_lossy(&run.stdout),
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let view = out.join("view.html");
+    assert!(view.is_file(), "muse simulate wrote no {}", view.display());
+    (read_plans(&out.join("plans.jsonl")), view)
+}
+
+/// Asserts that the page has logged no error so far.
+fn assert_no_console_errors(page: &Page<'_>) {
+    let errors = page.console_errors().expect("console errors");
+    assert!(
+        errors.is_empty(),
+        "the viewer logged errors:\n{}",
+        errors.join("\n")
+    );
+}
+
+/// Opens `view` offline, waits for `museView.ready`, and asserts a clean load: no console
+/// errors, no request for anything but `file://` and `data:` URLs. Returns the request count.
+fn open_offline(page: &Page<'_>, view: &Path) -> usize {
+    page.offline().expect("offline emulation");
+    let url = file_url(view).expect("an absolute UTF-8 path");
+    page.goto(&url).expect("view.html loads");
+    page.wait_for(
+        "window.museView && window.museView.ready === true",
+        Duration::from_secs(60),
+    )
+    .expect("the viewer gets ready");
+    assert_no_console_errors(page);
+    let requests = page.requests().expect("requests");
+    let foreign: Vec<_> = requests
+        .iter()
+        .filter(|u| !u.starts_with("file://") && !u.starts_with("data:"))
+        .collect();
+    assert!(
+        foreign.is_empty(),
+        "the viewer asked the network for {foreign:?}"
+    );
+    assert!(
+        requests.contains(&url),
+        "the page's own request is missing: {requests:?}"
+    );
+    requests.len()
+}
+
+/// Sets the clock to `t` and asserts that the page draws exactly the flights airborne then
+/// (by `setTime`'s count, `drawnCount()` and `flightsDrawn()`); returns how many.
+fn assert_draws_the_airborne(page: &Page<'_>, plans: &[Plan], t: i64, label: &str) -> usize {
+    let expected: BTreeSet<&str> = plans
+        .iter()
+        .filter(|p| p.airborne_at(t))
+        .map(|p| p.request.as_str())
+        .collect();
+    let set = eval_count(page, &format!("museView.setTime({t})"));
+    let count = eval_count(page, "museView.drawnCount()");
+    let clock_ms = page.eval("museView.time()").expect("museView.time()");
+    let ids: BTreeSet<String> = drawn(page).into_iter().map(|d| d.id).collect();
+    println!(
+        "{label} ({t}): {} airborne per plans.jsonl; setTime gave {set}, drawnCount {count}, \
+         flightsDrawn {}",
+        expected.len(),
+        ids.len()
+    );
+    assert_eq!(
+        clock_ms.as_f64(),
+        Some(t as f64),
+        "the clock after setTime at {label}"
+    );
+    assert_eq!(set as usize, expected.len(), "setTime's count at {label}");
+    assert_eq!(count as usize, expected.len(), "drawnCount at {label}");
+    let ids: BTreeSet<&str> = ids.iter().map(String::as_str).collect();
+    assert_eq!(ids, expected, "the flights drawn at {label}");
+    expected.len()
+}
+
+/// At clock `t`, clicks the drone easiest to click and asserts that it is selected and that
+/// `#details` shows its id, take-off and landing; screenshots before and after the click.
+fn assert_click_selects(page: &Page<'_>, plans: &[Plan], t: i64, screenshots: &Path) {
+    eval_count(page, &format!("museView.setTime({t})"));
+    let size = page
+        .eval("[innerWidth, innerHeight]")
+        .expect("the viewport's size");
+    let (width, height) = (
+        size[0].as_f64().expect("a width"),
+        size[1].as_f64().expect("a height"),
+    );
+    let drones = drawn(page);
+    let target = easiest_to_click(&drones, width, height);
+    let plan = plans
+        .iter()
+        .find(|p| p.request == target.id)
+        .unwrap_or_else(|| panic!("the drawn flight `{}` is not in plans.jsonl", target.id));
+    let (takeoff, landing) = (
+        clock(plan.takeoff.as_deref().expect("a planned take-off")),
+        clock(plan.landing.as_deref().expect("a planned landing")),
+    );
+    page.screenshot(&screenshots.join("view-simulate.png"))
+        .expect("the screenshot before the click");
+    page.click(target.x, target.y).expect("the click");
+    let id = serde_json::to_string(&target.id).expect("a JSON string");
+    if let Err(e) = page.wait_for(
+        &format!("museView.selected() === {id}"),
+        Duration::from_secs(5),
+    ) {
+        panic!(
+            "clicking `{}` at ({:.1}, {:.1}) did not select it: {e}",
+            target.id, target.x, target.y
+        );
+    }
+    let details = page
+        .eval("document.querySelector('#details').textContent")
+        .expect("#details");
+    page.screenshot(&screenshots.join("view-simulate-selected.png"))
+        .expect("the screenshot after the click");
+    let details = details
+        .as_str()
+        .unwrap_or_else(|| panic!("no #details element: {details}"));
+    for shown in [target.id.as_str(), takeoff, landing] {
+        assert!(
+            details.contains(shown),
+            "#details lacks `{shown}` (flight {}, take-off {takeoff}, landing {landing}):\n{details}",
+            target.id
+        );
+    }
+    println!(
+        "clicked {} at ({:.1}, {:.1}) at {t}: selected; #details shows take-off {takeoff} and \
+         landing {landing}; screenshots in {}",
+        target.id,
+        target.x,
+        target.y,
+        screenshots.display()
+    );
+}
+
+#[test]
+fn the_simulated_day_plays_offline_and_a_click_shows_a_plan() {
+    let Some(browser) = browser_or_skip("view_browser") else {
+        return;
+    };
+    let (plans, view) = simulate(&support::scratch_dir("view_browser"));
+    let page = browser.new_page().expect("a new page");
+    let requests = open_offline(&page, &view);
+
+    // The scenario's day and offset, from the first planned take-off.
+    let first = plans
+        .iter()
+        .find_map(|p| p.takeoff.as_deref())
+        .expect("at least one planned flight");
+    println!(
+        "{} plans, {} planned, the first take-off {first}; {requests} requests, all file:// \
+         or data:, with networking off and no console errors",
+        plans.len(),
+        plans.iter().filter(|p| p.takeoff.is_some()).count(),
+    );
+    // 10:30 is inside the CBD no-fly zone's 10:00–12:00 window.
+    let mut busiest: Option<(i64, usize)> = None;
+    for hh_mm in ["09:00", "10:30", "15:00"] {
+        let t = local(first, hh_mm);
+        let n = assert_draws_the_airborne(&page, &plans, t, hh_mm);
+        if n > 0 && busiest.is_none_or(|(_, most)| n > most) {
+            busiest = Some((t, n));
+        }
+    }
+    let (t, _) = busiest.expect("a flight airborne at one of the instants checked");
+    let screenshots = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/screenshots");
+    assert_click_selects(&page, &plans, t, &screenshots);
+    assert_no_console_errors(&page);
+}

@@ -1,0 +1,237 @@
+//! The live viewer of `muse serve`, driven in headless Chromium against the real binary on an
+//! ephemeral loopback port: the page at `/` loads with no console error, follows the events
+//! stream, and a flight planned over plain HTTP (as with `curl`) appears on it — in the list
+//! of events, and drawn on the map while it is airborne, where a click shows its plan. With
+//! tokens, an operator's page shows its own flights only and the authority's every flight.
+//! Skipped with a notice when Chromium is not installed, unless `CI` is set.
+
+use std::io::{Read as _, Write as _};
+use std::net::TcpStream;
+use std::path::Path;
+use std::time::Duration;
+
+use serde_json::Value;
+
+mod support;
+use support::cdp::{Page, browser_or_skip};
+
+/// The service's clock starts here (and runs at real speed).
+const CLOCK: &str = "2026-01-05T09:00:00+08:00";
+
+/// `POST path` with a JSON body over a fresh HTTP/1.1 connection, as `curl` would; returns the
+/// status and the body as JSON.
+fn post(base: &str, path: &str, token: Option<&str>, body: &str) -> (u16, Value) {
+    let addr = base.strip_prefix("http://").expect("an http:// base");
+    let mut s = TcpStream::connect(addr).expect("the service accepts connections");
+    s.set_read_timeout(Some(Duration::from_secs(30)))
+        .expect("timeout");
+    let auth = token.map_or(String::new(), |t| format!("Authorization: Bearer {t}\r\n"));
+    write!(
+        s,
+        "POST {path} HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\n{auth}Content-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        body.len()
+    )
+    .expect("request sent");
+    let mut response = String::new();
+    s.read_to_string(&mut response).expect("response read");
+    let (head, body) = response.split_once("\r\n\r\n").expect("HTTP response");
+    let status = head
+        .split_whitespace()
+        .nth(1)
+        .and_then(|c| c.parse().ok())
+        .expect("a status code");
+    // Small bodies may come chunked: take the JSON object inside.
+    let json = &body[body.find('{').expect("a JSON body")..=body.rfind('}').expect("a JSON body")];
+    (status, serde_json::from_str(json).expect("JSON body"))
+}
+
+/// Plans flight `id` from `origin` to `destination`, departing `after_s` seconds after the
+/// service's clock started; returns the plan.
+fn plan(base: &str, token: Option<&str>, id: &str, od: (&str, &str), after_s: i64) -> Value {
+    let start = CLOCK.parse::<jiff::Timestamp>().expect("RFC 3339");
+    let departure = start + jiff::SignedDuration::from_secs(after_s);
+    let body = format!(
+        r#"{{"id": "{id}", "origin": "{}", "destination": "{}", "departure": "{departure}"}}"#,
+        od.0, od.1
+    );
+    let (status, plan) = post(base, "/v1/flights", token, &body);
+    assert_eq!(status, 201, "{id} is planned: {plan}");
+    plan
+}
+
+fn epoch_ms(v: &Value) -> i64 {
+    v.as_str()
+        .expect("an RFC 3339 string")
+        .parse::<jiff::Timestamp>()
+        .expect("RFC 3339")
+        .as_millisecond()
+}
+
+/// Opens the live page at `url` and waits until it is connected to the events stream.
+fn open_live(page: &Page<'_>, url: &str) {
+    page.goto(url).expect("the live page loads");
+    page.wait_for(
+        "window.museView && museView.ready && museView.live && museView.connected === true",
+        Duration::from_secs(20),
+    )
+    .expect("the live page connects to the events stream");
+}
+
+/// Waits until flight `id` is on the page, and checks it is listed among the latest events.
+fn wait_for_flight(page: &Page<'_>, id: &str) {
+    page.wait_for(
+        &format!("museView.scene.byId.has({id:?})"),
+        Duration::from_secs(20),
+    )
+    .unwrap_or_else(|e| panic!("{id} never appeared on the live page: {e}"));
+    let events = page
+        .eval("document.getElementById('events').textContent")
+        .expect("events list");
+    assert!(
+        events.as_str().is_some_and(|t| t.contains(id)),
+        "{id} not in the events list: {events}"
+    );
+}
+
+/// Stops following the clock, sets it inside `plan`'s flight and clicks the drone drawn for
+/// it; returns the number of drones drawn then.
+fn click_flight(page: &Page<'_>, plan: &Value) -> i64 {
+    let id = plan["request"].as_str().expect("request id");
+    let t = epoch_ms(&plan["takeoff"]) + 1_000;
+    page.eval("museView.follow(false)").expect("follow off");
+    let drawn = page
+        .eval(&format!("museView.setTime({t})"))
+        .expect("setTime")
+        .as_i64()
+        .expect("a count");
+    let at = page.eval("museView.flightsDrawn()").expect("flightsDrawn");
+    let me = at
+        .as_array()
+        .expect("an array")
+        .iter()
+        .find(|d| d["id"] == id)
+        .unwrap_or_else(|| panic!("{id} is not drawn at its take-off + 1 s: {at}"));
+    page.click(me["x"].as_f64().expect("x"), me["y"].as_f64().expect("y"))
+        .expect("click");
+    let selected = page.eval("museView.selected()").expect("selected");
+    assert_eq!(selected, id, "the click selects {id}");
+    let details = page
+        .eval("document.getElementById('details').textContent")
+        .expect("details");
+    let details = details.as_str().expect("text");
+    let hhmmss = |v: &Value| v.as_str().expect("a time")[11..19].to_owned();
+    for want in [
+        id.to_owned(),
+        hhmmss(&plan["takeoff"]),
+        hhmmss(&plan["landing"]),
+    ] {
+        assert!(
+            details.contains(&want),
+            "the plan shown lacks {want}: {details}"
+        );
+    }
+    drawn
+}
+
+fn no_console_errors(page: &Page<'_>) {
+    let errors = page.console_errors().expect("console");
+    assert!(errors.is_empty(), "console errors: {errors:?}");
+}
+
+#[test]
+fn live_page_shows_a_flight_planned_over_http() {
+    let Some(browser) = browser_or_skip("live_page_shows_a_flight_planned_over_http") else {
+        return;
+    };
+    let data = support::scratch_dir("view-live-open");
+    let server = support::start(&data, &["--clock", CLOCK]);
+    let page = browser.new_page().expect("a page");
+    open_live(&page, &format!("{}/", server.base));
+    let p = plan(&server.base, None, "live1", ("S012", "S040"), 60);
+    wait_for_flight(&page, "live1");
+    assert_eq!(click_flight(&page, &p), 1, "only live1 is in the air then");
+    no_console_errors(&page);
+    let shots = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/screenshots");
+    page.screenshot(&shots.join("view-live.png"))
+        .expect("screenshot");
+    println!(
+        "live page: live1 planned over HTTP appeared, drawn and selectable; screenshot in {}",
+        shots.display()
+    );
+    server.kill();
+}
+
+#[test]
+fn live_page_shows_an_operator_its_own_flights_and_the_authority_all() {
+    let Some(browser) = browser_or_skip("live_page_shows_an_operator_its_own_flights") else {
+        return;
+    };
+    let data = support::scratch_dir("view-live-tokens");
+    std::fs::create_dir_all(&data).expect("data dir");
+    let tokens = data.with_extension("toml");
+    std::fs::write(
+        &tokens,
+        "[[tokens]]\ntoken = \"alpha-secret\"\noperator = \"alpha\"\nrole = \"operator\"\n\n\
+         [[tokens]]\ntoken = \"bravo-secret\"\noperator = \"bravo\"\nrole = \"operator\"\n\n\
+         [[tokens]]\ntoken = \"authority-secret\"\noperator = \"caas\"\nrole = \"authority\"\n",
+    )
+    .expect("tokens file");
+    let server = support::start(
+        &data,
+        &[
+            "--clock",
+            CLOCK,
+            "--tokens",
+            tokens.to_str().expect("UTF-8 path"),
+        ],
+    );
+    let alpha = browser.new_page().expect("a page");
+    open_live(&alpha, &format!("{}/?token=alpha-secret", server.base));
+    let authority = browser.new_page().expect("a page");
+    open_live(
+        &authority,
+        &format!("{}/?token=authority-secret", server.base),
+    );
+
+    plan(
+        &server.base,
+        Some("bravo-secret"),
+        "b1",
+        ("S012", "S040"),
+        60,
+    );
+    plan(
+        &server.base,
+        Some("alpha-secret"),
+        "a1",
+        ("S001", "S002"),
+        60,
+    );
+    wait_for_flight(&alpha, "a1");
+    wait_for_flight(&authority, "a1");
+    wait_for_flight(&authority, "b1");
+    let alpha_has_b1 = alpha.eval("museView.scene.byId.has('b1')").expect("eval");
+    assert_eq!(
+        alpha_has_b1, false,
+        "an operator never sees another's flight"
+    );
+    let count = |p: &Page<'_>| p.eval("museView.scene.flights.length").expect("eval");
+    assert_eq!(count(&alpha), 1);
+    assert_eq!(count(&authority), 2);
+
+    // Without a token the page says how to pass one.
+    let anonymous = browser.new_page().expect("a page");
+    anonymous
+        .goto(&format!("{}/", server.base))
+        .expect("the page loads");
+    anonymous
+        .wait_for(
+            "document.getElementById('status').textContent.includes('token')",
+            Duration::from_secs(20),
+        )
+        .expect("the page asks for a token");
+    for p in [&alpha, &authority] {
+        no_console_errors(p);
+    }
+    server.kill();
+}
