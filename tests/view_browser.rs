@@ -349,5 +349,42 @@ fn the_simulated_day_plays_offline_and_a_click_shows_a_plan() {
     let (t, _) = busiest.expect("a flight airborne at one of the instants checked");
     let screenshots = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/screenshots");
     assert_click_selects(&page, &plans, t, &screenshots);
+    assert_plays(&page, &plans);
     assert_no_console_errors(&page);
+}
+
+/// A real click on the play button runs the clock (300× by default), and the drones drawn
+/// then are still exactly the airborne ones; a second click pauses it.
+fn assert_plays(page: &Page<'_>, plans: &[Plan]) {
+    let button = page
+        .eval("(() => { const r = document.getElementById('play').getBoundingClientRect(); return [r.left + r.width / 2, r.top + r.height / 2]; })()")
+        .expect("the play button's place");
+    let (x, y) = (
+        button[0].as_f64().expect("x"),
+        button[1].as_f64().expect("y"),
+    );
+    let before = eval_i64(page, "museView.time()");
+    page.click(x, y).expect("click on play");
+    page.wait_for(
+        &format!("museView.time() > {before} + 60000"),
+        Duration::from_secs(20),
+    )
+    .expect("the clock runs: more than a minute of the day within 20 s at 300×");
+    page.click(x, y).expect("click on pause");
+    let paused = eval_i64(page, "museView.time()");
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(eval_i64(page, "museView.time()"), paused, "paused");
+    let drawn = eval_i64(page, "museView.drawnCount()");
+    let airborne = plans.iter().filter(|p| p.airborne_at(paused)).count();
+    assert_eq!(drawn, airborne as i64, "after playing, at {paused}");
+    println!(
+        "play: the clock ran from {before} to {paused} (epoch ms); {drawn} drones drawn, \
+         {airborne} airborne"
+    );
+}
+
+fn eval_i64(page: &Page<'_>, expr: &str) -> i64 {
+    let v = page.eval(expr).expect(expr);
+    v.as_f64()
+        .map_or_else(|| panic!("{expr} is not a number: {v}"), |v| v as i64)
 }
