@@ -257,12 +257,12 @@ function showSummary() {
   }
   rows.push(['stations', scene.nodes.filter((n) => n.station).length]);
   rows.push(['corridors', scene.edges.length]);
-  for (const z of scene.zones) {
-    const hm = (t) => clock(scene, t).replace(/^(\d\d:\d\d):\d\d/, '$1');
-    const when = z.windows.map(([a, b]) => `${hm(a)}–${hm(b)}`).join(', ');
-    const ann = z.announced !== undefined ? `, announced ${hm(z.announced)}` : '';
-    rows.push([`zone ${z.id}`, `${when || 'not active'}${ann}`]);
-  }
+  const hm = (t) => clock(scene, t).replace(/^(\d\d:\d\d):\d\d/, '$1');
+  $('zones').innerHTML = scene.zones.map((z) => {
+    const when = z.windows.map(([a, b]) => `${hm(a)}–${hm(b)}`).join(', ') || 'not active in this day';
+    const ann = z.announced !== undefined ? `; announced ${hm(z.announced)}` : '';
+    return `<li><b>${esc(z.id)}</b> ${esc(z.name)}<br>active ${esc(when)}${esc(ann)}</li>`;
+  }).join('') || '<li class="hint">none</li>';
   dl.innerHTML = rows.map(([k, v]) => `<dt>${esc(k)}</dt><dd>${esc(v)}</dd>`).join('');
 }
 
