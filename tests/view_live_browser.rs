@@ -133,6 +133,42 @@ fn click_flight(page: &Page<'_>, plan: &Value) -> i64 {
     drawn
 }
 
+/// Announces the stadium zone (15:00–18:00 on the service's day) with `POST /v1/zones` and
+/// waits for the page to draw it: not active before 15:00, active at 15:30.
+fn announce_zone_and_see_it(page: &Page<'_>, base: &str) {
+    let file =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/singapore-77/stadium_zone.geojson");
+    let mut zone: Value =
+        serde_json::from_str(&std::fs::read_to_string(file).expect("the stadium zone file"))
+            .expect("GeoJSON");
+    // The service sets the announcement instant itself.
+    for f in zone["features"].as_array_mut().expect("features") {
+        f["properties"]
+            .as_object_mut()
+            .expect("properties")
+            .remove("announced");
+    }
+    let (status, answer) = post(base, "/v1/zones", None, &zone.to_string());
+    assert_eq!(status, 201, "the zone is announced: {answer}");
+    let id = "SG-NATIONAL-STADIUM-EVENT";
+    page.wait_for(
+        &format!("museView.scene.zones.some((z) => z.id === {id:?})"),
+        Duration::from_secs(25),
+    )
+    .expect("the announced zone reaches the live page");
+    let state = |hh_mm: &str| {
+        let t = format!("2026-01-05T{hh_mm}:00+08:00")
+            .parse::<jiff::Timestamp>()
+            .expect("RFC 3339")
+            .as_millisecond();
+        page.eval(&format!("museView.setTime({t}), museView.zoneAt({id:?})"))
+            .expect("zone state")
+    };
+    assert_eq!(state("08:30"), "unannounced", "before its announcement");
+    assert_eq!(state("14:30"), "idle", "announced, not active yet");
+    assert_eq!(state("15:30"), "active");
+}
+
 fn no_console_errors(page: &Page<'_>) {
     let errors = page.console_errors().expect("console");
     assert!(errors.is_empty(), "console errors: {errors:?}");
@@ -150,6 +186,7 @@ fn live_page_shows_a_flight_planned_over_http() {
     let p = plan(&server.base, None, "live1", ("S012", "S040"), 60);
     wait_for_flight(&page, "live1");
     assert_eq!(click_flight(&page, &p), 1, "only live1 is in the air then");
+    announce_zone_and_see_it(&page, &server.base);
     no_console_errors(&page);
     let shots = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/screenshots");
     page.screenshot(&shots.join("view-live.png"))

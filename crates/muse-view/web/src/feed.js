@@ -58,3 +58,99 @@ export async function readEvents(body, sink, lastId) {
     }
   }
 }
+
+const DAY = 86400000;
+const WEEKDAYS = ['SUN', 'MON', 'TUE', 'WED', 'THU', 'FRI', 'SAT'];
+
+/** `+08:00` (or `Z`) as milliseconds east of UTC. */
+function offsetMs(text) {
+  if (text === 'Z' || text === '') return 0;
+  const m = /^([+-])(\d\d):(\d\d)$/.exec(text);
+  if (!m) throw new Error(`bad UTC offset ${text}`);
+  return (m[1] === '-' ? -1 : 1) * (Number(m[2]) * 60 + Number(m[3])) * 60000;
+}
+
+/** `10:00:00+08:00` as [milliseconds after local midnight, offset ms]. */
+function timeOfDay(text) {
+  const m = /^(\d\d):(\d\d)(?::(\d\d)(?:\.\d+)?)?(Z|[+-]\d\d:\d\d)?$/.exec(text);
+  if (!m) throw new Error(`bad time ${text}`);
+  return [((Number(m[1]) * 60 + Number(m[2])) * 60 + Number(m[3] ?? 0)) * 1000, offsetMs(m[4] ?? 'Z')];
+}
+
+/** A circle of `radius` metres around `[lon, lat]` as one ring. */
+function circleRing([lon, lat], radius) {
+  const dLat = radius / 110540;
+  const dLon = radius / (111320 * Math.cos((lat * Math.PI) / 180));
+  const ring = [];
+  for (let i = 0; i <= 72; i++) {
+    const a = (2 * Math.PI * i) / 72;
+    ring.push([lon + dLon * Math.sin(a), lat + dLat * Math.cos(a)]);
+  }
+  return ring;
+}
+
+/** The polygons (rings of [lon, lat]) of an ED-318 geometry. */
+function areaOf(g) {
+  if (!g) return [];
+  switch (g.type) {
+    case 'Polygon': return [g.coordinates.map((r) => r.map((c) => [c[0], c[1]]))];
+    case 'MultiPolygon': return g.coordinates.map((p) => p.map((r) => r.map((c) => [c[0], c[1]])));
+    case 'Point': return g.extent && g.extent.radius > 0 ? [[circleRing(g.coordinates, g.extent.radius)]] : [];
+    case 'GeometryCollection': return g.geometries.flatMap(areaOf);
+    default: return [];
+  }
+}
+
+/** The active windows `[start, end)` (ms from `scene.t0`) of an ED-318 period within `[from, to)`. */
+function periodWindows(scene, period, from, to) {
+  const rel = (t) => Date.parse(t) - scene.t0;
+  const lo = Math.max(from, period.startDateTime ? rel(period.startDateTime) : -Infinity);
+  const hi = Math.min(to, period.endDateTime ? rel(period.endDateTime) : Infinity);
+  if (!(lo < hi)) return [];
+  if (!period.schedule || period.schedule.length === 0) return [[lo, hi]];
+  const out = [];
+  for (const entry of period.schedule) {
+    const [start, off] = timeOfDay(entry.startTime);
+    const [end] = timeOfDay(entry.endTime);
+    const days = entry.day ?? ['ANY'];
+    // Local days from the one before `lo` (an overnight window) to the one of `hi`.
+    const first = Math.floor((scene.t0 + lo + off) / DAY) - 1;
+    const last = Math.floor((scene.t0 + Math.min(hi, lo + 400 * DAY) + off) / DAY);
+    for (let d = first; d <= last; d++) {
+      if (!days.includes('ANY') && !days.includes(WEEKDAYS[((d % 7) + 11) % 7])) continue;
+      const a = d * DAY + start - off - scene.t0;
+      const b = d * DAY + end + (end <= start ? DAY : 0) - off - scene.t0;
+      const s = Math.max(a, lo);
+      const e = Math.min(b, hi);
+      if (s < e) out.push([s, e]);
+    }
+  }
+  return out;
+}
+
+/**
+ * The zones of an ED-318 FeatureCollection (as `GET /v1/zones` serves it) in the scene's
+ * form, active windows within `[from, to)`: area, windows, and the MUSE `announced` and
+ * `withdrawn` instants. Corridors and nodes they close are not worked out here.
+ */
+export function zonesFromEd318(scene, fc, from, to) {
+  return (fc.features ?? []).map((f) => {
+    const p = f.properties ?? {};
+    const name = Array.isArray(p.name) ? (p.name[0]?.text ?? '') : (p.name ?? '');
+    const periods = p.limitedApplicability ?? [];
+    const windows = periods.length === 0
+      ? [[from, to]]
+      : periods.flatMap((per) => periodWindows(scene, per, from, to));
+    windows.sort((a, b) => a[0] - b[0]);
+    const merged = [];
+    for (const w of windows) {
+      const prev = merged[merged.length - 1];
+      if (prev && w[0] <= prev[1]) prev[1] = Math.max(prev[1], w[1]);
+      else merged.push([...w]);
+    }
+    const zone = { id: p.identifier, name, area: areaOf(f.geometry), windows: merged, nodes: [], edges: [] };
+    if (p.announced) zone.announced = Date.parse(p.announced) - scene.t0;
+    if (p.withdrawn) zone.withdrawn = Date.parse(p.withdrawn) - scene.t0;
+    return zone;
+  });
+}

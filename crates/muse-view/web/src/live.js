@@ -47,6 +47,7 @@ function startLive() {
         removeFlight(scene, d.flight);
       }
     }
+    if (d.zone && !scene.zones.some((z) => z.id === d.zone)) syncZones();
     recent.unshift({ flight: d.flight, kind, zone: d.zone });
     if (recent.length > 30) recent.pop();
     showEvents();
@@ -92,6 +93,27 @@ function startLive() {
     }
   }
 
+  // Zones: every zone the service knows (`GET /v1/zones`, ED-318 with the MUSE `announced`
+  // and `withdrawn` instants), resolved here over a wide stretch of days, so that zones
+  // announced (or withdrawn) while the page is open appear (or go). The corridors a zone
+  // closes are known for the zones of the start only (worked out by `muse serve`).
+  const closedBy = new Map(scene.zones.map((z) => [z.id, z]));
+  async function syncZones() {
+    try {
+      const fc = await (await fetch('/v1/zones', { headers: auth })).json();
+      scene.zones = zonesFromEd318(scene, fc, -7 * DAY, scene.span + 7 * DAY).map((z) => {
+        const known = closedBy.get(z.id);
+        return known ? { ...z, nodes: known.nodes, edges: known.edges } : z;
+      });
+      showSummary();
+      museView.redraw();
+      museView.zonesSynced += 1;
+    } catch (e) {
+      console.warn('zones unavailable', e);
+    }
+  }
+  museView.zonesSynced = 0;
+
   $('events').addEventListener('click', (e) => {
     const id = e.target instanceof HTMLElement ? e.target.dataset.id : undefined;
     if (id) select(id);
@@ -111,6 +133,8 @@ function startLive() {
     if (following && connected) { setT(now()); }
   }, 250);
   setInterval(syncClock, 10000);
+  setInterval(syncZones, 5000);
+  syncZones();
   syncClock().then(() => { setT(now()); setPlaying(true); });
   stream();
 }

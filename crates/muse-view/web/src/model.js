@@ -128,9 +128,10 @@ export function edgeLoad(scene, from = -Infinity, to = Infinity) {
   return load;
 }
 
-/** What zone `z` is doing at `t`: `unannounced`, `active` or `idle`. */
+/** What zone `z` is doing at `t`: `unannounced`, `active`, `idle` or `withdrawn`. */
 export function zoneState(z, t) {
   if (z.announced !== undefined && z.announced !== null && t < z.announced) return 'unannounced';
+  if (z.withdrawn !== undefined && z.withdrawn !== null && t >= z.withdrawn) return 'withdrawn';
   return z.windows.some(([a, b]) => t >= a && t < b) ? 'active' : 'idle';
 }
 

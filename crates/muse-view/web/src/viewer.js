@@ -126,7 +126,7 @@ function draw() {
   const closed = new Set();
   for (const z of scene.zones) {
     const s = zoneState(z, t);
-    if (s === 'unannounced') continue;
+    if (s === 'unannounced' || s === 'withdrawn') continue;
     ctx.beginPath();
     for (const poly of z.area) pathRings(poly);
     if (s === 'active') {
@@ -452,6 +452,11 @@ const museView = {
     return state.drawn.map((d) => ({ id: d.id, x: r.left + d.x, y: r.top + d.y, hovering: d.hovering }));
   },
   selected: () => state.selected,
+  /** What zone `id` is doing at the clock's time (`null` if there is no such zone). */
+  zoneAt(id) {
+    const z = scene.zones.find((zone) => zone.id === id);
+    return z ? zoneState(z, state.t) : null;
+  },
   select,
   play: () => setPlaying(true),
   pause: () => setPlaying(false),

@@ -8,7 +8,7 @@ import {
   decodeScene, decodeFlight, legAt, isAirborne, airborneAt, positionAt, edgeLoad,
   zoneState, clock, duration, parseClock, planDetails, addFlight, removeFlight,
 } from '../src/model.js';
-import { flightFromApi, readEvents } from '../src/feed.js';
+import { flightFromApi, readEvents, zonesFromEd318 } from '../src/feed.js';
 
 const nodes = [
   { id: 'A', lon: 0, lat: 0, station: true },
@@ -182,4 +182,45 @@ test('server-sent events are parsed across chunk boundaries', async () => {
   const last = await readEvents(body, (kind, data, id) => got.push([kind, data, id]), '0');
   assert.deepEqual(got, [['planned', '{"a":\n1}', '7'], ['cancelled', '{}', '8']]);
   assert.equal(last, '8');
+});
+
+test('ED-318 zones as GET /v1/zones serves them: windows, circles, announcement, withdrawal', () => {
+  // t0 = Monday 2026-01-05 00:00 local (+08:00).
+  const sc = { t0: Date.parse('2026-01-05T00:00:00+08:00') };
+  const h = (x) => x * 3600000;
+  const fc = {
+    type: 'FeatureCollection',
+    features: [
+      { type: 'Feature', properties: { identifier: 'CBD', name: [{ text: 'CBD', lang: 'en' }],
+        limitedApplicability: [{ schedule: [{ day: ['ANY'], startTime: '10:00:00+08:00', endTime: '12:00:00+08:00' }] }] },
+        geometry: { type: 'Polygon', coordinates: [[[0, 0], [1, 0], [1, 1], [0, 0]]] } },
+      { type: 'Feature', properties: { identifier: 'EVT', name: 'Event',
+        limitedApplicability: [{ startDateTime: '2026-01-05T15:00:00.000+08:00', endDateTime: '2026-01-05T18:00:00.000+08:00' }],
+        announced: '2026-01-05T14:00:00.000+08:00', withdrawn: '2026-01-05T16:30:00.000+08:00' },
+        geometry: { type: 'GeometryCollection', geometries: [{ type: 'Point', coordinates: [103.8, 1.3], extent: { subType: 'Circle', radius: 1000 } }] } },
+      { type: 'Feature', properties: { identifier: 'WKD', limitedApplicability: [{ schedule: [{ day: ['SAT', 'SUN'], startTime: '22:00:00+08:00', endTime: '02:00:00+08:00' }] }] } },
+      { type: 'Feature', properties: { identifier: 'PERM' } },
+    ],
+  };
+  const [cbd, evt, wkd, perm] = zonesFromEd318(sc, fc, 0, h(48));
+  assert.deepEqual(cbd.windows, [[h(10), h(12)], [h(34), h(36)]]);
+  assert.equal(cbd.name, 'CBD');
+  assert.equal(cbd.area.length, 1);
+  assert.deepEqual(evt.windows, [[h(15), h(18)]]);
+  assert.equal(evt.announced, h(14));
+  assert.equal(evt.withdrawn, h(16.5));
+  assert.equal(zoneState(evt, h(13)), 'unannounced');
+  assert.equal(zoneState(evt, h(14.5)), 'idle');
+  assert.equal(zoneState(evt, h(16)), 'active');
+  assert.equal(zoneState(evt, h(17)), 'withdrawn');
+  const ring = evt.area[0][0];
+  assert.equal(ring.length, 73);
+  const [dx, dy] = [(ring[18][0] - 103.8) * 111320 * Math.cos((1.3 * Math.PI) / 180), ring[0][1] - 1.3];
+  assert.ok(Math.abs(dx - 1000) < 1 && Math.abs(dy * 110540 - 1000) < 1, 'a 1 km circle');
+  // Weekend nights, overnight into the next day: Sunday 2026-01-04's reaches into Monday's
+  // first two hours; then Saturday 10 and Sunday 11.
+  assert.deepEqual(wkd.windows, [[0, h(2)]]);
+  const [, , wkdWeek] = zonesFromEd318(sc, fc, 0, h(24 * 8));
+  assert.deepEqual(wkdWeek.windows, [[0, h(2)], [h(5 * 24 + 22), h(6 * 24 + 2)], [h(6 * 24 + 22), h(7 * 24 + 2)]]);
+  assert.deepEqual(perm.windows, [[0, h(48)]]);
 });
