@@ -5,6 +5,7 @@
 //! - [`replay`](mod@replay): a day as it unfolds: requests at their submission instants, zones
 //!   announced at theirs, and the flights each announcement replans (SPEC §11);
 //! - [`sweep`]: the paper's experiment, counts × repetitions × variants in parallel;
+//! - [`shard`]: a sweep cut into shards for a cluster's array job, and merged back exactly;
 //! - [`lead`]: the regulator's question, announcement lead × counts × repetitions: how much
 //!   warning before a temporary zone becomes active keeps the cost of replanning low;
 //! - [`bench`](mod@bench): scaling benchmarks (`muse bench`): case measurements, peak memory, growth
@@ -19,5 +20,6 @@ pub mod demand;
 pub mod lead;
 pub mod metrics;
 pub mod replay;
+pub mod shard;
 pub mod stats;
 pub mod sweep;

@@ -16,6 +16,7 @@ use rayon::prelude::*;
 
 use crate::day::plan_sorted;
 use crate::demand::{BookingLead, DemandError, DemandSpec, OdRule, generate};
+use crate::shard::Shard;
 use crate::stats::MeanCi;
 
 /// One scenario variant of a sweep.
@@ -118,12 +119,24 @@ pub struct RunRecord {
     pub legs_per_trip: f64,
 }
 
-/// Runs the sweep on the global `rayon` pool; `tick` is called once per finished run.
+/// Runs the sweep on the global `rayon` pool; `tick` is called once per finished run. The
+/// records come in run order: variant, then count, then repetition.
 pub fn run_sweep(
     airspace: &Airspace,
     spec: &SweepSpec,
     tick: impl Fn() + Sync,
 ) -> Result<Vec<RunRecord>, SweepError> {
+    let runs = run_sweep_shard(airspace, spec, Shard::WHOLE, tick)?;
+    Ok(runs.into_iter().map(|(_, r)| r).collect())
+}
+
+/// Runs the runs of `shard` (see [`crate::shard`]) with their run numbers, in run order.
+pub fn run_sweep_shard(
+    airspace: &Airspace,
+    spec: &SweepSpec,
+    shard: Shard,
+    tick: impl Fn() + Sync,
+) -> Result<Vec<(usize, RunRecord)>, SweepError> {
     let day = Millis::from_secs(86_400);
     // From a day before the earliest possible submission (see `day::closure_range`).
     let from = spec.start - spec.booking_lead.max - day;
@@ -137,13 +150,28 @@ pub fn run_sweep(
             })?;
         prepared.push((v, Planner::new(airspace, v.params), closures));
     }
-    // Demand once per (count, rep), shared by the variants.
+    // Demand once per (count, rep), shared by the variants; only for the shard's runs.
     let jobs: Vec<(usize, usize)> = (0..spec.counts.len())
         .flat_map(|c| (0..spec.reps).map(move |r| (c, r)))
         .collect();
+    // Run number `v · jobs + j` is variant `v` on job `j`.
+    let tasks: Vec<(usize, usize)> = (0..prepared.len())
+        .flat_map(|v| (0..jobs.len()).map(move |j| (v, j)))
+        .enumerate()
+        .filter(|&(run, _)| shard.takes(run))
+        .map(|(_, task)| task)
+        .collect();
+    let mut needed = vec![false; jobs.len()];
+    for &(_, j) in &tasks {
+        needed[j] = true;
+    }
     let demands: Vec<Vec<muse_model::Request>> = jobs
         .par_iter()
-        .map(|&(c, r)| {
+        .zip(&needed)
+        .map(|(&(c, r), &needed)| {
+            if !needed {
+                return Ok(Vec::new());
+            }
             let d = DemandSpec {
                 count: spec.counts[c],
                 start: spec.start,
@@ -157,9 +185,6 @@ pub fn run_sweep(
             Ok(reqs)
         })
         .collect::<Result<_, DemandError>>()?;
-    let tasks: Vec<(usize, usize)> = (0..prepared.len())
-        .flat_map(|v| (0..jobs.len()).map(move |j| (v, j)))
-        .collect();
     let records = tasks
         .par_iter()
         .map(|&(v, j)| {
@@ -168,7 +193,7 @@ pub fn run_sweep(
             let (seed, lead) = (spec.seed(c, r), spec.booking_lead);
             let rec = run_one(variant, planner, closures, &demands[j], seed, lead, r);
             tick();
-            rec
+            (v * jobs.len() + j, rec)
         })
         .collect();
     Ok(records)

@@ -1,0 +1,507 @@
+//! A sweep cut into shards, for a cluster's array job, and the shards merged back exactly.
+//!
+//! The runs of a sweep are numbered in the order one machine runs and writes them (variant,
+//! then count, then repetition: see [`crate::sweep::run_sweep`]); shard `K` of `N` runs those
+//! whose number is `K` modulo `N`. The slices are disjoint and together whole, each run keeps
+//! its seed, and since consecutive runs differ in size only by their count, every shard gets
+//! the same mix of small and large days.
+//!
+//! A shard's result is a [`ShardFile`]: the sweep's [`fingerprint`], `K`, `N`, the number of
+//! runs in the whole sweep and the shard's records, each with its run number.
+//! [`merge`] checks that a set of shard files is one sweep cut once — same fingerprint, same
+//! `N`, every shard once, every run once — and returns the records in the order one machine
+//! would have written them.
+
+use serde::{Deserialize, Serialize};
+
+use crate::demand::BookingLead;
+use crate::sweep::{RunRecord, SweepSpec};
+
+/// The format tag of a shard file.
+pub const FORMAT: &str = "muse-sweep-shard/1";
+
+/// Shard `index` of `of` (`0 <= index < of`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Shard {
+    /// Which slice, from 0.
+    pub index: usize,
+    /// How many slices.
+    pub of: usize,
+}
+
+/// Why a shard spec or a set of shard files is refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ShardError {
+    /// `--shard` is not `K/N` with `0 <= K < N`.
+    #[error("shard `{0}`: expected K/N with 0 <= K < N, e.g. 0/8 (Slurm: $SLURM_ARRAY_TASK_ID/N)")]
+    Spec(String),
+    /// No shard files were given.
+    #[error("no shards to merge")]
+    Empty,
+    /// A file is not a shard file of this format.
+    #[error("{file}: not a MUSE sweep shard ({message})")]
+    Format {
+        /// The file.
+        file: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// Two shards come from different sweeps (different parameters or cut).
+    #[error(
+        "{a} and {b} are shards of different sweeps ({what}): merge only the shards of one `muse sweep` command"
+    )]
+    Different {
+        /// One shard file.
+        a: String,
+        /// The other.
+        b: String,
+        /// What differs.
+        what: String,
+    },
+    /// The same shard was given twice.
+    #[error("shard {index}/{of} is given twice: {a} and {b}")]
+    Duplicate {
+        /// The shard.
+        index: usize,
+        /// Of how many.
+        of: usize,
+        /// One file.
+        a: String,
+        /// The other.
+        b: String,
+    },
+    /// Shards are missing.
+    #[error(
+        "missing shard(s) {missing} of {of}: run them (a killed shard is simply rerun) and merge again"
+    )]
+    Missing {
+        /// The missing indices, e.g. `2/8, 5/8`.
+        missing: String,
+        /// Of how many.
+        of: usize,
+    },
+    /// A shard's records are not exactly its runs.
+    #[error("{file}: {message}")]
+    Runs {
+        /// The file.
+        file: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+impl Shard {
+    /// The whole sweep as one shard.
+    pub const WHOLE: Shard = Shard { index: 0, of: 1 };
+
+    /// Reads `K/N`.
+    ///
+    /// ```
+    /// use muse_sim::shard::Shard;
+    /// assert_eq!(Shard::parse("2/8").unwrap(), Shard { index: 2, of: 8 });
+    /// assert!(Shard::parse("8/8").is_err() && Shard::parse("1").is_err());
+    /// ```
+    pub fn parse(text: &str) -> Result<Shard, ShardError> {
+        let bad = || ShardError::Spec(text.to_owned());
+        let (k, n) = text.split_once('/').ok_or_else(bad)?;
+        let index: usize = k.trim().parse().map_err(|_| bad())?;
+        let of: usize = n.trim().parse().map_err(|_| bad())?;
+        if index >= of {
+            return Err(bad());
+        }
+        Ok(Shard { index, of })
+    }
+
+    /// Whether run number `run` is in this shard.
+    pub fn takes(self, run: usize) -> bool {
+        run % self.of == self.index
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.of)
+    }
+}
+
+/// A sweep's identity: a hash of everything that decides its runs (counts, repetitions,
+/// seeds, demand window and rule, booking lead, and each variant's zones and parameters), and
+/// of this program's version.
+pub fn fingerprint(spec: &SweepSpec) -> String {
+    // FNV-1a, 64 bits, over a canonical text of the spec: stable across runs and machines of
+    // one build.
+    let text = format!("{} {spec:?}", env!("CARGO_PKG_VERSION"));
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for b in text.bytes() {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0100_0000_01b3);
+    }
+    format!("{h:016x}")
+}
+
+/// One run in a shard file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ShardRun {
+    /// Its number in the whole sweep.
+    pub run: usize,
+    /// Variant name.
+    pub variant: String,
+    /// Requests.
+    pub count: usize,
+    /// Repetition.
+    pub rep: usize,
+    /// Demand seed.
+    pub seed: u64,
+    /// Booking lead, ms: `[min, max]`.
+    pub booking_lead_ms: [i64; 2],
+    /// Accepted.
+    pub planned: usize,
+    /// Rejected: out of range.
+    pub out_of_range: usize,
+    /// Rejected: unreachable.
+    pub unreachable: usize,
+    /// Rejected: no feasible plan.
+    pub no_feasible_plan: usize,
+    /// `planned / count`.
+    pub success_rate: f64,
+    /// Mean air delay, s.
+    pub mean_air_delay_s: f64,
+    /// Mean ground delay, s.
+    pub mean_ground_delay_s: f64,
+    /// Planner wall time, ms.
+    pub planner_ms: f64,
+    /// Labels expanded per request.
+    pub expanded_per_request: f64,
+    /// Legs per planned trip.
+    pub legs_per_trip: f64,
+}
+
+impl ShardRun {
+    /// Run number `run` and its record.
+    pub fn new(run: usize, r: &RunRecord) -> Self {
+        ShardRun {
+            run,
+            variant: r.variant.clone(),
+            count: r.count,
+            rep: r.rep,
+            seed: r.seed,
+            booking_lead_ms: [r.booking_lead.min.0, r.booking_lead.max.0],
+            planned: r.planned,
+            out_of_range: r.out_of_range,
+            unreachable: r.unreachable,
+            no_feasible_plan: r.no_feasible_plan,
+            success_rate: r.success_rate,
+            mean_air_delay_s: r.mean_air_delay_s,
+            mean_ground_delay_s: r.mean_ground_delay_s,
+            planner_ms: r.planner_ms,
+            expanded_per_request: r.expanded_per_request,
+            legs_per_trip: r.legs_per_trip,
+        }
+    }
+
+    /// The run's record.
+    pub fn record(&self) -> RunRecord {
+        RunRecord {
+            variant: self.variant.clone(),
+            count: self.count,
+            rep: self.rep,
+            seed: self.seed,
+            booking_lead: BookingLead {
+                min: muse_model::Millis(self.booking_lead_ms[0]),
+                max: muse_model::Millis(self.booking_lead_ms[1]),
+            },
+            planned: self.planned,
+            out_of_range: self.out_of_range,
+            unreachable: self.unreachable,
+            no_feasible_plan: self.no_feasible_plan,
+            success_rate: self.success_rate,
+            mean_air_delay_s: self.mean_air_delay_s,
+            mean_ground_delay_s: self.mean_ground_delay_s,
+            planner_ms: self.planner_ms,
+            expanded_per_request: self.expanded_per_request,
+            legs_per_trip: self.legs_per_trip,
+        }
+    }
+}
+
+/// What a shard writes (as JSON, `shard.json`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ShardFile {
+    /// [`FORMAT`].
+    pub format: String,
+    /// The sweep's [`fingerprint`].
+    pub sweep: String,
+    /// Which shard.
+    pub shard: usize,
+    /// Of how many.
+    pub of: usize,
+    /// Runs in the whole sweep.
+    pub runs: usize,
+    /// The command line that ran it (what `merge` rebuilds the sweep from).
+    pub args: Vec<String>,
+    /// The shard's runs, by run number.
+    pub records: Vec<ShardRun>,
+}
+
+impl ShardFile {
+    /// Reads a shard file's text; `file` names it in errors.
+    pub fn read(text: &str, file: &str) -> Result<ShardFile, ShardError> {
+        let f: ShardFile = serde_json::from_str(text).map_err(|e| ShardError::Format {
+            file: file.to_owned(),
+            message: e.to_string(),
+        })?;
+        if f.format != FORMAT {
+            return Err(ShardError::Format {
+                file: file.to_owned(),
+                message: format!("format `{}`, expected `{FORMAT}`", f.format),
+            });
+        }
+        Ok(f)
+    }
+}
+
+/// Merges shard files `(name, file)` of one sweep into its records in the order of one
+/// machine (see the module docs), or says why they are not one sweep cut once.
+pub fn merge(shards: &[(String, ShardFile)]) -> Result<Vec<RunRecord>, ShardError> {
+    let Some((first_name, first)) = shards.first() else {
+        return Err(ShardError::Empty);
+    };
+    let mut by_index: Vec<Option<&str>> = vec![None; first.of];
+    for (name, f) in shards {
+        let differ = |what: String| ShardError::Different {
+            a: first_name.clone(),
+            b: name.clone(),
+            what,
+        };
+        if f.sweep != first.sweep {
+            return Err(differ(format!(
+                "parameters {} and {}",
+                first.sweep, f.sweep
+            )));
+        }
+        if f.of != first.of || f.runs != first.runs {
+            return Err(differ(format!("cut into {} and {} shards", first.of, f.of)));
+        }
+        let slot = by_index.get_mut(f.shard).ok_or_else(|| ShardError::Runs {
+            file: name.clone(),
+            message: format!("shard {} of {} does not exist", f.shard, f.of),
+        })?;
+        if let Some(a) = slot {
+            return Err(ShardError::Duplicate {
+                index: f.shard,
+                of: f.of,
+                a: (*a).to_owned(),
+                b: name.clone(),
+            });
+        }
+        *slot = Some(name);
+    }
+    let missing: Vec<String> = by_index
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.is_none())
+        .map(|(i, _)| format!("{i}/{}", first.of))
+        .collect();
+    if !missing.is_empty() {
+        return Err(ShardError::Missing {
+            missing: missing.join(", "),
+            of: first.of,
+        });
+    }
+    let mut runs: Vec<Option<RunRecord>> = vec![None; first.runs];
+    for (name, f) in shards {
+        let shard = Shard {
+            index: f.shard,
+            of: f.of,
+        };
+        let expected = (0..f.runs).filter(|&r| shard.takes(r)).count();
+        if f.records.len() != expected {
+            return Err(ShardError::Runs {
+                file: name.clone(),
+                message: format!(
+                    "{} runs, expected {expected} for shard {shard} of a {}-run sweep (a shard that did not finish writes no file: rerun it)",
+                    f.records.len(),
+                    f.runs
+                ),
+            });
+        }
+        for r in &f.records {
+            let bad = |message: String| ShardError::Runs {
+                file: name.clone(),
+                message,
+            };
+            if !shard.takes(r.run) || r.run >= f.runs {
+                return Err(bad(format!("run {} is not in shard {shard}", r.run)));
+            }
+            if runs[r.run].replace(r.record()).is_some() {
+                return Err(bad(format!("run {} appears twice", r.run)));
+            }
+        }
+    }
+    // Every shard had exactly its runs, each once: all runs are there.
+    Ok(runs.into_iter().flatten().collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn record(run: usize) -> RunRecord {
+        RunRecord {
+            variant: "v".into(),
+            count: 10,
+            rep: run,
+            seed: run as u64,
+            booking_lead: BookingLead::NONE,
+            planned: run,
+            out_of_range: 0,
+            unreachable: 0,
+            no_feasible_plan: 0,
+            success_rate: 0.5,
+            mean_air_delay_s: 1.0,
+            mean_ground_delay_s: 0.0,
+            planner_ms: 2.0,
+            expanded_per_request: 1.0,
+            legs_per_trip: 1.0,
+        }
+    }
+
+    fn shard_file(sweep: &str, index: usize, of: usize, runs: usize) -> (String, ShardFile) {
+        let shard = Shard { index, of };
+        (
+            format!("out/{index}"),
+            ShardFile {
+                format: FORMAT.into(),
+                sweep: sweep.into(),
+                shard: index,
+                of,
+                runs,
+                args: vec![],
+                records: (0..runs)
+                    .filter(|&r| shard.takes(r))
+                    .map(|r| ShardRun::new(r, &record(r)))
+                    .collect(),
+            },
+        )
+    }
+
+    /// Without the timing, which no two runs share.
+    fn untimed(mut r: RunRecord) -> RunRecord {
+        r.planner_ms = 0.0;
+        r
+    }
+
+    #[test]
+    fn a_sweep_in_three_shards_merges_into_the_same_runs() {
+        use crate::demand::OdRule;
+        use crate::sweep::{Variant, run_sweep, run_sweep_shard};
+        use muse_model::{FlightParams, Instant, Millis};
+        let s = muse_scenario::singapore_77();
+        let at = |h: i64| Instant::at_local(s.date, Millis::from_mins(h * 60), s.offset);
+        let params = FlightParams::default();
+        let spec = SweepSpec {
+            counts: vec![40, 120],
+            reps: 3,
+            base_seed: 7,
+            start: at(8),
+            end: at(20),
+            od: OdRule::Uniform,
+            booking_lead: BookingLead::NONE,
+            variants: vec![
+                Variant {
+                    name: "zone".into(),
+                    zones: s.zones.clone(),
+                    params,
+                },
+                Variant {
+                    name: "no zone".into(),
+                    zones: vec![],
+                    params,
+                },
+            ],
+        };
+        let whole: Vec<RunRecord> = run_sweep(&s.airspace, &spec, || {}).unwrap();
+        assert_eq!(whole.len(), 12);
+        let shards: Vec<(String, ShardFile)> = (0..3)
+            .map(|index| {
+                let shard = Shard { index, of: 3 };
+                let runs = run_sweep_shard(&s.airspace, &spec, shard, || {}).unwrap();
+                (
+                    format!("shard {shard}"),
+                    ShardFile {
+                        format: FORMAT.into(),
+                        sweep: fingerprint(&spec),
+                        shard: index,
+                        of: 3,
+                        runs: spec.runs(),
+                        args: vec![],
+                        records: runs.iter().map(|(run, r)| ShardRun::new(*run, r)).collect(),
+                    },
+                )
+            })
+            .collect();
+        let merged = merge(&shards).unwrap();
+        assert_eq!(
+            merged.into_iter().map(untimed).collect::<Vec<_>>(),
+            whole.into_iter().map(untimed).collect::<Vec<_>>()
+        );
+        let mut other = spec.clone();
+        other.reps = 4;
+        assert_ne!(fingerprint(&spec), fingerprint(&other));
+    }
+
+    #[test]
+    fn shards_are_disjoint_and_whole() {
+        for of in 1..7 {
+            for runs in 0..20 {
+                let mut seen = vec![0; runs];
+                for index in 0..of {
+                    for r in (0..runs).filter(|&r| Shard { index, of }.takes(r)) {
+                        seen[r] += 1;
+                    }
+                }
+                assert!(seen.iter().all(|&n| n == 1), "{of} shards of {runs} runs");
+            }
+        }
+    }
+
+    #[test]
+    fn merge_restores_the_order_of_one_machine() {
+        let shards: Vec<_> = [2, 0, 1].map(|i| shard_file("s", i, 3, 10)).into();
+        let merged = merge(&shards).unwrap();
+        assert_eq!(merged, (0..10).map(record).collect::<Vec<_>>());
+        let text = serde_json::to_string(&shards[0].1).unwrap();
+        assert_eq!(ShardFile::read(&text, "f").unwrap(), shards[0].1);
+    }
+
+    #[test]
+    fn merge_refuses_other_sweeps_missing_and_duplicated_shards() {
+        let e = merge(&[shard_file("s", 0, 2, 10), shard_file("t", 1, 2, 10)]).unwrap_err();
+        assert!(e.to_string().contains("different sweeps"), "{e}");
+        let e = merge(&[shard_file("s", 0, 2, 10), shard_file("s", 1, 3, 10)]).unwrap_err();
+        assert!(e.to_string().contains("different sweeps"), "{e}");
+        let e = merge(&[shard_file("s", 0, 3, 10), shard_file("s", 2, 3, 10)]).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "missing shard(s) 1/3 of 3: run them (a killed shard is simply rerun) and merge again"
+        );
+        let e = merge(&[
+            shard_file("s", 0, 2, 10),
+            shard_file("s", 0, 2, 10),
+            shard_file("s", 1, 2, 10),
+        ])
+        .unwrap_err();
+        assert!(matches!(e, ShardError::Duplicate { index: 0, .. }), "{e}");
+        let mut short = shard_file("s", 1, 2, 10);
+        short.1.records.pop();
+        let e = merge(&[shard_file("s", 0, 2, 10), short]).unwrap_err();
+        assert!(e.to_string().contains("4 runs, expected 5"), "{e}");
+        assert!(matches!(merge(&[]), Err(ShardError::Empty)));
+        assert!(
+            ShardFile::read("{}", "x.json")
+                .unwrap_err()
+                .to_string()
+                .starts_with("x.json: not a MUSE sweep shard")
+        );
+    }
+}
