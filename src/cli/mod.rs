@@ -11,6 +11,7 @@ mod serve;
 mod simulate;
 mod sweep;
 mod sweep_lead;
+mod sweep_shard;
 mod verify;
 mod view;
 

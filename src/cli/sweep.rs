@@ -9,13 +9,22 @@ use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use muse_model::{EdgeRule, FlightParams, Millis};
 use muse_render::{PlotOptions, Point, Series, render_line_plot};
+use muse_sim::shard::Shard;
 use muse_sim::stats::MeanCi;
 use muse_sim::sweep::{
-    SummaryRow, SweepSpec, Variant, run_sweep, runs_csv, summarize, summary_csv,
+    RunRecord, SummaryRow, SweepSpec, Variant, run_sweep, runs_csv, summarize, summary_csv,
 };
 
 use super::common::{FlightArgs, World, WorldArgs, write_atomically};
 use super::demand::DemandArgs;
+
+/// `muse sweep` subcommands.
+#[derive(Debug, clap::Subcommand)]
+pub enum SweepCommand {
+    /// Merge the shards of one sweep (`--shard K/N` runs) into the files of an unsharded run;
+    /// refuses shards of different sweeps, a missing shard and a shard given twice.
+    Merge(super::sweep_shard::MergeArgs),
+}
 
 /// A policy to compare.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -36,7 +45,16 @@ pub enum Vary {
 
 /// Arguments of `muse sweep`.
 #[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct SweepArgs {
+    /// `muse sweep merge DIR...`: merge the shards of one sweep.
+    #[command(subcommand)]
+    pub(super) command: Option<SweepCommand>,
+    /// Run only shard `K` of `N` (0-based: runs `K`, `K+N`, … in run order), seeds unchanged,
+    /// and write `DIR/shard.json`; `muse sweep merge` joins the shards. For array jobs:
+    /// Slurm `--shard $SLURM_ARRAY_TASK_ID/N`, Kubernetes `--shard $JOB_COMPLETION_INDEX/N`.
+    #[arg(long, value_name = "K/N")]
+    pub(super) shard: Option<String>,
     /// Request counts: `START:END:STEP` or a comma-separated list.
     #[arg(long, default_value = "1000:10000:1000")]
     pub(super) counts: String,
@@ -270,7 +288,10 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
     if args.swap_min.is_some() && !args.vary.contains(&Vary::BatterySwap) {
         anyhow::bail!("--swap-min applies only with --vary battery-swap");
     }
-    let swap_times = parse_swap_times(args.swap_min.as_deref().unwrap_or("2,5,10"))?;
+    if let Some(SweepCommand::Merge(merge)) = &args.command {
+        return super::sweep_shard::merge(merge);
+    }
+    parse_swap_times(args.swap_min.as_deref().unwrap_or("2,5,10"))?;
     if let Some(n) = args.threads {
         rayon::ThreadPoolBuilder::new()
             .num_threads(n)
@@ -278,8 +299,43 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
             .context("--threads")?;
     }
     if announce_lead {
+        if args.shard.is_some() {
+            anyhow::bail!("--shard is not available with --vary announce-lead yet");
+        }
         return super::sweep_lead::run(args);
     }
+    let (world, spec) = spec_of(args)?;
+    if let Some(text) = &args.shard {
+        return super::sweep_shard::run_shard(args, &spec, Shard::parse(text)?);
+    }
+    let booked = args.demand.booking_note();
+    println!(
+        "sweep: {} variant(s) × {} counts × {} repetitions = {} runs, {} requests{}, {} threads",
+        spec.variants.len(),
+        spec.counts.len(),
+        spec.reps,
+        spec.runs(),
+        spec.total_requests(),
+        booked.as_deref().map_or(String::new(), |b| format!(" {b}")),
+        rayon::current_num_threads()
+    );
+    let bar = runs_bar(spec.runs());
+    let started = std::time::Instant::now();
+    let records = run_sweep(&world.airspace, &spec, || bar.inc(1))?;
+    bar.finish_and_clear();
+    write_results(&spec, &records, booked.as_deref(), &args.out)?;
+    println!(
+        "done in {:.1} s wall; wrote {}/{{sweep.csv, sweep_summary.csv, sweep_runtime.svg, sweep_success.svg, sweep_air_delay.svg}}",
+        started.elapsed().as_secs_f64(),
+        args.out.display()
+    );
+    print_table(&summarize(&records));
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The world and the sweep `args` describe.
+pub(super) fn spec_of(args: &SweepArgs) -> anyhow::Result<(World, SweepSpec)> {
+    let swap_times = parse_swap_times(args.swap_min.as_deref().unwrap_or("2,5,10"))?;
     let base = args.flight.params()?;
     let world = args.world.load()?;
     let counts = parse_counts(&args.counts)?;
@@ -297,36 +353,21 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
         booking_lead: demand.booking_lead,
         variants: variants(&world, base, &args.vary, &swap_times)?,
     };
-    let booked = args.demand.booking_note();
-    println!(
-        "sweep: {} variant(s) × {} counts × {} repetitions = {} runs, {} requests{}, {} threads",
-        spec.variants.len(),
-        spec.counts.len(),
-        spec.reps,
-        spec.runs(),
-        spec.total_requests(),
-        booked.as_deref().map_or(String::new(), |b| format!(" {b}")),
-        rayon::current_num_threads()
-    );
-    let bar = runs_bar(spec.runs());
-    let started = std::time::Instant::now();
-    let records = run_sweep(&world.airspace, &spec, || bar.inc(1))?;
-    bar.finish_and_clear();
-    let wall = started.elapsed();
-    let rows = summarize(&records);
+    Ok((world, spec))
+}
 
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
-    write_atomically(&args.out.join("sweep.csv"), &runs_csv(&records))?;
-    write_atomically(&args.out.join("sweep_summary.csv"), &summary_csv(&rows))?;
-    write_plots(&spec, &rows, booked.as_deref(), &args.out)?;
-    println!(
-        "done in {:.1} s wall; wrote {}/{{sweep.csv, sweep_summary.csv, sweep_runtime.svg, sweep_success.svg, sweep_air_delay.svg}}",
-        wall.as_secs_f64(),
-        args.out.display()
-    );
-    print_table(&rows);
-    Ok(ExitCode::SUCCESS)
+/// Writes a sweep's results into `out`: `sweep.csv`, `sweep_summary.csv` and the plots.
+pub(super) fn write_results(
+    spec: &SweepSpec,
+    records: &[RunRecord],
+    booked: Option<&str>,
+    out: &std::path::Path,
+) -> anyhow::Result<()> {
+    let rows = summarize(records);
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    write_atomically(&out.join("sweep.csv"), &runs_csv(records))?;
+    write_atomically(&out.join("sweep_summary.csv"), &summary_csv(&rows))?;
+    write_plots(spec, &rows, booked, out)
 }
 
 /// The progress bar of a sweep: one step per run.
@@ -418,7 +459,7 @@ fn write_plots(
     Ok(())
 }
 
-fn print_table(rows: &[SummaryRow]) {
+pub(super) fn print_table(rows: &[SummaryRow]) {
     println!(
         "{:<28} {:>7} {:>16} {:>16} {:>16} {:>10}",
         "variant", "count", "success %", "planner ms", "air delay s", "expanded"
