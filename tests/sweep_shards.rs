@@ -39,7 +39,11 @@ fn untimed(path: &Path) -> Vec<Vec<String>> {
     let keep: Vec<usize> = (0..header.len())
         .filter(|&i| !header[i].starts_with("planner_ms"))
         .collect();
-    assert!(keep.len() < header.len(), "{} has timing columns", path.display());
+    assert!(
+        keep.len() < header.len(),
+        "{} has timing columns",
+        path.display()
+    );
     std::iter::once(header.join(","))
         .chain(lines.map(str::to_owned))
         .map(|l| {
