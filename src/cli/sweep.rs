@@ -291,7 +291,6 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
     if let Some(SweepCommand::Merge(merge)) = &args.command {
         return super::sweep_shard::merge(merge);
     }
-    parse_swap_times(args.swap_min.as_deref().unwrap_or("2,5,10"))?;
     if let Some(n) = args.threads {
         rayon::ThreadPoolBuilder::new()
             .num_threads(n)

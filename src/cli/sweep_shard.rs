@@ -47,7 +47,10 @@ pub fn run_shard(args: &SweepArgs, spec: &SweepSpec, shard: Shard) -> anyhow::Re
         of: shard.of,
         runs: spec.runs(),
         args: std::env::args().skip(1).collect(),
-        records: runs.iter().map(|(run, r)| ShardRun::new(*run, r)).collect(),
+        records: runs
+            .into_iter()
+            .map(|(run, record)| ShardRun { run, record })
+            .collect(),
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;

@@ -14,7 +14,6 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::demand::BookingLead;
 use crate::sweep::{RunRecord, SweepSpec};
 
 /// The format tag of a shard file.
@@ -139,89 +138,14 @@ pub fn fingerprint(spec: &SweepSpec) -> String {
     format!("{h:016x}")
 }
 
-/// One run in a shard file.
+/// One run in a shard file: its number in the whole sweep and its record.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ShardRun {
     /// Its number in the whole sweep.
     pub run: usize,
-    /// Variant name.
-    pub variant: String,
-    /// Requests.
-    pub count: usize,
-    /// Repetition.
-    pub rep: usize,
-    /// Demand seed.
-    pub seed: u64,
-    /// Booking lead, ms: `[min, max]`.
-    pub booking_lead_ms: [i64; 2],
-    /// Accepted.
-    pub planned: usize,
-    /// Rejected: out of range.
-    pub out_of_range: usize,
-    /// Rejected: unreachable.
-    pub unreachable: usize,
-    /// Rejected: no feasible plan.
-    pub no_feasible_plan: usize,
-    /// `planned / count`.
-    pub success_rate: f64,
-    /// Mean air delay, s.
-    pub mean_air_delay_s: f64,
-    /// Mean ground delay, s.
-    pub mean_ground_delay_s: f64,
-    /// Planner wall time, ms.
-    pub planner_ms: f64,
-    /// Labels expanded per request.
-    pub expanded_per_request: f64,
-    /// Legs per planned trip.
-    pub legs_per_trip: f64,
-}
-
-impl ShardRun {
-    /// Run number `run` and its record.
-    pub fn new(run: usize, r: &RunRecord) -> Self {
-        ShardRun {
-            run,
-            variant: r.variant.clone(),
-            count: r.count,
-            rep: r.rep,
-            seed: r.seed,
-            booking_lead_ms: [r.booking_lead.min.0, r.booking_lead.max.0],
-            planned: r.planned,
-            out_of_range: r.out_of_range,
-            unreachable: r.unreachable,
-            no_feasible_plan: r.no_feasible_plan,
-            success_rate: r.success_rate,
-            mean_air_delay_s: r.mean_air_delay_s,
-            mean_ground_delay_s: r.mean_ground_delay_s,
-            planner_ms: r.planner_ms,
-            expanded_per_request: r.expanded_per_request,
-            legs_per_trip: r.legs_per_trip,
-        }
-    }
-
-    /// The run's record.
-    pub fn record(&self) -> RunRecord {
-        RunRecord {
-            variant: self.variant.clone(),
-            count: self.count,
-            rep: self.rep,
-            seed: self.seed,
-            booking_lead: BookingLead {
-                min: muse_model::Millis(self.booking_lead_ms[0]),
-                max: muse_model::Millis(self.booking_lead_ms[1]),
-            },
-            planned: self.planned,
-            out_of_range: self.out_of_range,
-            unreachable: self.unreachable,
-            no_feasible_plan: self.no_feasible_plan,
-            success_rate: self.success_rate,
-            mean_air_delay_s: self.mean_air_delay_s,
-            mean_ground_delay_s: self.mean_ground_delay_s,
-            planner_ms: self.planner_ms,
-            expanded_per_request: self.expanded_per_request,
-            legs_per_trip: self.legs_per_trip,
-        }
-    }
+    /// What it measured.
+    #[serde(flatten)]
+    pub record: RunRecord,
 }
 
 /// What a shard writes (as JSON, `shard.json`).
@@ -333,7 +257,7 @@ pub fn merge(shards: &[(String, ShardFile)]) -> Result<Vec<RunRecord>, ShardErro
             if !shard.takes(r.run) || r.run >= f.runs {
                 return Err(bad(format!("run {} is not in shard {shard}", r.run)));
             }
-            if runs[r.run].replace(r.record()).is_some() {
+            if runs[r.run].replace(r.record.clone()).is_some() {
                 return Err(bad(format!("run {} appears twice", r.run)));
             }
         }
@@ -345,6 +269,8 @@ pub fn merge(shards: &[(String, ShardFile)]) -> Result<Vec<RunRecord>, ShardErro
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    use crate::demand::BookingLead;
 
     fn record(run: usize) -> RunRecord {
         RunRecord {
@@ -379,7 +305,10 @@ mod tests {
                 args: vec![],
                 records: (0..runs)
                     .filter(|&r| shard.takes(r))
-                    .map(|r| ShardRun::new(r, &record(r)))
+                    .map(|r| ShardRun {
+                        run: r,
+                        record: record(r),
+                    })
                     .collect(),
             },
         )
@@ -435,7 +364,10 @@ mod tests {
                         of: 3,
                         runs: spec.runs(),
                         args: vec![],
-                        records: runs.iter().map(|(run, r)| ShardRun::new(*run, r)).collect(),
+                        records: runs
+                            .into_iter()
+                            .map(|(run, record)| ShardRun { run, record })
+                            .collect(),
                     },
                 )
             })

@@ -84,8 +84,8 @@ pub enum SweepError {
     Demand(#[from] DemandError),
 }
 
-/// The measurements of one run.
-#[derive(Clone, Debug, PartialEq)]
+/// The measurements of one run (serialized in sweep shards, [`crate::shard`]).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RunRecord {
     /// Variant name.
     pub variant: String,
@@ -96,6 +96,7 @@ pub struct RunRecord {
     /// Demand seed.
     pub seed: u64,
     /// How far ahead of departure the run's requests were booked.
+    #[serde(with = "lead_ms")]
     pub booking_lead: BookingLead,
     /// Accepted.
     pub planned: usize,
@@ -117,6 +118,26 @@ pub struct RunRecord {
     pub expanded_per_request: f64,
     /// Mean legs per planned trip (1 without battery swaps).
     pub legs_per_trip: f64,
+}
+
+/// A booking lead in files: `[min, max]` in milliseconds.
+mod lead_ms {
+    use muse_model::Millis;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    use crate::demand::BookingLead;
+
+    pub fn serialize<S: Serializer>(lead: &BookingLead, s: S) -> Result<S::Ok, S::Error> {
+        [lead.min.0, lead.max.0].serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<BookingLead, D::Error> {
+        let [min, max] = <[i64; 2]>::deserialize(d)?;
+        Ok(BookingLead {
+            min: Millis(min),
+            max: Millis(max),
+        })
+    }
 }
 
 /// Runs the sweep on the global `rayon` pool; `tick` is called once per finished run. The

@@ -22,6 +22,8 @@ function loadScene() {
 }
 
 const scene = loadScene();
+// The land's colour, from the style sheet (read once, not every frame).
+const LAND = getComputedStyle(document.documentElement).getPropertyValue('--land').trim() || '#f3f1ea';
 const canvas = $('map');
 const ctx = canvas.getContext('2d');
 
@@ -32,6 +34,7 @@ const state = {
   load: 'day',
   selected: null,
   view: null, // { scale, cx, cy } in world units (see `world`)
+  userView: false, // panned or zoomed by the user: a resize keeps the view
   drawn: [], // [{ id, x, y }] of the last frame, CSS px in the canvas
   dirty: true,
   dayLoad: null,
@@ -117,7 +120,7 @@ function draw() {
   const t = state.t;
   ctx.clearRect(0, 0, state.width, state.height);
   // Land.
-  ctx.fillStyle = getComputedStyle(document.documentElement).getPropertyValue('--land').trim() || '#f3f1ea';
+  ctx.fillStyle = LAND;
   ctx.beginPath();
   for (const poly of scene.land) pathRings(poly);
   ctx.fill('evenodd');
