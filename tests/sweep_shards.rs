@@ -1,7 +1,8 @@
 //! A sweep run whole and as three shards in separate processes (`--shard K/3`), merged with
-//! `muse sweep merge`: the CSVs are identical, timing columns aside. Merge refuses shards of
-//! another sweep, a missing shard and a shard given twice, each with a clear message and a
-//! non-zero exit.
+//! `muse sweep merge`: the CSVs are identical, timing columns aside — for a sweep of variants
+//! and for an announcement-lead sweep, from the command line and from a study file. Merge
+//! refuses shards of another sweep, a missing shard and a shard given twice, each with a clear
+//! message and a non-zero exit. The committed paper study reproduces its published results.
 
 use std::path::Path;
 use std::process::{Command, Output};
@@ -14,6 +15,7 @@ const SWEEP: &[&str] = &[
     "sweep", "--counts", "100,250", "--reps", "3", "--vary", "zones",
 ];
 
+/// Runs muse in `dir`; prints its output (seen with `--nocapture`).
 fn muse(args: &[&str], dir: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_muse"))
         .args(args)
@@ -22,35 +24,15 @@ fn muse(args: &[&str], dir: &Path) -> Output {
         .expect("muse runs")
 }
 
-fn ok(args: &[&str], dir: &Path) {
+/// Runs muse in `dir`, expects success and returns its standard output.
+fn ok(args: &[&str], dir: &Path) -> String {
     let out = muse(args, dir);
     assert!(
         out.status.success(),
         "muse {args:?} failed:\n{}",
         String::from_utf8_lossy(&out.stderr)
     );
-}
-
-/// The CSV at `path` without its timing columns (`planner_ms…`).
-fn untimed(path: &Path) -> Vec<Vec<String>> {
-    let text = std::fs::read_to_string(path).expect("a CSV");
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
-    let keep: Vec<usize> = (0..header.len())
-        .filter(|&i| !header[i].starts_with("planner_ms"))
-        .collect();
-    assert!(
-        keep.len() < header.len(),
-        "{} has timing columns",
-        path.display()
-    );
-    std::iter::once(header.join(","))
-        .chain(lines.map(str::to_owned))
-        .map(|l| {
-            let cells: Vec<&str> = l.split(',').collect();
-            keep.iter().map(|&i| cells[i].to_owned()).collect()
-        })
-        .collect()
+    String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
 fn refused(args: &[&str], dir: &Path, needle: &str) {
@@ -78,13 +60,7 @@ fn three_shards_merge_into_the_files_of_one_machine() {
         &dir,
     );
     for file in ["sweep.csv", "sweep_summary.csv"] {
-        let whole = untimed(&dir.join("whole").join(file));
-        let merged = untimed(&dir.join("merged").join(file));
-        assert_eq!(whole.len(), merged.len(), "{file}: rows");
-        assert_eq!(
-            whole, merged,
-            "{file}: merged differs from the unsharded run"
-        );
+        support::csv::same_untimed(&dir.join("whole"), &dir.join("merged"), file);
     }
     for plot in [
         "sweep_runtime.svg",
@@ -125,4 +101,255 @@ fn three_shards_merge_into_the_files_of_one_machine() {
         "did not finish",
     );
     refused(&[SWEEP, &["--shard", "3/3"]].concat(), &dir, "expected K/N");
+}
+
+/// A small announcement-lead sweep: 2 leads + known + never announced × 2 counts × 2 reps.
+const LEAD_SWEEP: &[&str] = &[
+    "sweep",
+    "--vary",
+    "announce-lead",
+    "--counts",
+    "200,400",
+    "--reps",
+    "2",
+    "--leads",
+    "0,60",
+    "--od",
+    "in-range",
+];
+
+#[test]
+fn an_announcement_lead_sweep_shards_and_merges_too() {
+    let dir = support::scratch_dir("sweep_shards_lead");
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    ok(&[LEAD_SWEEP, &["--out", "whole"]].concat(), &dir);
+    for k in 0..3 {
+        let shard = format!("{k}/3");
+        let out = format!("s{k}");
+        ok(
+            &[LEAD_SWEEP, &["--shard", &shard, "--out", &out]].concat(),
+            &dir,
+        );
+    }
+    let merged = ok(
+        &["sweep", "merge", "s1", "s2", "s0", "--out", "merged"],
+        &dir,
+    );
+    assert!(merged.contains("merged 3 shards, 16 runs"), "{merged}");
+    for file in ["announce_lead.csv", "announce_lead_summary.csv"] {
+        support::csv::same_untimed(&dir.join("whole"), &dir.join("merged"), file);
+    }
+    for plot in [
+        "announce_lead_success.svg",
+        "announce_lead_outcomes.svg",
+        "announce_lead_extra_delay.svg",
+    ] {
+        assert!(dir.join("merged").join(plot).is_file(), "{plot} written");
+    }
+    refused(
+        &["sweep", "merge", "s0", "s1", "--out", "m"],
+        &dir,
+        "missing shard(s) 2/3",
+    );
+    println!("16 announcement-lead runs: unsharded and 3 shards merged give the same CSVs");
+}
+
+/// A small study: CBD against the stadium zone (a file beside it, found from `studies/`) ×
+/// ground delay, 2 counts × 2 repetitions.
+const SMALL_STUDY: &str = r#"title = "A small study"
+results = "../published"
+
+[sweep]
+counts = [150, 300]
+reps = 2
+vary = ["zones", "ground-delay"]
+zones = ["../stadium.geojson"]
+od = "in-range"
+"#;
+
+/// The small study's sweep written as a command line.
+const SMALL_FLAGS: &[&str] = &[
+    "sweep",
+    "--counts",
+    "150,300",
+    "--reps",
+    "2",
+    "--vary",
+    "zones",
+    "--vary",
+    "ground-delay",
+    "--zones",
+    "stadium.geojson",
+    "--od",
+    "in-range",
+];
+
+/// A scratch folder with the small study in `studies/` and its zone file.
+fn small_study(name: &str) -> std::path::PathBuf {
+    let dir = support::scratch_dir(name);
+    std::fs::create_dir_all(dir.join("studies")).expect("scratch dir");
+    let zones = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/singapore-77");
+    std::fs::copy(
+        zones.join("stadium_zone.geojson"),
+        dir.join("stadium.geojson"),
+    )
+    .expect("zone file");
+    std::fs::write(dir.join("studies/small.toml"), SMALL_STUDY).expect("study");
+    dir
+}
+
+#[test]
+fn a_study_runs_whole_or_in_shards_and_is_checked_against_its_results() {
+    let dir = small_study("sweep_shards_study");
+    let study = ["sweep", "--study", "studies/small.toml"];
+    let dry = ok(&[&study[..], &["--dry-run"]].concat(), &dir);
+    let dry_flags = ok(&[SMALL_FLAGS, &["--dry-run"]].concat(), &dir);
+    let id = |text: &str| {
+        text.lines()
+            .find(|l| l.starts_with("sweep "))
+            .map(str::to_owned)
+    };
+    assert_eq!(
+        id(&dry),
+        id(&dry_flags),
+        "the study is the sweep of its flags:\n{dry}\n{dry_flags}"
+    );
+    assert!(
+        dry.contains("sweep ") && dry.contains(": 16 runs, 3600 requests"),
+        "{dry}"
+    );
+
+    // No published results yet: the run says so; then it is the published one.
+    let first = ok(&[&study[..], &["--out", "published"]].concat(), &dir);
+    assert!(
+        first.contains("wrote the study's published results"),
+        "{first}"
+    );
+    let again = ok(&study, &dir);
+    assert!(
+        again.contains("reproduces the published published/sweep_summary.csv exactly"),
+        "{again}"
+    );
+    assert!(
+        dir.join("out/small/sweep.csv").is_file(),
+        "default --out is out/STUDY"
+    );
+    ok(&[SMALL_FLAGS, &["--out", "by-flags"]].concat(), &dir);
+    support::csv::same_untimed(&dir.join("published"), &dir.join("by-flags"), "sweep.csv");
+
+    for k in 0..2 {
+        let (shard, out) = (format!("{k}/2"), format!("t{k}"));
+        ok(
+            &[
+                &study[..],
+                &["--shard", &shard, "--out", &out, "--threads", "1"],
+            ]
+            .concat(),
+            &dir,
+        );
+    }
+    let merged = ok(&["sweep", "merge", "t0", "t1", "--out", "merged"], &dir);
+    assert!(
+        merged.contains("(study studies/small.toml: A small study)"),
+        "{merged}"
+    );
+    assert!(merged.contains("reproduces the published"), "{merged}");
+    support::csv::same_untimed(&dir.join("published"), &dir.join("merged"), "sweep.csv");
+
+    // A published table that does not match is reported, with a non-zero exit.
+    let summary = dir.join("published/sweep_summary.csv");
+    let text = std::fs::read_to_string(&summary).expect("summary");
+    let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
+    lines[1] = lines[1].replacen(",2,", ",3,", 1);
+    std::fs::write(&summary, lines.join("\n") + "\n").expect("edited summary");
+    refused(
+        &["sweep", "merge", "t0", "t1", "--out", "merged"],
+        &dir,
+        "differs from the published published/sweep_summary.csv: 1 of 8 rows differ; first at line 2, column runs: published 3, now 2",
+    );
+
+    // Beside a study only how it is run.
+    refused(
+        &[&study[..], &["--reps", "5"]].concat(),
+        &dir,
+        "--reps is set by the study studies/small.toml",
+    );
+}
+
+#[test]
+fn the_paper_study_reproduces_its_published_results() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = support::scratch_dir("paper_study");
+    let printed = ok(
+        &[
+            "sweep",
+            "--study",
+            "studies/paper.toml",
+            "--out",
+            out.to_str().expect("a UTF-8 path"),
+        ],
+        root,
+    );
+    assert!(
+        printed.contains("reproduces the published docs/results/paper/sweep_summary.csv exactly"),
+        "{printed}"
+    );
+}
+
+#[test]
+fn a_shard_killed_with_sigkill_leaves_no_file_and_is_simply_rerun() {
+    use std::os::unix::process::ExitStatusExt as _;
+    let dir = support::scratch_dir("sweep_shards_kill");
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    // Days of 3,000 requests with battery swaps and no deadline take seconds each to plan:
+    // shard 0 is certainly still running when it is killed.
+    let sweep = [
+        "sweep",
+        "--counts",
+        "3000",
+        "--reps",
+        "2",
+        "--vary",
+        "battery-swap",
+        "--swap-min",
+        "5",
+        "--threads",
+        "1",
+    ];
+    let mut child = Command::new(env!("CARGO_BIN_EXE_muse"))
+        .args(sweep)
+        .args(["--shard", "0/2", "--out", "k0"])
+        .current_dir(&dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("muse starts");
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    child.kill().expect("SIGKILL");
+    let status = child.wait().expect("reaped");
+    assert_eq!(
+        status.signal(),
+        Some(9),
+        "the shard ended before the kill ({status}): make its sweep bigger"
+    );
+    let left: Vec<_> = std::fs::read_dir(dir.join("k0"))
+        .map(|d| d.map(|e| e.expect("entry").file_name()).collect())
+        .unwrap_or_default();
+    assert!(left.is_empty(), "a killed shard left {left:?}");
+    refused(
+        &["sweep", "merge", "k0", "--out", "m"],
+        &dir,
+        "did not finish",
+    );
+    // Rerun: the same shard writes its file, and the merge takes it.
+    ok(
+        &[&sweep[..], &["--shard", "0/2", "--out", "k0"]].concat(),
+        &dir,
+    );
+    ok(
+        &[&sweep[..], &["--shard", "1/2", "--out", "k1"]].concat(),
+        &dir,
+    );
+    let merged = ok(&["sweep", "merge", "k0", "k1", "--out", "m"], &dir);
+    assert!(merged.contains("merged 2 shards, 4 runs"), "{merged}");
 }

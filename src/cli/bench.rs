@@ -25,6 +25,7 @@ use muse_sim::demand::{BookingLead, DemandSpec, OdRule, generate};
 use super::common::{FlightArgs, write_atomically};
 use super::demand::OdArg;
 use super::progress::LazyProgress;
+use super::study::{Study, report_reproduction};
 
 /// Synthetic graphs of `--graphs synthetic-N`: geometric layout, this share of stations,
 /// this spacing and seed.
@@ -66,6 +67,10 @@ pub struct BenchArgs {
     seed: u64,
     #[command(flatten)]
     flight: FlightArgs,
+    /// Run the benchmark a study file describes (TOML: its title, and the options of this
+    /// command in a `[bench]` table; see `studies/`). Beside it give only `--out`.
+    #[arg(long, value_name = "FILE")]
+    study: Option<PathBuf>,
     /// Output folder.
     #[arg(long, value_name = "DIR", default_value = "out/bench")]
     out: PathBuf,
@@ -374,8 +379,52 @@ fn run_child(
         .with_context(|| format!("case {graph}, {requests} requests: reading `{line}`"))
 }
 
-/// Runs `muse bench`.
-pub fn run(args: &BenchArgs) -> anyhow::Result<ExitCode> {
+/// Runs `muse bench`; `matches` are its own, to tell what was given beside `--study`.
+pub fn run(args: &BenchArgs, matches: &clap::ArgMatches) -> anyhow::Result<ExitCode> {
+    let Some(path) = &args.study else {
+        return run_bench(args);
+    };
+    let cmd = BenchArgs::augment_args(clap::Command::new("bench"));
+    let study = Study::load(path, &cmd)?;
+    study.refuse_overrides(&cmd, matches)?;
+    let out = study.out(matches, &args.out).display().to_string();
+    let bench: BenchArgs = study.parse("bench", &["--out".to_owned(), out])?;
+    println!("study {}: {}", path.display(), study.title);
+    let code = run_bench(&bench)?;
+    if code != ExitCode::SUCCESS {
+        return Ok(code);
+    }
+    report_reproduction(
+        Some(&study.reference()),
+        &bench.out,
+        "bench.csv",
+        measured_column,
+    )
+}
+
+/// Whether a `bench.csv` column is measured on this machine (time, memory, and the growth
+/// exponents fitted to the times); the others — graph, demand, outcomes, labels expanded —
+/// are exact.
+fn measured_column(name: &str) -> bool {
+    !matches!(
+        name,
+        "graph"
+            | "nodes"
+            | "stations"
+            | "edges"
+            | "zones"
+            | "requests"
+            | "od"
+            | "seed"
+            | "planned"
+            | "out_of_range"
+            | "unreachable"
+            | "no_feasible_plan"
+            | "expanded_per_request"
+    )
+}
+
+fn run_bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
     let params = args.flight.params()?;
     let levels = parse_requests(&args.requests)?;
     let graphs = parse_graphs(&args.graphs)?;

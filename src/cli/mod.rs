@@ -9,6 +9,7 @@ mod plan;
 mod progress;
 mod serve;
 mod simulate;
+mod study;
 mod sweep;
 mod sweep_lead;
 mod sweep_shard;
@@ -17,7 +18,7 @@ mod view;
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory as _, FromArgMatches as _, Parser, Subcommand};
 
 /// MUSE: exact collision-free planning and simulation of drone deliveries on a structured
 /// airspace. With no files given, commands use the embedded Singapore default (77 HDB car-park
@@ -54,7 +55,7 @@ enum Command {
     Simulate(simulate::SimulateArgs),
     /// The paper's experiment: request counts × repetitions × scenario variants, with plots;
     /// `--vary announce-lead`: how much warning before a temporary zone keeps its cost low.
-    Sweep(sweep::SweepArgs),
+    Sweep(Box<sweep::SweepArgs>),
     /// Check a plans file against every rule, independently of the planner (exit 1 on a violation).
     Verify(verify::VerifyArgs),
     /// Write one self-contained HTML page that plays a plans file's day on a map (no network
@@ -64,17 +65,25 @@ enum Command {
 
 /// Parses the command line and runs it. Input errors come back as `Err` (exit 2).
 pub fn run() -> anyhow::Result<ExitCode> {
-    let cli = Cli::parse();
+    let matches = Cli::command().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    // A command's own matches: what was given on the command line (`--study` refuses more).
+    let own = |name: &str| {
+        matches
+            .subcommand_matches(name)
+            .cloned()
+            .unwrap_or_default()
+    };
     match cli.command {
         Command::Airspace(cmd) => airspace::run(cmd),
-        Command::Bench(args) => bench::run(&args),
+        Command::Bench(args) => bench::run(&args, &own("bench")),
         Command::BenchCase(args) => bench::run_case(&args),
         Command::Demand(args) => demand::run(&args),
         Command::Load(args) => load::run(&args),
         Command::Plan(args) => plan::run(&args),
         Command::Serve(args) => serve::run(&args),
         Command::Simulate(args) => simulate::run(&args),
-        Command::Sweep(args) => sweep::run(&args),
+        Command::Sweep(args) => sweep::run(&args, &own("sweep")),
         Command::Verify(args) => verify::run(&args),
         Command::View(args) => view::run(&args),
     }

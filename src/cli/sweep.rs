@@ -5,18 +5,22 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Context as _;
-use clap::Args;
+use clap::{ArgMatches, Args};
 use indicatif::{ProgressBar, ProgressStyle};
 use muse_model::{EdgeRule, FlightParams, Millis};
 use muse_render::{PlotOptions, Point, Series, render_line_plot};
-use muse_sim::shard::Shard;
+use muse_sim::shard::{Shard, fingerprint};
 use muse_sim::stats::MeanCi;
 use muse_sim::sweep::{
-    RunRecord, SummaryRow, SweepSpec, Variant, run_sweep, runs_csv, summarize, summary_csv,
+    RunRecord, SummaryRow, SweepSpec, Variant, run_sweep, run_sweep_shard, runs_csv, summarize,
+    summary_csv,
 };
 
 use super::common::{FlightArgs, World, WorldArgs, write_atomically};
 use super::demand::DemandArgs;
+use super::study::Study;
+use super::sweep_lead::LeadSweep;
+use super::sweep_shard::{ShardInfo, run_shard};
 
 /// `muse sweep` subcommands.
 #[derive(Debug, clap::Subcommand)]
@@ -50,6 +54,11 @@ pub struct SweepArgs {
     /// `muse sweep merge DIR...`: merge the shards of one sweep.
     #[command(subcommand)]
     pub(super) command: Option<SweepCommand>,
+    /// Run the sweep a study file describes (TOML: its title, and the options of this
+    /// command in a `[sweep]` table; see `studies/`). Beside it give only `--shard`, `--out`
+    /// (default `out/STUDY`), `--threads` and `--dry-run`.
+    #[arg(long, value_name = "FILE")]
+    pub(super) study: Option<PathBuf>,
     /// Run only shard `K` of `N` (0-based: runs `K`, `K+N`, … in run order), seeds unchanged,
     /// and write `DIR/shard.json`; `muse sweep merge` joins the shards. For array jobs:
     /// Slurm `--shard $SLURM_ARRAY_TASK_ID/N`, Kubernetes `--shard $JOB_COMPLETION_INDEX/N`.
@@ -82,6 +91,10 @@ pub struct SweepArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
+    /// Print what would run — the sweep's identity, its runs and requests, the shard's share,
+    /// the command line it stands for — and exit without running.
+    #[arg(long)]
+    pub(super) dry_run: bool,
     #[command(flatten)]
     pub(super) demand: DemandArgs,
     #[command(flatten)]
@@ -274,8 +287,46 @@ fn variants(
     Ok(out)
 }
 
-/// Runs `muse sweep`.
-pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
+/// Runs `muse sweep`; `matches` are its own, to tell what was given beside `--study`.
+pub fn run(args: &SweepArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
+    if let Some(SweepCommand::Merge(merge)) = &args.command {
+        return super::sweep_shard::merge(merge);
+    }
+    let Some(path) = &args.study else {
+        return run_sweep_args(args, &std::env::args().skip(1).collect::<Vec<_>>(), None);
+    };
+    let cmd = SweepArgs::augment_args(clap::Command::new("sweep"));
+    let study = Study::load(path, &cmd)?;
+    study.refuse_overrides(&cmd, matches)?;
+    let extra = how_to_run(args, &study.out(matches, &args.out));
+    let sweep: SweepArgs = study.parse("sweep", &extra)?;
+    println!("study {}: {}", path.display(), study.title);
+    run_sweep_args(&sweep, &study.command_line("sweep", &extra), Some(&study))
+}
+
+/// How a study is run, as command-line arguments: `--out`, and `--shard`, `--threads` and
+/// `--dry-run` when given.
+fn how_to_run(args: &SweepArgs, out: &std::path::Path) -> Vec<String> {
+    let mut extra = vec!["--out".to_owned(), out.display().to_string()];
+    if let Some(shard) = &args.shard {
+        extra.extend(["--shard".to_owned(), shard.clone()]);
+    }
+    if let Some(n) = args.threads {
+        extra.extend(["--threads".to_owned(), n.to_string()]);
+    }
+    if args.dry_run {
+        extra.push("--dry-run".to_owned());
+    }
+    extra
+}
+
+/// Runs the sweep `args` describe; `command_line` (from `sweep` on) is recorded in shard
+/// files, `study` is the study it came from, if any.
+fn run_sweep_args(
+    args: &SweepArgs,
+    command_line: &[String],
+    study: Option<&Study>,
+) -> anyhow::Result<ExitCode> {
     let announce_lead = args.vary.contains(&Vary::AnnounceLead);
     if announce_lead && args.vary.iter().any(|v| *v != Vary::AnnounceLead) {
         anyhow::bail!(
@@ -288,24 +339,56 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
     if args.swap_min.is_some() && !args.vary.contains(&Vary::BatterySwap) {
         anyhow::bail!("--swap-min applies only with --vary battery-swap");
     }
-    if let Some(SweepCommand::Merge(merge)) = &args.command {
-        return super::sweep_shard::merge(merge);
-    }
     if let Some(n) = args.threads {
         rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build_global()
             .context("--threads")?;
     }
-    if announce_lead {
-        if args.shard.is_some() {
-            anyhow::bail!("--shard is not available with --vary announce-lead yet");
+    let shard = args.shard.as_deref().map(Shard::parse).transpose()?;
+    if args.dry_run {
+        let (id, runs, requests) = if announce_lead {
+            let lead = LeadSweep::of(args)?;
+            let s = &lead.spec;
+            (fingerprint(s), s.runs(), s.total_requests())
+        } else {
+            let (_, s) = spec_of(args)?;
+            (fingerprint(&s), s.runs(), s.total_requests())
+        };
+        println!("sweep {id}: {runs} runs, {requests} requests");
+        if let Some(shard) = shard {
+            let mine = (0..runs).filter(|&r| shard.takes(r)).count();
+            println!("shard {shard}: {mine} runs");
         }
-        return super::sweep_lead::run(args);
+        let line: Vec<&str> = command_line
+            .iter()
+            .map(String::as_str)
+            .filter(|a| *a != "--dry-run")
+            .collect();
+        println!("command line: muse {}", line.join(" "));
+        return Ok(ExitCode::SUCCESS);
+    }
+    let info = |sweep: String, runs: usize, shard: Shard| ShardInfo {
+        sweep,
+        runs,
+        shard,
+        command_line,
+        study,
+    };
+    if announce_lead {
+        if let Some(shard) = shard {
+            let lead = LeadSweep::of(args)?;
+            let info = info(fingerprint(&lead.spec), lead.spec.runs(), shard);
+            return run_shard(&info, &args.out, |tick| lead.run(shard, tick));
+        }
+        return super::sweep_lead::run(args, study);
     }
     let (world, spec) = spec_of(args)?;
-    if let Some(text) = &args.shard {
-        return super::sweep_shard::run_shard(args, &spec, Shard::parse(text)?);
+    if let Some(shard) = shard {
+        let info = info(fingerprint(&spec), spec.runs(), shard);
+        return run_shard(&info, &args.out, |tick| {
+            Ok(run_sweep_shard(&world.airspace, &spec, shard, tick)?)
+        });
     }
     let booked = args.demand.booking_note();
     println!(
@@ -329,8 +412,16 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
         args.out.display()
     );
     print_table(&summarize(&records));
-    Ok(ExitCode::SUCCESS)
+    super::study::report_reproduction(
+        study.map(Study::reference).as_ref(),
+        &args.out,
+        SUMMARY_FILE,
+        super::study::sweep_time_column,
+    )
 }
+
+/// The summary file, the one a study's published results are compared on.
+pub const SUMMARY_FILE: &str = "sweep_summary.csv";
 
 /// The world and the sweep `args` describe.
 pub(super) fn spec_of(args: &SweepArgs) -> anyhow::Result<(World, SweepSpec)> {
@@ -365,7 +456,7 @@ pub(super) fn write_results(
     let rows = summarize(records);
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     write_atomically(&out.join("sweep.csv"), &runs_csv(records))?;
-    write_atomically(&out.join("sweep_summary.csv"), &summary_csv(&rows))?;
+    write_atomically(&out.join(SUMMARY_FILE), &summary_csv(&rows))?;
     write_plots(spec, &rows, booked, out)
 }
 

@@ -10,12 +10,15 @@ use muse_model::{Instant, Millis, Zone};
 use muse_render::{PlotOptions, Point, Series, render_line_plot};
 use muse_sim::demand::BookingLead;
 use muse_sim::lead::{
-    Day, LeadCase, LeadSummaryRow, LeadSweepSpec, run_lead_sweep, runs_csv, summarize, summary_csv,
+    Day, LeadCase, LeadRecord, LeadSummaryRow, LeadSweepSpec, run_lead_sweep_shard, runs_csv,
+    summarize, summary_csv,
 };
+use muse_sim::shard::Shard;
 use muse_sim::stats::MeanCi;
 
 use super::common::{World, write_atomically};
 use super::demand::BookingLeadArg;
+use super::study::Study;
 use super::sweep::{SweepArgs, parse_counts, runs_bar};
 
 /// The leads compared unless `--leads` is given, minutes.
@@ -23,6 +26,9 @@ const DEFAULT_LEADS: &str = "0,15,30,60,120";
 
 /// Bookings made up to two hours ahead, unless `--booking-lead-min` is given.
 const DEFAULT_BOOKING_MIN: f64 = 120.0;
+
+/// The summary file, the one a study's published results are compared on.
+pub const SUMMARY_FILE: &str = "announce_lead_summary.csv";
 
 /// The files written, in the output folder.
 const FILES: [&str; 5] = [
@@ -139,17 +145,72 @@ fn spec(args: &SweepArgs, world: &World) -> anyhow::Result<(LeadSweepSpec, Strin
     Ok((spec, booked))
 }
 
+/// An announcement-lead sweep ready to run: its world, spec and the descriptions its
+/// messages and plots use.
+pub struct LeadSweep {
+    /// The world it runs on.
+    pub world: World,
+    /// What it runs.
+    pub spec: LeadSweepSpec,
+    /// How requests are booked, for messages.
+    pub booked: String,
+    /// The zones announced, with their first windows, for messages.
+    pub zones: Vec<String>,
+}
+
+impl LeadSweep {
+    /// The sweep `args` describe.
+    pub fn of(args: &SweepArgs) -> anyhow::Result<LeadSweep> {
+        let world = args.world.load()?;
+        let (spec, booked) = spec(args, &world)?;
+        let lead_world = spec
+            .world(&world.airspace)
+            .with_context(|| format!("on the scenario's day {}", world.date))?;
+        let zones = lead_world
+            .first_windows()
+            .map(|(id, t)| format!("{id} (first window {})", clock(spec.day, t)))
+            .collect();
+        Ok(LeadSweep {
+            world,
+            spec,
+            booked,
+            zones,
+        })
+    }
+
+    /// Runs the runs of `shard`, with their run numbers; `tick` once per finished run.
+    pub fn run(
+        &self,
+        shard: Shard,
+        tick: &(dyn Fn() + Sync),
+    ) -> anyhow::Result<Vec<(usize, LeadRecord)>> {
+        let lead_world = self.spec.world(&self.world.airspace)?;
+        Ok(run_lead_sweep_shard(&lead_world, &self.spec, shard, tick)?)
+    }
+
+    /// Writes the CSV files and plots of `records` (the whole sweep, in run order) into `out`
+    /// and prints the table.
+    pub fn write_results(
+        &self,
+        records: &[LeadRecord],
+        out: &std::path::Path,
+    ) -> anyhow::Result<()> {
+        let rows = summarize(records);
+        std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+        write_atomically(&out.join(FILES[0]), &runs_csv(records))?;
+        write_atomically(&out.join(SUMMARY_FILE), &summary_csv(&rows))?;
+        let foot = footnote(&self.spec, &self.booked, &self.zones);
+        write_plots(&self.spec, &rows, &foot, out)?;
+        println!("wrote {}/{{{}}}", out.display(), FILES.join(", "));
+        print_table(&rows);
+        Ok(())
+    }
+}
+
 /// Runs `muse sweep --vary announce-lead` (threads already set up).
-pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
-    let world = args.world.load()?;
-    let (spec, booked) = spec(args, &world)?;
-    let lead_world = spec
-        .world(&world.airspace)
-        .with_context(|| format!("on the scenario's day {}", world.date))?;
-    let zones: Vec<String> = lead_world
-        .first_windows()
-        .map(|(id, t)| format!("{id} (first window {})", clock(spec.day, t)))
-        .collect();
+pub fn run(args: &SweepArgs, study: Option<&Study>) -> anyhow::Result<ExitCode> {
+    let sweep = LeadSweep::of(args)?;
+    let spec = &sweep.spec;
     let leads: Vec<String> = spec
         .cases()
         .iter()
@@ -158,39 +219,35 @@ pub fn run(args: &SweepArgs) -> anyhow::Result<ExitCode> {
         .collect();
     println!(
         "sweep --vary announce-lead: {} announced {} min ahead, plus known from the start and never announced",
-        zones.join(", "),
+        sweep.zones.join(", "),
         leads.join(", "),
     );
     println!(
-        "{} cases × {} counts × {} repetitions = {} runs, {} requests {booked}, {} threads",
+        "{} cases × {} counts × {} repetitions = {} runs, {} requests {}, {} threads",
         spec.cases().len(),
         spec.counts.len(),
         spec.reps,
         spec.runs(),
         spec.total_requests(),
+        sweep.booked,
         rayon::current_num_threads()
     );
     let bar = runs_bar(spec.runs());
     let started = std::time::Instant::now();
-    let records = run_lead_sweep(&lead_world, &spec, || bar.inc(1))?;
+    let records: Vec<LeadRecord> = sweep
+        .run(Shard::WHOLE, &|| bar.inc(1))?
+        .into_iter()
+        .map(|(_, r)| r)
+        .collect();
     bar.finish_and_clear();
-    let wall = started.elapsed();
-    let rows = summarize(&records);
-
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
-    write_atomically(&args.out.join(FILES[0]), &runs_csv(&records))?;
-    write_atomically(&args.out.join(FILES[1]), &summary_csv(&rows))?;
-    let foot = footnote(&spec, &booked, &zones);
-    write_plots(&spec, &rows, &foot, &args.out)?;
-    println!(
-        "done in {:.1} s wall; wrote {}/{{{}}}",
-        wall.as_secs_f64(),
-        args.out.display(),
-        FILES.join(", ")
-    );
-    print_table(&rows);
-    Ok(ExitCode::SUCCESS)
+    println!("done in {:.1} s wall", started.elapsed().as_secs_f64());
+    sweep.write_results(&records, &args.out)?;
+    super::study::report_reproduction(
+        study.map(Study::reference).as_ref(),
+        &args.out,
+        SUMMARY_FILE,
+        super::study::sweep_time_column,
+    )
 }
 
 /// `t` as a local clock time `HH:MM` of `day` (`+1d` past its end).

@@ -1,16 +1,21 @@
 //! `muse sweep --shard K/N` and `muse sweep merge`: a sweep run as shards (a cluster's array
-//! job), merged back into exactly the files of one machine (see [`muse_sim::shard`]).
+//! job), merged back into exactly the files of one machine (see [`muse_sim::shard`]). Both
+//! kinds of sweep shard: variants × counts × repetitions, and `--vary announce-lead`.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Context as _;
 use clap::{Args, Parser};
-use muse_sim::shard::{FORMAT, Shard, ShardFile, ShardRun, fingerprint, merge as merge_shards};
-use muse_sim::sweep::{SweepSpec, run_sweep_shard, summarize};
+use muse_sim::lead::LeadRecord;
+use muse_sim::shard::{Shard, ShardFile, StudyRef, fingerprint, merge as merge_shards};
+use muse_sim::sweep::{RunRecord, summarize};
+use serde::Serialize;
 
 use super::common::write_atomically;
-use super::sweep::{SweepArgs, print_table, runs_bar, spec_of, write_results};
+use super::study::{Study, report_reproduction, sweep_time_column};
+use super::sweep::{SUMMARY_FILE, SweepArgs, Vary, print_table, runs_bar, spec_of, write_results};
+use super::sweep_lead::{self, LeadSweep};
 
 /// The file a shard writes into its `--out` folder.
 pub const SHARD_FILE: &str = "shard.json";
@@ -21,40 +26,55 @@ pub struct MergeArgs {
     /// The shards' output folders (or their `shard.json` files), every shard of one sweep once.
     #[arg(required = true, value_name = "DIR")]
     shards: Vec<PathBuf>,
-    /// Output folder for the merged `sweep.csv`, `sweep_summary.csv` and plots.
+    /// Output folder for the merged `sweep.csv`, `sweep_summary.csv` and plots (with
+    /// `--vary announce-lead`: `announce_lead.csv`, its summary and plots).
     #[arg(long, value_name = "DIR", default_value = "out/sweep")]
     out: PathBuf,
 }
 
-/// Runs shard `shard` of the sweep `spec` and writes `shard.json` into `args.out`
-/// atomically: a killed shard leaves no file, and is simply rerun.
-pub fn run_shard(args: &SweepArgs, spec: &SweepSpec, shard: Shard) -> anyhow::Result<ExitCode> {
-    let world = args.world.load()?;
-    let mine = (0..spec.runs()).filter(|&r| shard.takes(r)).count();
+/// Where a shard comes from and how it is cut: what its file records beside its runs.
+pub struct ShardInfo<'a> {
+    /// The sweep's [`fingerprint`].
+    pub sweep: String,
+    /// Runs in the whole sweep.
+    pub runs: usize,
+    /// Which shard.
+    pub shard: Shard,
+    /// The command line, from `sweep` on.
+    pub command_line: &'a [String],
+    /// The study it came from.
+    pub study: Option<&'a Study>,
+}
+
+/// Runs the shard `info` says with `go` (which calls its tick once per finished run) and
+/// writes `shard.json` into `out` atomically: a killed shard leaves no file, and is simply
+/// rerun.
+pub fn run_shard<R: Serialize>(
+    info: &ShardInfo<'_>,
+    out: &Path,
+    go: impl FnOnce(&(dyn Fn() + Sync)) -> anyhow::Result<Vec<(usize, R)>>,
+) -> anyhow::Result<ExitCode> {
+    let shard = info.shard;
+    let mine = (0..info.runs).filter(|&r| shard.takes(r)).count();
     println!(
         "sweep shard {shard}: {mine} of {} runs, {} threads",
-        spec.runs(),
+        info.runs,
         rayon::current_num_threads()
     );
     let bar = runs_bar(mine);
     let started = std::time::Instant::now();
-    let runs = run_sweep_shard(&world.airspace, spec, shard, || bar.inc(1))?;
+    let runs = go(&|| bar.inc(1))?;
     bar.finish_and_clear();
-    let file = ShardFile {
-        format: FORMAT.to_owned(),
-        sweep: fingerprint(spec),
-        shard: shard.index,
-        of: shard.of,
-        runs: spec.runs(),
-        args: std::env::args().skip(1).collect(),
-        records: runs
-            .into_iter()
-            .map(|(run, record)| ShardRun { run, record })
-            .collect(),
-    };
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
-    let path = args.out.join(SHARD_FILE);
+    let file = ShardFile::new(
+        info.sweep.clone(),
+        shard,
+        info.runs,
+        info.command_line.to_vec(),
+        info.study.map(Study::reference),
+        runs,
+    );
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let path = out.join(SHARD_FILE);
     let text = serde_json::to_string(&file).context("writing the shard")?;
     write_atomically(&path, &text)?;
     println!(
@@ -80,9 +100,25 @@ enum RecordedCommand {
     Sweep(SweepArgs),
 }
 
+/// What every shard file holds beside its runs, read before its kind of record is known.
+#[derive(serde::Deserialize)]
+struct Head {
+    args: Vec<String>,
+}
+
+/// Reads the shards of `args` as records `R`.
+fn read_shards<R: for<'de> serde::Deserialize<'de>>(
+    texts: &[(String, String)],
+) -> anyhow::Result<Vec<(String, ShardFile<R>)>> {
+    texts
+        .iter()
+        .map(|(name, text)| Ok((name.clone(), ShardFile::read(text, name)?)))
+        .collect()
+}
+
 /// Runs `muse sweep merge`.
 pub fn merge(args: &MergeArgs) -> anyhow::Result<ExitCode> {
-    let mut shards = Vec::with_capacity(args.shards.len());
+    let mut texts = Vec::with_capacity(args.shards.len());
     for dir in &args.shards {
         let path = if dir.is_dir() {
             dir.join(SHARD_FILE)
@@ -93,34 +129,86 @@ pub fn merge(args: &MergeArgs) -> anyhow::Result<ExitCode> {
         let text = std::fs::read_to_string(&path).with_context(|| {
             format!("reading {name} (a shard that did not finish writes none: rerun it)")
         })?;
-        shards.push((name.clone(), ShardFile::read(&text, &name)?));
+        texts.push((name, text));
     }
-    let records = merge_shards(&shards)?;
-    // The sweep itself, from the command line the shards ran: its plots need it, and it must
-    // be the sweep the shards say they are.
-    let (name, first) = &shards[0];
+    // The sweep itself, from the command line the first shard ran: its plots need it, and it
+    // must be the sweep the shards say they are.
+    let (name, text) = &texts[0];
+    let head: Head = serde_json::from_str(text)
+        .map_err(|e| anyhow::anyhow!("{name}: not a MUSE sweep shard ({e})"))?;
     let recorded =
-        Recorded::try_parse_from(std::iter::once("muse".to_owned()).chain(first.args.clone()))
+        Recorded::try_parse_from(std::iter::once("muse".to_owned()).chain(head.args.clone()))
             .with_context(|| format!("{name}: the recorded command line does not parse"))?;
     let RecordedCommand::Sweep(sweep) = recorded.command;
-    let (_, spec) = spec_of(&sweep)
-        .with_context(|| format!("{name}: rebuilding the sweep from its command line"))?;
-    if fingerprint(&spec) != first.sweep {
+    let rebuilt = |what: &str| format!("{name}: rebuilding the {what} from its command line");
+    if sweep.vary.contains(&Vary::AnnounceLead) {
+        let shards = read_shards::<LeadRecord>(&texts)?;
+        let records = merge_shards(&shards)?;
+        let lead = LeadSweep::of(&sweep).with_context(|| rebuilt("sweep"))?;
+        check_fingerprint(name, &fingerprint(&lead.spec), &shards[0].1)?;
+        announce(&shards, records.len(), &args.out);
+        lead.write_results(&records, &args.out)?;
+        report_reproduction(
+            shards[0].1.study.as_ref(),
+            &args.out,
+            sweep_lead::SUMMARY_FILE,
+            sweep_time_column,
+        )
+    } else {
+        let shards = read_shards::<RunRecord>(&texts)?;
+        let records = merge_shards(&shards)?;
+        let (_, spec) = spec_of(&sweep).with_context(|| rebuilt("sweep"))?;
+        check_fingerprint(name, &fingerprint(&spec), &shards[0].1)?;
+        announce(&shards, records.len(), &args.out);
+        let booked = sweep.demand.booking_note();
+        write_results(&spec, &records, booked.as_deref(), &args.out)?;
+        println!(
+            "wrote {}/{{sweep.csv, sweep_summary.csv, sweep_runtime.svg, sweep_success.svg, sweep_air_delay.svg}}",
+            args.out.display()
+        );
+        print_table(&summarize(&records));
+        report_reproduction(
+            shards[0].1.study.as_ref(),
+            &args.out,
+            SUMMARY_FILE,
+            sweep_time_column,
+        )
+    }
+}
+
+/// Refuses shards whose sweep is not the one rebuilt from their command line.
+fn check_fingerprint<R>(name: &str, rebuilt: &str, first: &ShardFile<R>) -> anyhow::Result<()> {
+    if rebuilt != first.sweep {
         anyhow::bail!(
-            "{name}: the sweep rebuilt from its command line ({}) is not the one the shards ran ({}): a file it reads (zones, airspace, requests) has changed, or this is another build of muse",
-            fingerprint(&spec),
+            "{name}: the sweep rebuilt from its command line ({rebuilt}) is not the one the shards ran ({}): a file it reads (zones, airspace, requests) has changed, or this is another build of muse",
             first.sweep
         );
     }
-    let booked = sweep.demand.booking_note();
-    write_results(&spec, &records, booked.as_deref(), &args.out)?;
+    Ok(())
+}
+
+/// Prints what is merged.
+fn announce<R>(shards: &[(String, ShardFile<R>)], runs: usize, out: &Path) {
+    let first = &shards[0].1;
     println!(
-        "merged {} shards, {} runs of sweep {}; wrote {}/{{sweep.csv, sweep_summary.csv, sweep_runtime.svg, sweep_success.svg, sweep_air_delay.svg}}",
+        "merged {} shards, {runs} runs of sweep {}{} into {}",
         shards.len(),
-        records.len(),
         first.sweep,
-        args.out.display()
+        first.study.as_ref().map_or(String::new(), |s| format!(
+            " (study {}: {})",
+            s.file, s.title
+        )),
+        out.display()
     );
-    print_table(&summarize(&records));
-    Ok(ExitCode::SUCCESS)
+}
+
+impl Study {
+    /// How the shards of a study name it.
+    pub fn reference(&self) -> StudyRef {
+        StudyRef {
+            file: self.path.display().to_string(),
+            title: self.title.clone(),
+            results: self.results.as_ref().map(|r| r.display().to_string()),
+        }
+    }
 }

@@ -181,6 +181,7 @@ impl Browser {
         Ok(Page {
             browser: self,
             session,
+            offline: std::cell::Cell::new(false),
         })
     }
 
@@ -458,6 +459,8 @@ pub struct Page<'b> {
     browser: &'b Browser,
     /// The session id.
     session: String,
+    /// Whether [`Page::offline`] was called: navigations keep the page offline.
+    offline: std::cell::Cell<bool>,
 }
 
 impl Page<'_> {
@@ -495,11 +498,18 @@ impl Page<'_> {
         conn.wait_event(&self.session, committed, deadline, &what, |m, _| {
             m == "Page.loadEventFired"
         })?;
+        drop(conn);
+        // Some Chromium versions (148) start the new document's renderer online again, though
+        // requests stay refused: tell it again.
+        if self.offline.get() {
+            self.offline()?;
+        }
         Ok(())
     }
 
     /// Emulates a machine with networking disabled (call before [`Page::goto`]).
     pub fn offline(&self) -> Result<(), String> {
+        self.offline.set(true);
         self.command(
             "Network.emulateNetworkConditions",
             json!({

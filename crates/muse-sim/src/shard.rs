@@ -6,6 +6,9 @@
 //! its seed, and since consecutive runs differ in size only by their count, every shard gets
 //! the same mix of small and large days.
 //!
+//! The same holds for an announcement-lead sweep ([`crate::lead`]): its runs are numbered
+//! case, then count, then repetition.
+//!
 //! A shard's result is a [`ShardFile`]: the sweep's [`fingerprint`], `K`, `N`, the number of
 //! runs in the whole sweep and the shard's records, each with its run number.
 //! [`merge`] checks that a set of shard files is one sweep cut once — same fingerprint, same
@@ -13,8 +16,6 @@
 //! would have written them.
 
 use serde::{Deserialize, Serialize};
-
-use crate::sweep::{RunRecord, SweepSpec};
 
 /// The format tag of a shard file.
 pub const FORMAT: &str = "muse-sweep-shard/1";
@@ -123,10 +124,16 @@ impl std::fmt::Display for Shard {
     }
 }
 
-/// A sweep's identity: a hash of everything that decides its runs (counts, repetitions,
-/// seeds, demand window and rule, booking lead, and each variant's zones and parameters), and
-/// of this program's version.
-pub fn fingerprint(spec: &SweepSpec) -> String {
+/// A sweep's identity: a hash of everything that decides its runs — its spec (counts,
+/// repetitions, seeds, demand window and rule, booking lead, and each variant's zones and
+/// parameters, or each lead's) — and of this program's version.
+///
+/// ```
+/// use muse_sim::shard::fingerprint;
+/// assert_eq!(fingerprint(&(1, "a")), fingerprint(&(1, "a")));
+/// assert_ne!(fingerprint(&(1, "a")), fingerprint(&(2, "a")));
+/// ```
+pub fn fingerprint(spec: &impl std::fmt::Debug) -> String {
     // FNV-1a, 64 bits, over a canonical text of the spec: stable across runs and machines of
     // one build.
     let text = format!("{} {spec:?}", env!("CARGO_PKG_VERSION"));
@@ -138,19 +145,34 @@ pub fn fingerprint(spec: &SweepSpec) -> String {
     format!("{h:016x}")
 }
 
-/// One run in a shard file: its number in the whole sweep and its record.
+/// One run in a shard file: its number in the whole sweep and its record (a
+/// [`crate::sweep::RunRecord`] or a [`crate::lead::LeadRecord`]).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ShardRun {
+pub struct ShardRun<R> {
     /// Its number in the whole sweep.
     pub run: usize,
     /// What it measured.
     #[serde(flatten)]
-    pub record: RunRecord,
+    pub record: R,
 }
 
-/// What a shard writes (as JSON, `shard.json`).
+/// The study a sweep came from (`muse sweep --study FILE`), kept in its shards so that the
+/// merge can name it and compare with its published results.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct StudyRef {
+    /// The study file, as given.
+    pub file: String,
+    /// Its title.
+    pub title: String,
+    /// The folder of its published results, if it names one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub results: Option<String>,
+}
+
+/// What a shard writes (as JSON, `shard.json`); `R` is the kind of record its sweep makes.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ShardFile {
+#[serde(bound(serialize = "R: Serialize", deserialize = "R: Deserialize<'de>"))]
+pub struct ShardFile<R> {
     /// [`FORMAT`].
     pub format: String,
     /// The sweep's [`fingerprint`].
@@ -161,16 +183,47 @@ pub struct ShardFile {
     pub of: usize,
     /// Runs in the whole sweep.
     pub runs: usize,
-    /// The command line that ran it (what `merge` rebuilds the sweep from).
+    /// The command line that ran it, from the command's name on (what `merge` rebuilds the
+    /// sweep from); a study's options written out.
     pub args: Vec<String>,
+    /// The study it ran, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub study: Option<StudyRef>,
     /// The shard's runs, by run number.
-    pub records: Vec<ShardRun>,
+    pub records: Vec<ShardRun<R>>,
 }
 
-impl ShardFile {
+impl<R> ShardFile<R> {
+    /// The file of shard `shard` of the sweep `sweep` (its [`fingerprint`]) of `runs` runs,
+    /// run with the command line `args`, holding `records` (run number, record).
+    pub fn new(
+        sweep: String,
+        shard: Shard,
+        runs: usize,
+        args: Vec<String>,
+        study: Option<StudyRef>,
+        records: Vec<(usize, R)>,
+    ) -> ShardFile<R> {
+        ShardFile {
+            format: FORMAT.to_owned(),
+            sweep,
+            shard: shard.index,
+            of: shard.of,
+            runs,
+            args,
+            study,
+            records: records
+                .into_iter()
+                .map(|(run, record)| ShardRun { run, record })
+                .collect(),
+        }
+    }
+}
+
+impl<R: for<'de> Deserialize<'de>> ShardFile<R> {
     /// Reads a shard file's text; `file` names it in errors.
-    pub fn read(text: &str, file: &str) -> Result<ShardFile, ShardError> {
-        let f: ShardFile = serde_json::from_str(text).map_err(|e| ShardError::Format {
+    pub fn read(text: &str, file: &str) -> Result<ShardFile<R>, ShardError> {
+        let f: ShardFile<R> = serde_json::from_str(text).map_err(|e| ShardError::Format {
             file: file.to_owned(),
             message: e.to_string(),
         })?;
@@ -186,7 +239,7 @@ impl ShardFile {
 
 /// Merges shard files `(name, file)` of one sweep into its records in the order of one
 /// machine (see the module docs), or says why they are not one sweep cut once.
-pub fn merge(shards: &[(String, ShardFile)]) -> Result<Vec<RunRecord>, ShardError> {
+pub fn merge<R: Clone>(shards: &[(String, ShardFile<R>)]) -> Result<Vec<R>, ShardError> {
     let Some((first_name, first)) = shards.first() else {
         return Err(ShardError::Empty);
     };
@@ -232,7 +285,7 @@ pub fn merge(shards: &[(String, ShardFile)]) -> Result<Vec<RunRecord>, ShardErro
             of: first.of,
         });
     }
-    let mut runs: Vec<Option<RunRecord>> = vec![None; first.runs];
+    let mut runs: Vec<Option<R>> = vec![None; first.runs];
     for (name, f) in shards {
         let shard = Shard {
             index: f.shard,
@@ -271,6 +324,7 @@ mod tests {
     use super::*;
 
     use crate::demand::BookingLead;
+    use crate::sweep::{RunRecord, SweepSpec};
 
     fn record(run: usize) -> RunRecord {
         RunRecord {
@@ -292,7 +346,12 @@ mod tests {
         }
     }
 
-    fn shard_file(sweep: &str, index: usize, of: usize, runs: usize) -> (String, ShardFile) {
+    fn shard_file(
+        sweep: &str,
+        index: usize,
+        of: usize,
+        runs: usize,
+    ) -> (String, ShardFile<RunRecord>) {
         let shard = Shard { index, of };
         (
             format!("out/{index}"),
@@ -303,6 +362,7 @@ mod tests {
                 of,
                 runs,
                 args: vec![],
+                study: None,
                 records: (0..runs)
                     .filter(|&r| shard.takes(r))
                     .map(|r| ShardRun {
@@ -351,25 +411,13 @@ mod tests {
         };
         let whole: Vec<RunRecord> = run_sweep(&s.airspace, &spec, || {}).unwrap();
         assert_eq!(whole.len(), 12);
-        let shards: Vec<(String, ShardFile)> = (0..3)
+        let shards: Vec<(String, ShardFile<RunRecord>)> = (0..3)
             .map(|index| {
                 let shard = Shard { index, of: 3 };
                 let runs = run_sweep_shard(&s.airspace, &spec, shard, || {}).unwrap();
-                (
-                    format!("shard {shard}"),
-                    ShardFile {
-                        format: FORMAT.into(),
-                        sweep: fingerprint(&spec),
-                        shard: index,
-                        of: 3,
-                        runs: spec.runs(),
-                        args: vec![],
-                        records: runs
-                            .into_iter()
-                            .map(|(run, record)| ShardRun { run, record })
-                            .collect(),
-                    },
-                )
+                let file =
+                    ShardFile::new(fingerprint(&spec), shard, spec.runs(), vec![], None, runs);
+                (format!("shard {shard}"), file)
             })
             .collect();
         let merged = merge(&shards).unwrap();
@@ -428,9 +476,9 @@ mod tests {
         short.1.records.pop();
         let e = merge(&[shard_file("s", 0, 2, 10), short]).unwrap_err();
         assert!(e.to_string().contains("4 runs, expected 5"), "{e}");
-        assert!(matches!(merge(&[]), Err(ShardError::Empty)));
+        assert!(matches!(merge::<RunRecord>(&[]), Err(ShardError::Empty)));
         assert!(
-            ShardFile::read("{}", "x.json")
+            ShardFile::<RunRecord>::read("{}", "x.json")
                 .unwrap_err()
                 .to_string()
                 .starts_with("x.json: not a MUSE sweep shard")

@@ -121,7 +121,7 @@ pub struct RunRecord {
 }
 
 /// A booking lead in files: `[min, max]` in milliseconds.
-mod lead_ms {
+pub(crate) mod lead_ms {
     use muse_model::Millis;
     use serde::{Deserialize, Deserializer, Serialize, Serializer};
 

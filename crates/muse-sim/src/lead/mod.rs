@@ -31,6 +31,7 @@ pub use report::{LeadSummaryRow, RUNS_CSV_HEADER, runs_csv, summarize, summary_c
 pub use world::{Day, LeadWorld, first_window_start};
 
 use crate::demand::{BookingLead, DemandError, DemandSpec, OdRule, generate};
+use crate::shard::Shard;
 
 /// How the zones to announce become known in one run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -240,14 +241,42 @@ pub fn run_lead_sweep(
     spec: &LeadSweepSpec,
     tick: impl Fn() + Sync,
 ) -> Result<Vec<LeadRecord>, LeadError> {
+    let runs = run_lead_sweep_shard(world, spec, Shard::WHOLE, tick)?;
+    Ok(runs.into_iter().map(|(_, r)| r).collect())
+}
+
+/// Runs the runs of `shard` (see [`crate::shard`]; run `k · jobs + j` is case `k` on the
+/// `j`-th (count, repetition)) with their run numbers, in run order.
+pub fn run_lead_sweep_shard(
+    world: &LeadWorld<'_>,
+    spec: &LeadSweepSpec,
+    shard: Shard,
+    tick: impl Fn() + Sync,
+) -> Result<Vec<(usize, LeadRecord)>, LeadError> {
     let airspace = world.airspace();
     let jobs: Vec<(usize, usize)> = (0..spec.counts.len())
         .flat_map(|c| (0..spec.reps).map(move |r| (c, r)))
         .collect();
-    // Demand once per (count, rep), shared by the cases.
+    let tasks: Vec<(usize, LeadCase, usize)> = spec
+        .cases()
+        .into_iter()
+        .flat_map(|case| (0..jobs.len()).map(move |j| (case, j)))
+        .enumerate()
+        .filter(|&(run, _)| shard.takes(run))
+        .map(|(run, (case, j))| (run, case, j))
+        .collect();
+    let mut needed = vec![false; jobs.len()];
+    for &(_, _, j) in &tasks {
+        needed[j] = true;
+    }
+    // Demand once per (count, rep), shared by the cases; only for the shard's runs.
     let demands: Vec<Vec<Request>> = jobs
         .par_iter()
-        .map(|&(c, r)| {
+        .zip(&needed)
+        .map(|(&(c, r), &needed)| {
+            if !needed {
+                return Ok(Vec::new());
+            }
             let mut reqs = generate(
                 airspace,
                 &DemandSpec {
@@ -263,19 +292,14 @@ pub fn run_lead_sweep(
             Ok(reqs)
         })
         .collect::<Result<_, DemandError>>()?;
-    let tasks: Vec<(LeadCase, usize)> = spec
-        .cases()
-        .into_iter()
-        .flat_map(|case| (0..jobs.len()).map(move |j| (case, j)))
-        .collect();
     tasks
         .par_iter()
-        .map(|&(case, j)| {
+        .map(|&(run_number, case, j)| {
             let (c, r) = jobs[j];
             let run = world.run(case, &demands[j])?;
             let rec = LeadRecord::of(case, r, spec.seed(c, r), spec.booking_lead, &run);
             tick();
-            Ok(rec)
+            Ok((run_number, rec))
         })
         .collect()
 }

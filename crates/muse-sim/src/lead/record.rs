@@ -9,10 +9,12 @@ use crate::metrics::ReplanSummary;
 
 /// The measurements of one run: one demand (count, repetition, seed) planned in one
 /// [`LeadCase`]. The counts are those of [`ReplanSummary`] (a flight hit by several
-/// announcements counts once, by its last outcome).
-#[derive(Clone, Debug, PartialEq)]
+/// announcements counts once, by its last outcome). Serialized in sweep shards
+/// ([`crate::shard`]).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LeadRecord {
     /// How the zones to announce became known.
+    #[serde(with = "case_text")]
     pub case: LeadCase,
     /// Requests.
     pub count: usize,
@@ -21,6 +23,7 @@ pub struct LeadRecord {
     /// Demand seed (the same for every case of a count and repetition).
     pub seed: u64,
     /// How far ahead of departure the requests were booked.
+    #[serde(with = "crate::sweep::lead_ms")]
     pub booking_lead: BookingLead,
     /// Requests planned when they were booked (first answers).
     pub planned_at_booking: usize,
@@ -77,6 +80,34 @@ impl LeadRecord {
             mean_extra_delay_s: (s.replanned > 0).then_some(s.extra_delay_s.mean),
             planner_ms: run.planner_wall.as_secs_f64() * 1e3,
             replan_expanded: run.replan_expanded,
+        }
+    }
+}
+
+/// A [`LeadCase`] in files: `announced:LEAD_MS`, `known` or `none`.
+mod case_text {
+    use muse_model::Millis;
+    use serde::{Deserialize, Deserializer, Serializer, de::Error as _};
+
+    use super::LeadCase;
+
+    pub fn serialize<S: Serializer>(case: &LeadCase, s: S) -> Result<S::Ok, S::Error> {
+        match case {
+            LeadCase::Announced { lead } => s.serialize_str(&format!("announced:{}", lead.0)),
+            other => s.serialize_str(other.kind()),
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<LeadCase, D::Error> {
+        let text = String::deserialize(d)?;
+        match text.as_str() {
+            "known" => Ok(LeadCase::Known),
+            "none" => Ok(LeadCase::NoZone),
+            other => other
+                .strip_prefix("announced:")
+                .and_then(|ms| ms.parse().ok())
+                .map(|ms| LeadCase::Announced { lead: Millis(ms) })
+                .ok_or_else(|| D::Error::custom(format!("case `{other}`"))),
         }
     }
 }

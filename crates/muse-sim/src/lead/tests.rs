@@ -112,9 +112,8 @@ fn a_longer_lead_never_cancels_more_and_frees_the_corridor_for_others() {
     assert!(cancelled.windows(2).all(|w| w[1] <= w[0]), "{cancelled:?}");
 }
 
-#[test]
-fn every_case_plans_the_same_seeded_demand() {
-    let air = line();
+/// Three leads, known and none × 60 requests × 3 repetitions on [`line`], zone `ZB` announced.
+fn small_sweep() -> (Airspace, LeadSweepSpec) {
     let spec = LeadSweepSpec {
         leads: vec![
             Millis::ZERO,
@@ -134,6 +133,12 @@ fn every_case_plans_the_same_seeded_demand() {
         day: day(),
         no_zone_reference: true,
     };
+    (line(), spec)
+}
+
+#[test]
+fn every_case_plans_the_same_seeded_demand() {
+    let (air, spec) = small_sweep();
     let ticks = std::sync::atomic::AtomicUsize::new(0);
     let world = spec.world(&air).unwrap();
     let records = run_lead_sweep(&world, &spec, || {
@@ -195,4 +200,32 @@ fn input_errors_name_the_zone() {
     assert_eq!(err.to_string(), "a zone `ZB` is already announced");
     let err = LeadWorld::new(&air, params, &[zone_b()], &[], day(), range).unwrap_err();
     assert!(matches!(err, LeadError::NothingToAnnounce));
+}
+
+#[test]
+fn a_lead_sweep_in_three_shards_merges_into_the_same_runs() {
+    use crate::shard::{Shard, ShardFile, fingerprint, merge};
+    let (air, spec) = small_sweep();
+    let world = spec.world(&air).unwrap();
+    let untimed = |mut r: LeadRecord| {
+        r.planner_ms = 0.0;
+        r
+    };
+    let whole: Vec<LeadRecord> = run_lead_sweep(&world, &spec, || {}).unwrap();
+    let shards: Vec<(String, ShardFile<LeadRecord>)> = (0..3)
+        .map(|index| {
+            let shard = Shard { index, of: 3 };
+            let runs = run_lead_sweep_shard(&world, &spec, shard, || {}).unwrap();
+            let file = ShardFile::new(fingerprint(&spec), shard, spec.runs(), vec![], None, runs);
+            // Through the file format and back.
+            let text = serde_json::to_string(&file).unwrap();
+            (format!("{shard}"), ShardFile::read(&text, "shard").unwrap())
+        })
+        .collect();
+    let merged = merge(&shards).unwrap();
+    assert_eq!(merged.len(), spec.runs());
+    assert_eq!(
+        merged.into_iter().map(untimed).collect::<Vec<_>>(),
+        whole.into_iter().map(untimed).collect::<Vec<_>>()
+    );
 }
