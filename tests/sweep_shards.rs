@@ -101,6 +101,12 @@ fn three_shards_merge_into_the_files_of_one_machine() {
         "did not finish",
     );
     refused(&[SWEEP, &["--shard", "3/3"]].concat(), &dir, "expected K/N");
+    // `--count` (one day's requests elsewhere) is not a sweep's: it would be ignored.
+    refused(
+        &[SWEEP, &["--count", "5"]].concat(),
+        &dir,
+        "a sweep's request counts are --counts",
+    );
 }
 
 /// A small announcement-lead sweep: 2 leads + known + never announced × 2 counts × 2 reps.

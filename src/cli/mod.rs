@@ -13,6 +13,7 @@ mod study;
 mod sweep;
 mod sweep_lead;
 mod sweep_shard;
+mod sweep_vary;
 mod verify;
 mod view;
 

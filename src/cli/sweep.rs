@@ -7,13 +7,11 @@ use std::process::ExitCode;
 use anyhow::Context as _;
 use clap::{ArgMatches, Args};
 use indicatif::{ProgressBar, ProgressStyle};
-use muse_model::{EdgeRule, FlightParams, Millis};
 use muse_render::{PlotOptions, Point, Series, render_line_plot};
 use muse_sim::shard::{Shard, fingerprint};
 use muse_sim::stats::MeanCi;
 use muse_sim::sweep::{
-    RunRecord, SummaryRow, SweepSpec, Variant, run_sweep, run_sweep_shard, runs_csv, summarize,
-    summary_csv,
+    RunRecord, SummaryRow, SweepSpec, run_sweep, run_sweep_shard, runs_csv, summarize, summary_csv,
 };
 
 use super::common::{FlightArgs, World, WorldArgs, write_atomically};
@@ -21,6 +19,7 @@ use super::demand::DemandArgs;
 use super::study::Study;
 use super::sweep_lead::LeadSweep;
 use super::sweep_shard::{ShardInfo, run_shard};
+use super::sweep_vary::{Vary, parse_swap_times, variants};
 
 /// `muse sweep` subcommands.
 #[derive(Debug, clap::Subcommand)]
@@ -30,26 +29,11 @@ pub enum SweepCommand {
     Merge(super::sweep_shard::MergeArgs),
 }
 
-/// A policy to compare.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Vary {
-    /// With and without the no-fly zones.
-    Zones,
-    /// `exclusive` versus `headway` edges (headway = the node separation unless given).
-    EdgeRule,
-    /// No ground delay versus up to 10 minutes.
-    GroundDelay,
-    /// Single legs versus battery swaps at stations (SPEC §12) of each `--swap-min` time.
-    BatterySwap,
-    /// How much warning before a zone's first active window it is announced (`--leads`,
-    /// `--announce-zones`); replays each day (SPEC §11) with bookings made 0–120 min ahead
-    /// unless `--booking-lead-min` says otherwise. Not combinable with other `--vary` values.
-    AnnounceLead,
-}
-
 /// Arguments of `muse sweep`.
 #[derive(Debug, Args)]
 #[command(args_conflicts_with_subcommands = true)]
+// A sweep's request counts are `--counts`: the demand options' `--count` is not one of its own.
+#[command(mut_arg("count", |a| a.hide(true)))]
 pub struct SweepArgs {
     /// `muse sweep merge DIR...`: merge the shards of one sweep.
     #[command(subcommand)]
@@ -134,163 +118,15 @@ pub(super) fn parse_counts(text: &str) -> anyhow::Result<Vec<usize>> {
     Ok(counts)
 }
 
-/// How a world's zones are named in legends: `CBD zone` for a built-in scenario's, `no zone`,
-/// or the zone ids.
-fn zone_label(world: &World) -> String {
-    let names: Vec<&str> = world.zones.iter().map(|z| z.id.as_str()).collect();
-    if names.is_empty() {
-        "no zone".to_owned()
-    } else if world.scenario.is_some() && names == [muse_scenario::CBD_ZONE_ID] {
-        "CBD zone".to_owned()
-    } else {
-        format!("zones {}", names.join("+"))
-    }
-}
-
-/// Parses `--swap-min`: positive minutes, comma-separated.
-fn parse_swap_times(text: &str) -> anyhow::Result<Vec<Millis>> {
-    let bad = || anyhow::anyhow!("--swap-min `{text}`: expected comma-separated minutes >= 0");
-    text.split(',')
-        .map(|x| {
-            let m: f64 = x.trim().parse().map_err(|_| bad())?;
-            Millis::from_secs_f64(m * 60.0).map_err(|_| bad())
-        })
-        .collect()
-}
-
-/// The settings `vary` compares, applied to `cur`, with their labels.
-fn options(
-    vary: Vary,
-    cur: &Variant,
-    world: &World,
-    base: FlightParams,
-    swap_times: &[Millis],
-) -> anyhow::Result<Vec<(String, Variant)>> {
-    let with_params = |params: FlightParams| Variant {
-        params,
-        ..cur.clone()
-    };
-    Ok(match vary {
-        Vary::BatterySwap => {
-            let limit = base.battery_swap.and_then(|s| s.max_legs);
-            let mut out = vec![(
-                "no swaps".to_owned(),
-                with_params(FlightParams {
-                    battery_swap: None,
-                    ..cur.params
-                }),
-            )];
-            for &time in swap_times {
-                out.push((
-                    format!("swaps {} min", time.as_secs_f64() / 60.0),
-                    with_params(FlightParams {
-                        battery_swap: Some(muse_model::BatterySwap {
-                            time,
-                            max_legs: limit,
-                        }),
-                        ..cur.params
-                    }),
-                ));
-            }
-            out
-        }
-        Vary::Zones => {
-            if world.zones.is_empty() {
-                anyhow::bail!("--vary zones needs zones (the embedded CBD zone, or --zones FILE)");
-            }
-            let with = zone_label(world);
-            vec![
-                (with, cur.clone()),
-                (
-                    "no zone".to_owned(),
-                    Variant {
-                        zones: Vec::new(),
-                        ..cur.clone()
-                    },
-                ),
-            ]
-        }
-        Vary::EdgeRule => {
-            let h = match base.edge_rule {
-                EdgeRule::Headway(h) => h,
-                EdgeRule::Exclusive => base.node_separation,
-            };
-            vec![
-                (
-                    "exclusive".to_owned(),
-                    with_params(FlightParams {
-                        edge_rule: EdgeRule::Exclusive,
-                        ..cur.params
-                    }),
-                ),
-                (
-                    format!("headway {:.0} s", h.as_secs_f64()),
-                    with_params(FlightParams {
-                        edge_rule: EdgeRule::Headway(h),
-                        ..cur.params
-                    }),
-                ),
-            ]
-        }
-        // Its own sweep (`sweep_lead`), refused in combination before variants are built.
-        Vary::AnnounceLead => {
-            anyhow::bail!("--vary announce-lead cannot be combined with other --vary values")
-        }
-        Vary::GroundDelay => vec![
-            (
-                "G_max 0".to_owned(),
-                with_params(FlightParams {
-                    max_ground_delay: Millis::ZERO,
-                    ..cur.params
-                }),
-            ),
-            (
-                "G_max 10 min".to_owned(),
-                with_params(FlightParams {
-                    max_ground_delay: Millis::from_mins(10),
-                    ..cur.params
-                }),
-            ),
-        ],
-    })
-}
-
-/// The variants: the cartesian product of the `--vary` choices (one base variant if none).
-fn variants(
-    world: &World,
-    base: FlightParams,
-    vary: &[Vary],
-    swap_times: &[Millis],
-) -> anyhow::Result<Vec<Variant>> {
-    let mut out = vec![Variant {
-        name: String::new(),
-        zones: world.zones.clone(),
-        params: base,
-    }];
-    for &v in vary {
-        let mut next = Vec::new();
-        for cur in &out {
-            for (label, mut variant) in options(v, cur, world, base, swap_times)? {
-                variant.name = if cur.name.is_empty() {
-                    label
-                } else {
-                    format!("{} / {label}", cur.name)
-                };
-                next.push(variant);
-            }
-        }
-        out = next;
-    }
-    if out.len() == 1 && out[0].name.is_empty() {
-        out[0].name = zone_label(world);
-    }
-    Ok(out)
-}
-
 /// Runs `muse sweep`; `matches` are its own, to tell what was given beside `--study`.
 pub fn run(args: &SweepArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
     if let Some(SweepCommand::Merge(merge)) = &args.command {
         return super::sweep_shard::merge(merge);
+    }
+    if matches.value_source("count") == Some(clap::parser::ValueSource::CommandLine) {
+        anyhow::bail!(
+            "--count: a sweep's request counts are --counts (e.g. 1000:10000:1000 or 3000,6000)"
+        );
     }
     let Some(path) = &args.study else {
         return run_sweep_args(args, &std::env::args().skip(1).collect::<Vec<_>>(), None);
@@ -587,18 +423,6 @@ mod tests {
         assert_eq!(parse_counts("5, 10").unwrap(), vec![5, 10]);
         for bad in ["", "1:2", "3:1:1", "1:5:0", "a,b", "0,5"] {
             assert!(parse_counts(bad).is_err(), "{bad}");
-        }
-    }
-
-    #[test]
-    fn swap_times() {
-        use muse_model::Millis;
-        assert_eq!(
-            super::parse_swap_times("2, 0.5").unwrap(),
-            vec![Millis::from_mins(2), Millis::from_secs(30)]
-        );
-        for bad in ["", "x", "-1", "2,,5"] {
-            assert!(super::parse_swap_times(bad).is_err(), "{bad}");
         }
     }
 }

@@ -14,8 +14,9 @@ use serde::Serialize;
 
 use super::common::write_atomically;
 use super::study::{Study, report_reproduction, sweep_time_column};
-use super::sweep::{SUMMARY_FILE, SweepArgs, Vary, print_table, runs_bar, spec_of, write_results};
+use super::sweep::{SUMMARY_FILE, SweepArgs, print_table, runs_bar, spec_of, write_results};
 use super::sweep_lead::{self, LeadSweep};
+use super::sweep_vary::Vary;
 
 /// The file a shard writes into its `--out` folder.
 pub const SHARD_FILE: &str = "shard.json";

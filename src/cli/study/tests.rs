@@ -126,6 +126,10 @@ fn errors_name_the_file_line_and_key() {
             "bad.toml:3: `vary`: invalid value 'nope' for '--vary <VARY>'",
         ),
         (
+            "title = \"t\"\n[sweep]\ncount = 5\n",
+            "bad.toml:3: `count`: not an option of `muse sweep` (see `muse sweep --help`)",
+        ),
+        (
             "title = \"t\"\n[sweep]\nout = \"x\"\n",
             "bad.toml:3: `out`: how a study is run is not part of it: give --out on the command line",
         ),
