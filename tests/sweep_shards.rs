@@ -35,6 +35,14 @@ fn ok(args: &[&str], dir: &Path) -> String {
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
+/// Runs `sweep` as shards `0/n` … `n-1/n` in separate processes, into `{prefix}K` in `dir`.
+fn shards(sweep: &[&str], n: usize, prefix: &str, dir: &Path) {
+    for k in 0..n {
+        let (shard, out) = (format!("{k}/{n}"), format!("{prefix}{k}"));
+        ok(&[sweep, &["--shard", &shard, "--out", &out]].concat(), dir);
+    }
+}
+
 fn refused(args: &[&str], dir: &Path, needle: &str) {
     let out = muse(args, dir);
     let err = String::from_utf8_lossy(&out.stderr);
@@ -50,11 +58,7 @@ fn three_shards_merge_into_the_files_of_one_machine() {
     let dir = support::scratch_dir("sweep_shards");
     std::fs::create_dir_all(&dir).expect("scratch dir");
     ok(&[SWEEP, &["--out", "whole"]].concat(), &dir);
-    for k in 0..3 {
-        let shard = format!("{k}/3");
-        let out = format!("s{k}");
-        ok(&[SWEEP, &["--shard", &shard, "--out", &out]].concat(), &dir);
-    }
+    shards(SWEEP, 3, "s", &dir);
     ok(
         &["sweep", "merge", "s2", "s0", "s1", "--out", "merged"],
         &dir,
@@ -129,14 +133,7 @@ fn an_announcement_lead_sweep_shards_and_merges_too() {
     let dir = support::scratch_dir("sweep_shards_lead");
     std::fs::create_dir_all(&dir).expect("scratch dir");
     ok(&[LEAD_SWEEP, &["--out", "whole"]].concat(), &dir);
-    for k in 0..3 {
-        let shard = format!("{k}/3");
-        let out = format!("s{k}");
-        ok(
-            &[LEAD_SWEEP, &["--shard", &shard, "--out", &out]].concat(),
-            &dir,
-        );
-    }
+    shards(LEAD_SWEEP, 3, "s", &dir);
     let merged = ok(
         &["sweep", "merge", "s1", "s2", "s0", "--out", "merged"],
         &dir,
@@ -243,17 +240,7 @@ fn a_study_runs_whole_or_in_shards_and_is_checked_against_its_results() {
     ok(&[SMALL_FLAGS, &["--out", "by-flags"]].concat(), &dir);
     support::csv::same_untimed(&dir.join("published"), &dir.join("by-flags"), "sweep.csv");
 
-    for k in 0..2 {
-        let (shard, out) = (format!("{k}/2"), format!("t{k}"));
-        ok(
-            &[
-                &study[..],
-                &["--shard", &shard, "--out", &out, "--threads", "1"],
-            ]
-            .concat(),
-            &dir,
-        );
-    }
+    shards(&[&study[..], &["--threads", "1"]].concat(), 2, "t", &dir);
     let merged = ok(&["sweep", "merge", "t0", "t1", "--out", "merged"], &dir);
     assert!(
         merged.contains("(study studies/small.toml: A small study)"),

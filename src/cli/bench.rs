@@ -384,12 +384,9 @@ pub fn run(args: &BenchArgs, matches: &clap::ArgMatches) -> anyhow::Result<ExitC
     let Some(path) = &args.study else {
         return run_bench(args);
     };
-    let cmd = BenchArgs::augment_args(clap::Command::new("bench"));
-    let study = Study::load(path, &cmd)?;
-    study.refuse_overrides(&cmd, matches)?;
+    let study = Study::open::<BenchArgs>(path, "bench", matches)?;
     let out = study.out(matches, &args.out).display().to_string();
     let bench: BenchArgs = study.parse("bench", &["--out".to_owned(), out])?;
-    println!("study {}: {}", path.display(), study.title);
     let code = run_bench(&bench)?;
     if code != ExitCode::SUCCESS {
         return Ok(code);

@@ -2,7 +2,7 @@
 //! (or `muse bench --study FILE`) reruns exactly the runs behind a published table.
 //!
 //! A study names what it reproduces and, in a table named after the command, the command's
-//! options by their long names, without the dashes:
+//! options by their long names, without the leading `--`:
 //!
 //! ```toml
 //! title = "The paper's experiment"
@@ -71,6 +71,21 @@ struct StudyToml {
 type Options = std::collections::BTreeMap<String, Spanned<toml::Value>>;
 
 impl Study {
+    /// Reads the study at `path` for the command `name` (`sweep` or `bench`) whose options
+    /// are `T`, and refuses the options given beside it on the command line other than how it
+    /// is run (`matches`: the command's own).
+    pub fn open<T: Args>(
+        path: &Path,
+        name: &'static str,
+        matches: &ArgMatches,
+    ) -> anyhow::Result<Study> {
+        let cmd = T::augment_args(Command::new(name));
+        let study = Study::load(path, &cmd)?;
+        study.refuse_overrides(&cmd, matches)?;
+        println!("study {}: {}", path.display(), study.title);
+        Ok(study)
+    }
+
     /// Reads the study at `path` for the command `command` (`sweep` or `bench`), whose
     /// options are those of `cmd`.
     pub fn load(path: &Path, cmd: &Command) -> anyhow::Result<Study> {

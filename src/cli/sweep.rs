@@ -131,12 +131,9 @@ pub fn run(args: &SweepArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
     let Some(path) = &args.study else {
         return run_sweep_args(args, &std::env::args().skip(1).collect::<Vec<_>>(), None);
     };
-    let cmd = SweepArgs::augment_args(clap::Command::new("sweep"));
-    let study = Study::load(path, &cmd)?;
-    study.refuse_overrides(&cmd, matches)?;
+    let study = Study::open::<SweepArgs>(path, "sweep", matches)?;
     let extra = how_to_run(args, &study.out(matches, &args.out));
     let sweep: SweepArgs = study.parse("sweep", &extra)?;
-    println!("study {}: {}", path.display(), study.title);
     run_sweep_args(&sweep, &study.command_line("sweep", &extra), Some(&study))
 }
 

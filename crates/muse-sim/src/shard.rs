@@ -15,7 +15,12 @@
 //! `N`, every shard once, every run once — and returns the records in the order one machine
 //! would have written them.
 
+use muse_model::request::sort_for_planning;
+use muse_model::{Airspace, Request};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+
+use crate::demand::{DemandError, DemandSpec, generate};
 
 /// The format tag of a shard file.
 pub const FORMAT: &str = "muse-sweep-shard/1";
@@ -121,6 +126,62 @@ impl Shard {
 impl std::fmt::Display for Shard {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "{}/{}", self.index, self.of)
+    }
+}
+
+/// A shard's share of a sweep whose runs are `groups` (variants, or announcement cases) ×
+/// days, a day being a (count index, repetition): run `g · days + d` is group `g` on day `d`.
+pub(crate) struct ShardDays {
+    /// Each day's (count index, repetition).
+    pub days: Vec<(usize, usize)>,
+    /// The shard's runs, in run order: (run number, group, day).
+    pub runs: Vec<(usize, usize, usize)>,
+    /// Each day's requests, sorted for planning — generated once, shared by the groups, and
+    /// only for the days the shard runs (empty for the others).
+    pub demands: Vec<Vec<Request>>,
+}
+
+impl ShardDays {
+    /// The share of `shard` in a sweep of `groups` × `counts` × `reps`, whose day
+    /// (count index, repetition) has the demand `demand(c, r)`.
+    pub(crate) fn new(
+        airspace: &Airspace,
+        shard: Shard,
+        groups: usize,
+        counts: usize,
+        reps: usize,
+        demand: impl Fn(usize, usize) -> DemandSpec + Sync,
+    ) -> Result<ShardDays, DemandError> {
+        let days: Vec<(usize, usize)> = (0..counts)
+            .flat_map(|c| (0..reps).map(move |r| (c, r)))
+            .collect();
+        let runs: Vec<(usize, usize, usize)> = (0..groups)
+            .flat_map(|g| (0..days.len()).map(move |d| (g, d)))
+            .enumerate()
+            .filter(|&(run, _)| shard.takes(run))
+            .map(|(run, (g, d))| (run, g, d))
+            .collect();
+        let mut needed = vec![false; days.len()];
+        for &(_, _, d) in &runs {
+            needed[d] = true;
+        }
+        let demands = days
+            .par_iter()
+            .zip(&needed)
+            .map(|(&(c, r), &needed)| {
+                if !needed {
+                    return Ok(Vec::new());
+                }
+                let mut reqs = generate(airspace, &demand(c, r))?;
+                sort_for_planning(&mut reqs);
+                Ok(reqs)
+            })
+            .collect::<Result<_, DemandError>>()?;
+        Ok(ShardDays {
+            days,
+            runs,
+            demands,
+        })
     }
 }
 

@@ -9,14 +9,13 @@
 use std::fmt::Write as _;
 
 use muse_airspace::closures::{ClosureError, Closures, resolve};
-use muse_model::request::sort_for_planning;
 use muse_model::{Airspace, FlightParams, Instant, Millis, Zone};
 use muse_planner::Planner;
 use rayon::prelude::*;
 
 use crate::day::plan_sorted;
-use crate::demand::{BookingLead, DemandError, DemandSpec, OdRule, generate};
-use crate::shard::Shard;
+use crate::demand::{BookingLead, DemandError, DemandSpec, OdRule};
+use crate::shard::{Shard, ShardDays};
 use crate::stats::MeanCi;
 
 /// One scenario variant of a sweep.
@@ -171,50 +170,31 @@ pub fn run_sweep_shard(
             })?;
         prepared.push((v, Planner::new(airspace, v.params), closures));
     }
-    // Demand once per (count, rep), shared by the variants; only for the shard's runs.
-    let jobs: Vec<(usize, usize)> = (0..spec.counts.len())
-        .flat_map(|c| (0..spec.reps).map(move |r| (c, r)))
-        .collect();
-    // Run number `v · jobs + j` is variant `v` on job `j`.
-    let tasks: Vec<(usize, usize)> = (0..prepared.len())
-        .flat_map(|v| (0..jobs.len()).map(move |j| (v, j)))
-        .enumerate()
-        .filter(|&(run, _)| shard.takes(run))
-        .map(|(_, task)| task)
-        .collect();
-    let mut needed = vec![false; jobs.len()];
-    for &(_, j) in &tasks {
-        needed[j] = true;
-    }
-    let demands: Vec<Vec<muse_model::Request>> = jobs
+    let share = ShardDays::new(
+        airspace,
+        shard,
+        prepared.len(),
+        spec.counts.len(),
+        spec.reps,
+        |c, r| DemandSpec {
+            count: spec.counts[c],
+            start: spec.start,
+            end: spec.end,
+            seed: spec.seed(c, r),
+            od: spec.od,
+            booking_lead: spec.booking_lead,
+        },
+    )?;
+    let records = share
+        .runs
         .par_iter()
-        .zip(&needed)
-        .map(|(&(c, r), &needed)| {
-            if !needed {
-                return Ok(Vec::new());
-            }
-            let d = DemandSpec {
-                count: spec.counts[c],
-                start: spec.start,
-                end: spec.end,
-                seed: spec.seed(c, r),
-                od: spec.od,
-                booking_lead: spec.booking_lead,
-            };
-            let mut reqs = generate(airspace, &d)?;
-            sort_for_planning(&mut reqs);
-            Ok(reqs)
-        })
-        .collect::<Result<_, DemandError>>()?;
-    let records = tasks
-        .par_iter()
-        .map(|&(v, j)| {
+        .map(|&(run, v, d)| {
             let (variant, planner, closures) = &prepared[v];
-            let (c, r) = jobs[j];
+            let (c, r) = share.days[d];
             let (seed, lead) = (spec.seed(c, r), spec.booking_lead);
-            let rec = run_one(variant, planner, closures, &demands[j], seed, lead, r);
+            let rec = run_one(variant, planner, closures, &share.demands[d], seed, lead, r);
             tick();
-            (v * jobs.len() + j, rec)
+            (run, rec)
         })
         .collect();
     Ok(records)

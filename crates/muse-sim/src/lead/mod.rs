@@ -21,8 +21,7 @@ mod report;
 mod world;
 
 use muse_airspace::closures::ClosureError;
-use muse_model::request::sort_for_planning;
-use muse_model::{Airspace, FlightParams, Instant, Millis, Request, Zone};
+use muse_model::{Airspace, FlightParams, Instant, Millis, Zone};
 use muse_planner::online::ZoneError;
 use rayon::prelude::*;
 
@@ -30,8 +29,8 @@ pub use record::LeadRecord;
 pub use report::{LeadSummaryRow, RUNS_CSV_HEADER, runs_csv, summarize, summary_csv};
 pub use world::{Day, LeadWorld, first_window_start};
 
-use crate::demand::{BookingLead, DemandError, DemandSpec, OdRule, generate};
-use crate::shard::Shard;
+use crate::demand::{BookingLead, DemandError, DemandSpec, OdRule};
+use crate::shard::{Shard, ShardDays};
 
 /// How the zones to announce become known in one run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -253,51 +252,29 @@ pub fn run_lead_sweep_shard(
     shard: Shard,
     tick: impl Fn() + Sync,
 ) -> Result<Vec<(usize, LeadRecord)>, LeadError> {
-    let airspace = world.airspace();
-    let jobs: Vec<(usize, usize)> = (0..spec.counts.len())
-        .flat_map(|c| (0..spec.reps).map(move |r| (c, r)))
-        .collect();
-    let tasks: Vec<(usize, LeadCase, usize)> = spec
-        .cases()
-        .into_iter()
-        .flat_map(|case| (0..jobs.len()).map(move |j| (case, j)))
-        .enumerate()
-        .filter(|&(run, _)| shard.takes(run))
-        .map(|(run, (case, j))| (run, case, j))
-        .collect();
-    let mut needed = vec![false; jobs.len()];
-    for &(_, _, j) in &tasks {
-        needed[j] = true;
-    }
-    // Demand once per (count, rep), shared by the cases; only for the shard's runs.
-    let demands: Vec<Vec<Request>> = jobs
+    let cases = spec.cases();
+    let share = ShardDays::new(
+        world.airspace(),
+        shard,
+        cases.len(),
+        spec.counts.len(),
+        spec.reps,
+        |c, r| DemandSpec {
+            count: spec.counts[c],
+            start: spec.start,
+            end: spec.end,
+            seed: spec.seed(c, r),
+            od: spec.od,
+            booking_lead: spec.booking_lead,
+        },
+    )?;
+    share
+        .runs
         .par_iter()
-        .zip(&needed)
-        .map(|(&(c, r), &needed)| {
-            if !needed {
-                return Ok(Vec::new());
-            }
-            let mut reqs = generate(
-                airspace,
-                &DemandSpec {
-                    count: spec.counts[c],
-                    start: spec.start,
-                    end: spec.end,
-                    seed: spec.seed(c, r),
-                    od: spec.od,
-                    booking_lead: spec.booking_lead,
-                },
-            )?;
-            sort_for_planning(&mut reqs);
-            Ok(reqs)
-        })
-        .collect::<Result<_, DemandError>>()?;
-    tasks
-        .par_iter()
-        .map(|&(run_number, case, j)| {
-            let (c, r) = jobs[j];
-            let run = world.run(case, &demands[j])?;
-            let rec = LeadRecord::of(case, r, spec.seed(c, r), spec.booking_lead, &run);
+        .map(|&(run_number, k, d)| {
+            let (c, r) = share.days[d];
+            let run = world.run(cases[k], &share.demands[d])?;
+            let rec = LeadRecord::of(cases[k], r, spec.seed(c, r), spec.booking_lead, &run);
             tick();
             Ok((run_number, rec))
         })
