@@ -18,7 +18,7 @@ use clap::Args;
 use muse_model::{Instant, Millis};
 use muse_service::auth::Tokens;
 use muse_service::state::{Clock, ServiceWorld};
-use muse_service::{Options, start};
+use muse_service::{Options, launch};
 
 use super::common::{FlightArgs, WorldArgs};
 
@@ -71,10 +71,6 @@ pub struct ServeArgs {
     /// Burst of requests allowed above the rate, per token.
     #[arg(long, value_name = "N", default_value_t = 40_000.0)]
     burst: f64,
-    /// Keep a flight in memory (for reads, listings and idempotent retries) this many hours
-    /// after it ends; the store keeps it for ever.
-    #[arg(long, value_name = "HOURS", default_value_t = 24.0)]
-    retain_hours: f64,
 }
 
 /// Runs `muse serve` until the process is stopped (Ctrl-C or SIGTERM stop it cleanly; any
@@ -111,9 +107,6 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     options.rate_limit = args.rate_limit;
     options.burst = args.burst;
     options.page = Some(page);
-    options.retain = Millis::from_secs_f64(args.retain_hours * 3_600.0)
-        .ok()
-        .with_context(|| format!("--retain-hours {} must be a number >= 0", args.retain_hours))?;
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()
@@ -122,33 +115,30 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         let listener = tokio::net::TcpListener::bind(args.listen)
             .await
             .with_context(|| format!("listening on {}", args.listen))?;
-        let running = start(service_world, options, listener).await?;
-        let r = &running.recovery;
+        let started = std::time::Instant::now();
+        let launched = launch(service_world, options, listener).await?;
+        let db = args.data.join(muse_service::store::DB_FILE);
         let mut out = std::io::stdout().lock();
         writeln!(out, "MUSE serve — {label}, {stations} stations")?;
+        if let Some(log) = &launched.importing {
+            writeln!(
+                out,
+                "  converting {} (written by an earlier version) into {}; it is kept",
+                log.display(),
+                db.display()
+            )?;
+        }
         writeln!(
             out,
-            "  store      {}: {} flight(s) restored ({} booked ahead or airborne, {} cancellation(s), \
-             {} zone(s) announced, {} withdrawn, {} event(s)){}",
-            args.data.join(muse_service::store::LOG_FILE).display(),
-            running.restored.flights,
-            running.restored.booked,
-            running.restored.cancellations,
-            running.restored.zones,
-            running.restored.withdrawn,
-            running.restored.events,
-            if r.torn_bytes > 0 {
-                format!(
-                    "; dropped a torn tail of {} bytes (unacknowledged; saved as {})",
-                    r.torn_bytes,
-                    r.torn_saved
-                        .as_ref()
-                        .map_or_else(String::new, |p| p.display().to_string())
-                )
-            } else {
-                String::new()
-            }
+            "  starting   http://{}/healthz answers \"starting\" until the store is loaded",
+            launched.addr
         )?;
+        out.flush()?;
+        drop(out);
+        let running = launched.ready().await?;
+        let r = &running.restored;
+        let mut out = std::io::stdout().lock();
+        report(&mut out, &db, r, started.elapsed().as_secs_f64())?;
         if running.open {
             writeln!(
                 out,
@@ -167,6 +157,57 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         anyhow::Ok(())
     })?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// What the start found in the store (and, once, converted from an earlier version's log).
+fn report(
+    out: &mut impl std::io::Write,
+    db: &std::path::Path,
+    r: &muse_service::engine::Restored,
+    secs: f64,
+) -> std::io::Result<()> {
+    if let Some(i) = &r.import {
+        writeln!(
+            out,
+            "  converted  {} records: {} flights, {} cancellations, {} zones ({} withdrawn), \
+             {} events{}; the log is kept as {}",
+            i.records,
+            i.flights,
+            i.cancellations,
+            i.zones,
+            i.withdrawn,
+            i.events,
+            if i.torn_bytes > 0 {
+                format!(
+                    ", a torn tail of {} bytes left out (never acknowledged)",
+                    i.torn_bytes
+                )
+            } else {
+                String::new()
+            },
+            i.log.display()
+        )?;
+        for (id, kept_as) in &i.renamed {
+            writeln!(
+                out,
+                "  renamed    flight `{id}` was stored twice by the earlier version: the \
+                 second is kept as `{kept_as}`"
+            )?;
+        }
+    }
+    writeln!(
+        out,
+        "  store      {}: {} flight(s) stored, {} still ahead or airborne put back into the \
+         schedule, {} zone(s) announced ({} withdrawn), {} event(s); loaded in {:.2} s",
+        db.display(),
+        r.flights,
+        r.held,
+        r.zones,
+        r.withdrawn,
+        r.events,
+        secs
+    )?;
+    Ok(())
 }
 
 /// The service's name for its world: the airspace and its zones.

@@ -89,6 +89,29 @@ pub enum ZoneError {
     Unknown(String),
 }
 
+/// What a flight holds in a live schedule (see [`Live::hold`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Holding<'p> {
+    /// A booked plan: reserved, and the flight can be cancelled or replanned.
+    Booked(&'p Plan),
+    /// The committed part of a flight left in contingency by a zone (SPEC §11): reserved,
+    /// so that others keep their separation from it, but neither cancellable nor replanned.
+    Committed(&'p Plan),
+    /// Nothing (rejected, cancelled, or landed).
+    Nothing,
+}
+
+impl<'p> Holding<'p> {
+    /// What a flight with `fate` holds.
+    pub fn of_fate(fate: &'p Fate) -> Self {
+        match fate {
+            Fate::Replanned(p) | Fate::Diverted(p) => Holding::Booked(p),
+            Fate::Contingency(p) => Holding::Committed(p),
+            Fate::Cancelled => Holding::Nothing,
+        }
+    }
+}
+
 /// A live schedule with its planner and clock (see the module docs).
 #[derive(Debug)]
 pub struct Live<'a> {
@@ -192,6 +215,93 @@ impl<'a> Live<'a> {
         outcome
     }
 
+    /// Plans `request` against everything booked so far *without booking it*: the decision
+    /// half of [`Live::book`], for a caller that stores the answer first and then books it
+    /// with [`Live::hold`]. A departure before now is rejected with
+    /// [`RejectReason::DepartureInPast`] without searching.
+    pub fn plan(&mut self, request: &Request) -> Outcome {
+        if request.departure < self.now {
+            return Outcome {
+                result: Err(RejectReason::DepartureInPast),
+                free_flow: self.planner.free_flow(request),
+                expanded: 0,
+            };
+        }
+        self.planner
+            .plan(&self.schedule, request, &mut self.scratch)
+    }
+
+    /// Whether `flight` could be cancelled now (the decision half of [`Live::cancel`]):
+    /// `Ok` with its plan if it is booked and has not taken off.
+    pub fn can_cancel(&self, flight: FlightId) -> Result<&Plan, CancelError> {
+        let booking = self.bookings.get(&flight).ok_or(CancelError::NotHeld)?;
+        if booking.plan.takeoff() <= self.now {
+            return Err(CancelError::TookOff);
+        }
+        Ok(&booking.plan)
+    }
+
+    /// Sets what `flight` holds in the schedule, whatever it held before: what it held is
+    /// released, then `holding` is reserved. This is the one way a service changes the
+    /// schedule, live (after deciding an answer, a cancellation or a zone's outcomes) and when
+    /// it restarts from its store (putting each flight back as it stands). A plan or part that
+    /// ended before now is not reserved: it can no longer matter. `request` is the flight's
+    /// original request.
+    pub fn hold(&mut self, flight: FlightId, request: &Request, holding: Holding<'_>) {
+        self.hold_all(&[(flight, request, holding)]);
+    }
+
+    /// [`Live::hold`] for several flights at once: every one releases what it held before any
+    /// reserves its new holding, so that holdings decided together (a zone's outcomes, each
+    /// planned once the others were out of the way) never meet an old plan in the schedule.
+    pub fn hold_all(&mut self, flights: &[(FlightId, &Request, Holding<'_>)]) {
+        let airspace = self.planner.airspace();
+        for &(flight, _, _) in flights {
+            if let Some(old) = self.bookings.remove(&flight) {
+                self.schedule.release(airspace, flight, &old.plan);
+            }
+        }
+        for &(flight, request, holding) in flights {
+            match holding {
+                Holding::Booked(plan) => self.restore(flight, request, plan),
+                Holding::Committed(part) => {
+                    if part.landing() >= self.now {
+                        self.schedule.insert(airspace, flight, part);
+                    }
+                }
+                Holding::Nothing => {}
+            }
+        }
+    }
+
+    /// Decides what announcing a zone now would do (SPEC §11) *without changing anything*:
+    /// the affected flights and their fates, exactly as [`Live::announce`] would return them,
+    /// computed on a copy of the schedule. The caller stores the outcome, then applies it
+    /// with [`Live::add_announced`] and [`Live::hold_all`], which leaves the schedule exactly
+    /// as [`Live::announce`] would have.
+    pub fn decide_announcement(
+        &mut self,
+        id: &str,
+        zone: &Closures,
+    ) -> Result<Vec<Affected>, ZoneError> {
+        if self.announced.iter().any(|(z, _)| z == id) {
+            return Err(ZoneError::Taken(id.to_owned()));
+        }
+        let mut closures = self.known_closures();
+        closures.add(zone);
+        let mut schedule = self.schedule.clone();
+        schedule.set_closures(&closures);
+        let mut bookings = self.bookings.clone();
+        Ok(replan(
+            &self.planner,
+            &mut schedule,
+            &mut bookings,
+            zone,
+            self.now,
+            &mut self.scratch,
+        ))
+    }
+
     /// Books a plan accepted earlier (when a service restarts from its store) without
     /// planning it again; `plan` is the flight's plan as it stands (after any replanning).
     /// Plans that ended before now are skipped: they can no longer matter.
@@ -278,19 +388,7 @@ impl<'a> Live<'a> {
     /// plans, with each zone [added](Live::add_announced) before its outcomes, this rebuilds
     /// the schedule the announcements left.
     pub fn apply_fate(&mut self, flight: FlightId, request: &Request, fate: &Fate) {
-        let airspace = self.planner.airspace();
-        if let Some(old) = self.bookings.remove(&flight) {
-            self.schedule.release(airspace, flight, &old.plan);
-        }
-        match fate {
-            Fate::Replanned(plan) | Fate::Diverted(plan) => self.restore(flight, request, plan),
-            Fate::Contingency(part) => {
-                if part.landing() >= self.now {
-                    self.schedule.insert(airspace, flight, part);
-                }
-            }
-            Fate::Cancelled => {}
-        }
+        self.hold(flight, request, Holding::of_fate(fate));
     }
 
     /// Withdraws an announced zone: it closes nothing from now on. Nothing is replanned.
@@ -546,5 +644,81 @@ mod tests {
         assert_eq!(live.cancel(0).ok(), replanned);
         // The restored zone can be withdrawn like an announced one.
         back.withdraw("Z").unwrap();
+    }
+
+    #[test]
+    fn a_decided_announcement_applied_leaves_the_schedule_announce_leaves() {
+        let a = ring();
+        let params = FlightParams::default();
+        let closures = Closures::none(&a);
+        let requests = [
+            request("via-b", 0, 2, 600_000),
+            request("to-b", 0, 1, 900_000),
+            request("in-a-b", 0, 2, 0),
+            request("d-a-b", 3, 1, 0),
+            request("c-d", 2, 3, 1_200_000),
+        ];
+        let zone = muse_model::Zone {
+            id: "Z".into(),
+            name: String::new(),
+            restriction: String::new(),
+            area: None,
+            node_ids: vec!["B".into()],
+            edge_ids: vec![],
+            announced: None,
+            periods: vec![],
+        };
+        let resolve = || {
+            muse_airspace::closures::resolve(
+                &a,
+                std::slice::from_ref(&zone),
+                Instant(0),
+                Instant(86_400_000),
+            )
+            .unwrap()
+        };
+        let mut one = Live::new(Planner::new(&a, params), &closures, Instant(0));
+        let mut two = Live::new(Planner::new(&a, params), &closures, Instant(0));
+        for (k, r) in requests.iter().enumerate() {
+            // Decide, then hold: the same as booking.
+            let outcome = two.plan(r);
+            let plan = outcome.result.clone().unwrap();
+            two.hold(k as FlightId, r, Holding::Booked(&plan));
+            assert_eq!(one.book(k as FlightId, r), outcome);
+        }
+        one.advance(Instant(60_000));
+        two.advance(Instant(60_000));
+        let announced = one.announce("Z", resolve()).unwrap();
+        let decided = two.decide_announcement("Z", &resolve()).unwrap();
+        assert_eq!(decided, announced);
+        // Deciding changed nothing: the decision is the same when taken again.
+        assert_eq!(two.decide_announcement("Z", &resolve()).unwrap(), announced);
+        two.add_announced("Z", resolve()).unwrap();
+        let holdings: Vec<(FlightId, &Request, Holding<'_>)> = decided
+            .iter()
+            .map(|h| {
+                (
+                    h.flight,
+                    &requests[h.flight as usize],
+                    Holding::of_fate(&h.fate),
+                )
+            })
+            .collect();
+        two.hold_all(&holdings);
+        assert_eq!(two.bookings, one.bookings);
+        assert_eq!(two.schedule().reservations(), one.schedule().reservations());
+        let mut n = 10;
+        for from in 0..4 {
+            for to in 0..4 {
+                for t in [60_000, 300_000, 600_000, 900_000] {
+                    if from != to {
+                        let r = request(&format!("p{n}"), from, to, t);
+                        assert_eq!(two.book(n, &r).result, one.book(n, &r).result);
+                        n += 1;
+                    }
+                }
+            }
+        }
+        assert_eq!(two.can_cancel(0).cloned(), one.cancel(0));
     }
 }

@@ -1,33 +1,30 @@
 //! What happens to flights, as a stream of events (`GET /v1/events`, server-sent events).
 //!
-//! Every acknowledged change of a flight is an [`Event`]: `planned` (a request accepted),
-//! `cancelled` (by its operator, or by a zone announcement: reason `zone_announced`),
-//! `replanned`, `diverted`, `contingency` (SPEC §11). A rejected request is no event.
+//! Every acknowledged change of a flight is an [`Event`] of one [`EventKind`]: `planned` (a
+//! request accepted), `cancelled` (by its operator, or by a zone announcement: reason
+//! `zone_announced`), `replanned`, `diverted`, `contingency` (SPEC §11). A rejected request
+//! is no event.
 //!
 //! # Ids
 //!
-//! Event ids count the events in the order of the store's log, from 1: a planned flight's
-//! record gives one, a cancellation one, a zone announcement one per flight it changed, in
-//! the order it replanned them. The planner task numbers them as it appends the records,
-//! and a restart numbers them again while it replays the log, so an id names the same event
-//! before and after a restart (and a client can resume with `Last-Event-ID`).
+//! Event ids count the events from 1, in the order the planner task decided them: a planned
+//! flight gives one, a cancellation one, a zone announcement one per flight it changed, in the
+//! order it replanned them. Each event is a row of the store's `events` table, written in the
+//! same transaction as the change it reports, so an id names the same event for the life of
+//! the store (a client resumes with `Last-Event-ID`, across restarts too).
 //!
 //! # History and live events
 //!
-//! [`Events`] holds the events in memory (rebuilt from the log at start) and hands each new
-//! one to every listener over a broadcast channel, *after* its record is durable. A listener
-//! subscribes first and then reads the history: together they miss nothing, and the ids tell
-//! it what it has already seen. A listener too slow for the channel falls back to the
-//! history.
-//!
-//! Memory: the history keeps the events of the retention time (`--retain-hours`, like the
-//! flight index); older ones are dropped as the clock moves and are not rebuilt at start. A
-//! client resuming from before that is told so in a comment, then gets what is held.
+//! The history is the store: a listener resuming from an id reads the events after it from
+//! there, page by page. New events go to every listener over a broadcast channel, *after*
+//! their transaction is durable. A listener subscribes first and then reads the history:
+//! together they miss nothing, and the ids tell it what it has already seen. A listener too
+//! slow for the channel falls back to the history. Memory holds no history at all.
 
-use std::collections::VecDeque;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Arc, RwLock};
 
+use muse_model::plan::FateKind;
 use muse_model::{Airspace, Instant, UtcOffset};
 use serde::Serialize;
 use tokio::sync::broadcast;
@@ -37,13 +34,65 @@ use crate::flights::{FlightEntry, FlightView};
 /// Events a listener may fall behind by before it reads the history instead.
 pub const LIVE_CAPACITY: usize = 4_096;
 
+/// What changed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum EventKind {
+    /// A request accepted with a plan.
+    Planned,
+    /// Cancelled: by its operator, or by a zone announcement (the event names the zone).
+    Cancelled,
+    /// Replanned after a zone announcement.
+    Replanned,
+    /// Diverted to another station after a zone announcement.
+    Diverted,
+    /// Left in contingency by a zone announcement.
+    Contingency,
+}
+
+impl EventKind {
+    /// Every kind, in the order documented.
+    pub const ALL: [EventKind; 5] = [
+        EventKind::Planned,
+        EventKind::Cancelled,
+        EventKind::Replanned,
+        EventKind::Diverted,
+        EventKind::Contingency,
+    ];
+
+    /// The spelling in the stream (`event:`) and in the store.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            EventKind::Planned => "planned",
+            EventKind::Cancelled => "cancelled",
+            EventKind::Replanned => "replanned",
+            EventKind::Diverted => "diverted",
+            EventKind::Contingency => "contingency",
+        }
+    }
+
+    /// Parses the spelling.
+    pub fn parse(text: &str) -> Option<EventKind> {
+        EventKind::ALL.into_iter().find(|k| k.as_str() == text)
+    }
+
+    /// The event of a zone's outcome.
+    pub const fn of_fate(kind: FateKind) -> EventKind {
+        match kind {
+            FateKind::Replanned => EventKind::Replanned,
+            FateKind::Diverted => EventKind::Diverted,
+            FateKind::Cancelled => EventKind::Cancelled,
+            FateKind::Contingency => EventKind::Contingency,
+        }
+    }
+}
+
 /// One change of one flight.
 #[derive(Clone, Debug)]
 pub struct Event {
     /// Its id (see the module docs).
     pub id: u64,
-    /// `planned`, `cancelled`, `replanned`, `diverted` or `contingency`.
-    pub kind: &'static str,
+    /// What changed.
+    pub kind: EventKind,
     /// When it happened (service clock).
     pub at: Instant,
     /// The zone announcement that caused it, if one did.
@@ -64,7 +113,7 @@ struct EventData<'a> {
 
 impl Event {
     /// The event's `data:`: `{"flight", "operator", "status", "zone" (when a zone caused
-    /// it), "plan"}`, `plan` being the flight as `GET /v1/flights/{id}` shows it.
+    /// it), "plan"}`, `plan` being the flight as `GET /v1/flights/{id}` showed it then.
     pub fn data(&self, airspace: &Airspace, offset: UtcOffset) -> String {
         let view = self.entry.view(airspace, offset);
         let data = EventData {
@@ -79,10 +128,9 @@ impl Event {
     }
 }
 
-/// The events held and the channel new ones go out on (see the module docs).
+/// The channel new events go out on, and the id of the last one (see the module docs).
 #[derive(Debug)]
 pub struct Events {
-    history: RwLock<VecDeque<Arc<Event>>>,
     /// The id of the last event published (0: none yet).
     last: AtomicU64,
     live: broadcast::Sender<Arc<Event>>,
@@ -98,7 +146,6 @@ impl Events {
     /// No events yet; a listener may fall behind the live ones by `buffer` (at least 1).
     pub fn new(buffer: usize) -> Self {
         Events {
-            history: RwLock::new(VecDeque::new()),
             last: AtomicU64::new(0),
             live: broadcast::channel(buffer.max(1)).0,
         }
@@ -109,28 +156,19 @@ impl Events {
         self.live.subscribe()
     }
 
-    /// Adds events (ids increasing, above every one held) to the history, then sends them to
-    /// the listeners.
+    /// Sends events (ids increasing, above every one published), durable in the store, to the
+    /// listeners.
     pub fn publish(&self, events: impl IntoIterator<Item = Arc<Event>>) {
         for event in events {
             debug_assert!(event.id > self.last_id());
-            self.history
-                .write()
-                .unwrap_or_else(std::sync::PoisonError::into_inner)
-                .push_back(Arc::clone(&event));
             self.last.store(event.id, Ordering::Release);
             // No listener is not an error.
             let _ = self.live.send(event);
         }
     }
 
-    /// Sets the history rebuilt from the log at start; `last` is the id of the last event
-    /// of the log (the history may hold fewer).
-    pub fn restore(&self, events: Vec<Arc<Event>>, last: u64) {
-        *self
-            .history
-            .write()
-            .unwrap_or_else(std::sync::PoisonError::into_inner) = events.into();
+    /// Sets the id of the last event the store holds (at start).
+    pub fn restore(&self, last: u64) {
         self.last.store(last, Ordering::Release);
     }
 
@@ -138,102 +176,21 @@ impl Events {
     pub fn last_id(&self) -> u64 {
         self.last.load(Ordering::Acquire)
     }
-
-    /// The id of the oldest event held, if any.
-    pub fn first_held(&self) -> Option<u64> {
-        self.history
-            .read()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-            .front()
-            .map(|e| e.id)
-    }
-
-    /// The events held with an id above `id` that `visible` keeps, in id order.
-    pub fn after(&self, id: u64, visible: impl Fn(&Event) -> bool) -> Vec<Arc<Event>> {
-        let history = self
-            .history
-            .read()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        let start = history.partition_point(|e| e.id <= id);
-        history
-            .range(start..)
-            .filter(|e| visible(e))
-            .cloned()
-            .collect()
-    }
-
-    /// Drops the events that happened before `t`; returns how many.
-    pub fn forget_before(&self, t: Instant) -> usize {
-        let mut history = self
-            .history
-            .write()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        let n = history.partition_point(|e| e.at < t);
-        history.drain(..n);
-        n
-    }
-
-    /// Number of events held.
-    pub fn held(&self) -> usize {
-        self.history
-            .read()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-            .len()
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use muse_model::{NodeId, RejectReason, Request};
-
-    fn event(id: u64, operator: &str, at: i64) -> Arc<Event> {
-        Arc::new(Event {
-            id,
-            kind: "planned",
-            at: Instant(at),
-            zone: None,
-            entry: Arc::new(FlightEntry {
-                seq: id,
-                operator: operator.into(),
-                request: Request {
-                    id: format!("f{id}"),
-                    origin: NodeId(0),
-                    destination: NodeId(1),
-                    departure: Instant(at),
-                    submitted: Instant(at),
-                },
-                result: Err(RejectReason::NoFeasiblePlan),
-                free_flow: None,
-                expanded: 0,
-                answered: Instant(at),
-                cancelled_at: None,
-                changes: Vec::new(),
-                fate: None,
-            }),
-        })
-    }
 
     #[test]
-    fn a_listener_subscribed_before_reading_the_history_misses_nothing() {
-        let events = Events::default();
-        events.publish([event(1, "a", 10), event(2, "b", 20)]);
-        let mut rx = events.subscribe();
-        events.publish([event(3, "a", 30)]);
-        let held: Vec<u64> = events.after(1, |_| true).iter().map(|e| e.id).collect();
-        assert_eq!(held, [2, 3]);
-        // Event 3 is in both: the ids tell the listener it has it already.
-        assert_eq!(rx.try_recv().unwrap().id, 3);
-        let mine: Vec<u64> = events
-            .after(0, |e| e.entry.operator == "a")
-            .iter()
-            .map(|e| e.id)
-            .collect();
-        assert_eq!(mine, [1, 3]);
-        assert_eq!(events.forget_before(Instant(25)), 2);
+    fn kinds_are_spelt_as_documented() {
+        for k in EventKind::ALL {
+            assert_eq!(EventKind::parse(k.as_str()), Some(k));
+        }
+        assert_eq!(EventKind::parse("landed"), None);
         assert_eq!(
-            (events.first_held(), events.last_id(), events.held()),
-            (Some(3), 3, 1)
+            EventKind::of_fate(FateKind::Diverted).as_str(),
+            FateKind::Diverted.as_str()
         );
     }
 }

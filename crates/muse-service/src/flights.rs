@@ -1,5 +1,6 @@
 //! The service's flights: what was asked, what was answered, and what became of it — and the
-//! in-memory index that reads are served from.
+//! in-memory index of the flights the live schedule holds (every other flight is read from the
+//! store).
 
 use std::collections::HashMap;
 use std::sync::Arc;
@@ -7,9 +8,26 @@ use std::sync::Arc;
 use muse_formats::plans::{ChangeNote, PlanLine, PlanRecord, plan_line};
 use muse_model::plan::{Fate, FateKind};
 use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Request, Stay, UtcOffset};
+use muse_planner::online::Holding;
 use serde::Serialize;
 
-use crate::store::FlightRecord;
+/// Longest client id (or announced zone id) accepted.
+pub const MAX_ID_LEN: usize = 128;
+
+/// Whether `id` is a valid client id: 1 to [`MAX_ID_LEN`] characters of letters, digits and
+/// `._~:-` (it names the flight in a URL path, and `#` is left for the store).
+///
+/// ```
+/// use muse_service::flights::valid_id;
+/// assert!(valid_id("r-000042") && !valid_id("") && !valid_id("a b") && !valid_id("a#2"));
+/// ```
+pub fn valid_id(id: &str) -> bool {
+    !id.is_empty()
+        && id.len() <= MAX_ID_LEN
+        && id
+            .bytes()
+            .all(|b| b.is_ascii_alphanumeric() || b"._~:-".contains(&b))
+}
 
 /// The reason given for a flight cancelled by its operator.
 pub const CANCELLED_BY_OPERATOR: &str = "cancelled_by_operator";
@@ -35,8 +53,8 @@ pub struct FlightEntry {
     pub cancelled_at: Option<Instant>,
     /// The zone announcements that changed it, in order (SPEC §11).
     pub changes: Vec<ChangeNote>,
-    /// What the last of them made of it; `None` if none changed it.
-    pub fate: Option<Fate>,
+    /// What each of them made of it, in the same order (the last is its current fate).
+    pub fates: Vec<Fate>,
 }
 
 /// A flight's status.
@@ -100,9 +118,14 @@ pub struct FlightView {
 }
 
 impl FlightEntry {
+    /// What the last zone announcement that changed it made of it; `None` if none did.
+    pub fn fate(&self) -> Option<&Fate> {
+        self.fates.last()
+    }
+
     /// The flight's status.
     pub fn status(&self) -> Status {
-        match (&self.result, self.cancelled_at, &self.fate) {
+        match (&self.result, self.cancelled_at, self.fate()) {
             (Err(_), _, _) => Status::Rejected,
             (Ok(_), Some(_), _) => Status::Cancelled,
             (Ok(_), None, None) => Status::Planned,
@@ -122,10 +145,47 @@ impl FlightEntry {
         if self.cancelled_at.is_some() {
             return None;
         }
-        match &self.fate {
+        match self.fate() {
             None => self.result.as_ref().ok(),
             Some(fate) => fate.plan(),
         }
+    }
+
+    /// What the flight holds in the live schedule: its booked plan, the committed part of a
+    /// contingency, or nothing.
+    pub fn holding(&self) -> Holding<'_> {
+        if self.cancelled_at.is_some() {
+            return Holding::Nothing;
+        }
+        match self.fate() {
+            None => self
+                .result
+                .as_ref()
+                .map_or(Holding::Nothing, Holding::Booked),
+            Some(fate) => Holding::of_fate(fate),
+        }
+    }
+
+    /// The last instant at which the flight holds a reservation (the landing of its booked
+    /// plan or of a contingency's committed part); `None` if it holds nothing.
+    pub fn holds_until(&self) -> Option<Instant> {
+        match self.holding() {
+            Holding::Booked(p) | Holding::Committed(p) => Some(p.landing()),
+            Holding::Nothing => None,
+        }
+    }
+
+    /// The flight as it stood just after its first `changes` zone changes, before any
+    /// cancellation by its operator (which is always its last change) unless `cancelled`.
+    #[must_use]
+    pub fn as_of(&self, changes: usize, cancelled: bool) -> Self {
+        let mut then = self.clone();
+        then.changes.truncate(changes);
+        then.fates.truncate(changes);
+        if !cancelled {
+            then.cancelled_at = None;
+        }
+        then
     }
 
     /// The flight after a zone announcement at `announced` made `fate` of it (`airborne`:
@@ -139,7 +199,7 @@ impl FlightEntry {
             airborne,
             outcome: fate.kind(),
         });
-        changed.fate = Some(fate);
+        changed.fates.push(fate);
         changed
     }
 
@@ -154,7 +214,7 @@ impl FlightEntry {
     /// replanned or diverted; a contingency's committed part; a cancelled flight's last
     /// plan), else the requested departure.
     pub fn span(&self) -> (Instant, Instant) {
-        let current = match &self.fate {
+        let current = match self.fate() {
             Some(Fate::Replanned(p) | Fate::Diverted(p) | Fate::Contingency(p)) => Some(p),
             Some(Fate::Cancelled) | None => self.result.as_ref().ok(),
         };
@@ -175,7 +235,7 @@ impl FlightEntry {
             free_flow: self.free_flow,
             expanded: self.expanded,
             changes: self.changes.clone(),
-            fate: self.fate.clone(),
+            fate: self.fate().cloned(),
         };
         let mut line = plan_line(airspace, offset, &record);
         if self.cancelled_at.is_some() {
@@ -199,61 +259,6 @@ impl FlightEntry {
             operator: self.operator.clone(),
             cancelled_at: self.cancelled_at.map(|t| t.to_rfc3339(offset)),
         }
-    }
-
-    /// The store record of this answer (without the cancellation, a record of its own).
-    pub fn to_record(&self, airspace: &Airspace) -> FlightRecord {
-        let node = |n: muse_model::NodeId| airspace.node(n).id.clone();
-        FlightRecord {
-            seq: self.seq,
-            id: self.request.id.clone(),
-            operator: self.operator.clone(),
-            origin: node(self.request.origin),
-            destination: node(self.request.destination),
-            departure: self.request.departure.0,
-            answered: self.answered.0,
-            path: self
-                .result
-                .as_ref()
-                .ok()
-                .map(|p| stays_to_record(airspace, p)),
-            reason: self.result.as_ref().err().map(|r| r.as_str().to_owned()),
-            free_flow: self.free_flow.map(|m| m.0),
-            expanded: self.expanded,
-        }
-    }
-
-    /// The flight a store record describes.
-    pub fn from_record(airspace: &Airspace, r: &FlightRecord) -> Result<FlightEntry, String> {
-        let node = |id: &str| {
-            airspace
-                .node_id(id)
-                .ok_or_else(|| format!("flight `{}`: unknown node `{id}`", r.id))
-        };
-        let result = match (&r.path, &r.reason) {
-            (Some(path), None) => Ok(stays_from_record(airspace, &r.id, path)?),
-            (None, Some(reason)) => Err(RejectReason::parse(reason)
-                .ok_or_else(|| format!("flight `{}`: unknown reason `{reason}`", r.id))?),
-            _ => return Err(format!("flight `{}`: neither a plan nor a reason", r.id)),
-        };
-        Ok(FlightEntry {
-            seq: r.seq,
-            operator: r.operator.clone(),
-            request: Request {
-                id: r.id.clone(),
-                origin: node(&r.origin)?,
-                destination: node(&r.destination)?,
-                departure: Instant(r.departure),
-                submitted: Instant(r.departure),
-            },
-            result,
-            free_flow: r.free_flow.map(Millis),
-            expanded: r.expanded,
-            answered: Instant(r.answered),
-            cancelled_at: None,
-            changes: Vec::new(),
-            fate: None,
-        })
     }
 }
 
@@ -285,15 +290,15 @@ pub fn stays_from_record(
     Ok(Plan { path })
 }
 
-/// The flights the service holds in memory, by id and in answer order: every flight that
-/// has not ended more than the retention time ago (see [`FlightIndex::evict_ended_before`]).
-/// Written only by the planner task, after the store has made its changes durable; read by
-/// every handler.
+/// The flights the live schedule holds (a booked plan or a contingency's committed part that
+/// has not ended), by id and by sequence number: what cancellations, zone announcements and
+/// most reads need at once. Every other flight is read from the store, so memory is bounded by
+/// the traffic of the booking horizon, not by the days served. Written only by the planner
+/// task, after the store has made its changes durable; read by every handler.
 #[derive(Debug, Default)]
 pub struct FlightIndex {
-    by_id: HashMap<String, Arc<FlightEntry>>,
-    /// In sequence (answer) order, for listing.
-    order: Vec<Arc<FlightEntry>>,
+    by_seq: HashMap<u64, Arc<FlightEntry>>,
+    by_id: HashMap<String, u64>,
 }
 
 /// What a listing asks for.
@@ -314,81 +319,49 @@ pub struct ListQuery {
 }
 
 impl FlightIndex {
-    /// The flight with client id `id`.
+    /// The flight with client id `id`, if the schedule holds it.
     pub fn get(&self, id: &str) -> Option<&Arc<FlightEntry>> {
-        self.by_id.get(id)
+        self.by_id.get(id).and_then(|seq| self.by_seq.get(seq))
     }
 
-    /// The flight with sequence number `seq`.
+    /// The flight with sequence number `seq`, if the schedule holds it.
     pub fn get_seq(&self, seq: u64) -> Option<&Arc<FlightEntry>> {
-        let i = self.order.partition_point(|e| e.seq < seq);
-        self.order.get(i).filter(|e| e.seq == seq)
+        self.by_seq.get(&seq)
     }
 
-    /// Number of flights known.
+    /// Number of flights held.
     pub fn len(&self) -> usize {
-        self.by_id.len()
+        self.by_seq.len()
     }
 
-    /// Whether no flight is known.
+    /// Whether no flight is held.
     pub fn is_empty(&self) -> bool {
-        self.by_id.is_empty()
+        self.by_seq.is_empty()
     }
 
-    /// Adds a new flight (its sequence number above every one held) or replaces a held one
-    /// (same id and sequence number).
-    pub fn put(&mut self, entry: Arc<FlightEntry>) {
-        match self.order.last() {
-            Some(last) if last.seq >= entry.seq => {
-                let i = self.order.partition_point(|e| e.seq < entry.seq);
-                debug_assert!(self.order.get(i).is_some_and(|e| e.seq == entry.seq));
-                if let Some(slot) = self.order.get_mut(i).filter(|e| e.seq == entry.seq) {
-                    *slot = Arc::clone(&entry);
-                }
-            }
-            _ => self.order.push(Arc::clone(&entry)),
+    /// Records a flight as it now stands: kept if it holds a reservation that ends at or after
+    /// `now`, dropped otherwise (cancelled, rejected, landed).
+    pub fn put(&mut self, entry: Arc<FlightEntry>, now: Instant) {
+        if entry.holds_until().is_some_and(|t| t >= now) {
+            self.by_id.insert(entry.request.id.clone(), entry.seq);
+            self.by_seq.insert(entry.seq, entry);
+        } else if let Some(old) = self.by_seq.remove(&entry.seq) {
+            self.by_id.remove(&old.request.id);
         }
-        self.by_id.insert(entry.request.id.clone(), entry);
     }
 
-    /// Drops from memory every flight whose span ended before `t` (the store keeps them);
-    /// returns how many.
+    /// Drops every flight whose reservations ended before `t`; returns how many.
     pub fn evict_ended_before(&mut self, t: Instant) -> usize {
-        let before = self.order.len();
+        let before = self.by_seq.len();
         let by_id = &mut self.by_id;
-        self.order.retain(|e| {
-            let keep = e.span().1 >= t;
+        self.by_seq.retain(|_, e| {
+            let keep = e.holds_until().is_some_and(|end| end >= t);
             if !keep {
                 by_id.remove(&e.request.id);
             }
             keep
         });
-        before - self.order.len()
-    }
-
-    /// The flights a listing asks for, in answer order, and whether more follow the page.
-    pub fn list(&self, q: &ListQuery) -> (Vec<Arc<FlightEntry>>, bool) {
-        let start = q
-            .after
-            .map_or(0, |after| self.order.partition_point(|e| e.seq <= after));
-        let limit = q.limit.unwrap_or(usize::MAX);
-        let mut out = Vec::new();
-        for e in &self.order[start..] {
-            if q.operator.as_ref().is_some_and(|op| *op != e.operator)
-                || q.status.is_some_and(|s| s != e.status())
-            {
-                continue;
-            }
-            let (a, b) = e.span();
-            if q.from.is_some_and(|f| b < f) || q.to.is_some_and(|t| a >= t) {
-                continue;
-            }
-            if out.len() == limit {
-                return (out, true);
-            }
-            out.push(Arc::clone(e));
-        }
-        (out, false)
+        before - self.by_seq.len()
     }
 }
 
@@ -432,39 +405,41 @@ mod tests {
             answered: Instant(0),
             cancelled_at: None,
             changes: Vec::new(),
-            fate: None,
+            fates: Vec::new(),
         })
     }
 
     #[test]
-    fn pages_follow_answer_order_and_eviction_drops_ended_flights() {
+    fn the_index_holds_what_the_schedule_holds() {
         let mut index = FlightIndex::default();
         for seq in 1..=6 {
-            index.put(entry(seq, 1_000 * seq as i64, seq % 2 == 0));
+            index.put(entry(seq, 1_000 * seq as i64, seq % 2 == 0), Instant(0));
         }
-        // Replacing keeps the place.
+        // Rejected flights hold nothing: only 2, 4 and 6 are kept.
+        assert_eq!(index.len(), 3);
+        assert!(index.get("f1").is_none() && index.get("f2").is_some());
+        // A cancellation drops it.
         let mut cancelled = (*entry(2, 2_000, true)).clone();
         cancelled.cancelled_at = Some(Instant(1));
-        index.put(Arc::new(cancelled));
-        let page = |index: &FlightIndex, after| {
-            index.list(&ListQuery {
-                after,
-                limit: Some(2),
-                ..ListQuery::default()
-            })
-        };
-        let (first, more) = page(&index, None);
-        assert!(more);
-        assert_eq!(first.iter().map(|e| e.seq).collect::<Vec<_>>(), [1, 2]);
-        assert_eq!(first[1].status(), Status::Cancelled);
-        let (second, _) = page(&index, Some(2));
-        assert_eq!(second.iter().map(|e| e.seq).collect::<Vec<_>>(), [3, 4]);
-        // Flights 1–3 end by 3,100 (rejections end at their departure).
-        assert_eq!(index.evict_ended_before(Instant(3_101)), 3);
-        assert!(index.get("f3").is_none() && index.get("f4").is_some());
-        assert_eq!(index.len(), 3);
-        let (rest, more) = page(&index, None);
-        assert!(more);
-        assert_eq!(rest.iter().map(|e| e.seq).collect::<Vec<_>>(), [4, 5]);
+        assert_eq!(cancelled.holding(), Holding::Nothing);
+        index.put(Arc::new(cancelled), Instant(0));
+        assert!(index.get("f2").is_none() && index.get_seq(2).is_none());
+        // Flight 4 lands at 4,100.
+        assert_eq!(index.evict_ended_before(Instant(4_101)), 1);
+        assert_eq!(index.get_seq(6).map(|e| e.seq), Some(6));
+        assert_eq!(index.len(), 1);
+    }
+
+    #[test]
+    fn a_flight_as_of_an_earlier_change() {
+        let mut e = (*entry(1, 1_000, true)).clone();
+        let first = e.result.clone().unwrap();
+        e = e.changed("Z", Instant(500), false, Fate::Replanned(first.clone()));
+        e = e.changed("Y", Instant(600), false, Fate::Cancelled);
+        assert_eq!(e.status(), Status::Cancelled);
+        let then = e.as_of(1, false);
+        assert_eq!(then.status(), Status::Replanned);
+        assert_eq!(then.holding(), Holding::Booked(&first));
+        assert_eq!(e.as_of(0, false).status(), Status::Planned);
     }
 }

@@ -1,10 +1,11 @@
 //! The MUSE planning service (SPEC §10): one live schedule behind a JSON API, planned against
 //! first come first served, every acknowledged change durable before it is answered.
 //!
-//! - [`store`]: the append-only log of checksummed records (group commit, torn-tail
-//!   recovery, one process per data folder);
-//! - [`engine`]: the planner task, the only writer of the schedule, fed by a channel;
-//! - [`flights`]: flights as the service knows them and the index reads are served from;
+//! - [`store`]: the SQLite store (one transaction per group of decisions, checksummed rows,
+//!   reads by index, one process per data folder, conversion of an earlier version's log);
+//! - [`engine`]: the planner task, the only writer of the schedule and the store, fed by a
+//!   channel: each command decided, stored, then applied by one function;
+//! - [`flights`]: flights as the service knows them, and the index of those the schedule holds;
 //! - [`zones`]: zones announced during the day (SPEC §11): reading them, knowing them;
 //! - [`events`]: the flights' change events, kept and streamed (`GET /v1/events`);
 //! - [`api`]: the HTTP routes (axum), input checks and answers;
@@ -16,9 +17,10 @@
 //!
 //! ```no_run
 //! # async fn demo(world: muse_service::state::ServiceWorld) -> Result<(), muse_service::ServeError> {
-//! use muse_service::{Options, start};
+//! use muse_service::{Options, launch};
 //! let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-//! let running = start(world, Options::new("./muse-data".into()), listener).await?;
+//! // Serves at once (`/healthz` says `starting`), loads the store, then answers everything.
+//! let running = launch(world, Options::new("./muse-data".into()), listener).await?.ready().await?;
 //! println!("listening on http://{}", running.addr);
 //! running.serve().await?;
 //! # Ok(()) }
@@ -37,15 +39,16 @@ pub mod zones;
 use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::sync::{Arc, RwLock};
+use std::time::Duration;
 
-use muse_model::Millis;
+use tokio::sync::{mpsc, oneshot, watch};
 
 use crate::api::{App, router};
 use crate::auth::{RateLimiter, Tokens};
-use crate::engine::Restored;
+use crate::engine::{Ended, Restored};
 use crate::flights::FlightIndex;
-use crate::state::{Clock, ServiceWorld, State};
-use crate::store::{Recovery, Store, StoreError};
+use crate::state::{Clock, Phase, ServiceWorld, State};
+use crate::store::{DB_FILE, Opening, Reader, StoreError};
 
 /// How a service runs, besides what it plans on.
 #[derive(Debug)]
@@ -62,12 +65,8 @@ pub struct Options {
     pub rate_limit: f64,
     /// Burst allowed above the rate.
     pub burst: f64,
-    /// How long after its end (landing, or departure for a rejection) a flight is kept in
-    /// memory for reads, listings and idempotent retries; the store keeps it for ever. Events
-    /// are kept as long after they happened.
-    pub retain: Millis,
     /// Events an event-stream listener may fall behind the live ones by before it reads the
-    /// history instead ([`events::LIVE_CAPACITY`] by default).
+    /// store instead ([`events::LIVE_CAPACITY`] by default).
     pub event_buffer: usize,
     /// The page served at `GET /` (the live viewer, built by the caller), if any.
     pub page: Option<String>,
@@ -75,7 +74,7 @@ pub struct Options {
 
 impl Options {
     /// Defaults: open, system clock, 16 KiB bodies, 20,000 requests per second per token with
-    /// bursts of 40,000, flights kept in memory for a day after they end.
+    /// bursts of 40,000.
     pub fn new(data: PathBuf) -> Self {
         Options {
             data,
@@ -84,7 +83,6 @@ impl Options {
             max_body: 16 * 1024,
             rate_limit: 20_000.0,
             burst: 40_000.0,
-            retain: Millis::from_secs(86_400),
             event_buffer: events::LIVE_CAPACITY,
             page: None,
         }
@@ -94,7 +92,7 @@ impl Options {
 /// Why a service could not start or stopped.
 #[derive(Debug, thiserror::Error)]
 pub enum ServeError {
-    /// The store could not be opened.
+    /// The store could not be opened or loaded, or failed while serving.
     #[error(transparent)]
     Store(#[from] StoreError),
     /// Open mode on a non-loopback address.
@@ -103,9 +101,9 @@ pub enum ServeError {
          and cancel) listens on loopback addresses only"
     )]
     OpenNotLoopback(SocketAddr),
-    /// Restoring the schedule from the store failed.
+    /// The planner task stopped unexpectedly.
     #[error("{0}")]
-    Recovery(String),
+    Stopped(String),
     /// A network error.
     #[error("{what}: {source}")]
     Io {
@@ -116,27 +114,67 @@ pub enum ServeError {
     },
 }
 
-/// A started service: the store is open, the schedule rebuilt, the listener bound.
+/// The HTTP server and the planner task of a launched service.
+#[derive(Debug)]
+struct Serving {
+    app: Arc<App>,
+    server: tokio::task::JoinHandle<std::io::Result<()>>,
+    ended: oneshot::Receiver<Ended>,
+}
+
+impl Serving {
+    /// Stops the server (answers under way finish, event streams end) and waits for it.
+    async fn stop(self) -> (Result<(), ServeError>, oneshot::Receiver<Ended>) {
+        let Serving { app, server, ended } = self;
+        app.stopping.send_replace(true);
+        drop(app);
+        let served = match server.await {
+            Ok(Ok(())) => Ok(()),
+            Ok(Err(source)) => Err(ServeError::Io {
+                what: "serving",
+                source,
+            }),
+            Err(e) => Err(ServeError::Stopped(format!("the server task failed: {e}"))),
+        };
+        (served, ended)
+    }
+}
+
+/// A service that serves already (`/healthz` answers `starting`, every other route `503`)
+/// while its planner task loads the store; [`Launched::ready`] waits for that.
+#[derive(Debug)]
+pub struct Launched {
+    /// The address it listens on.
+    pub addr: SocketAddr,
+    /// Whether the service is open (no tokens).
+    pub open: bool,
+    /// An earlier version's log being converted, if there is one.
+    pub importing: Option<PathBuf>,
+    ready: oneshot::Receiver<Result<Restored, StoreError>>,
+    serving: Serving,
+}
+
+/// A started service: the store is loaded and every route answers.
 #[derive(Debug)]
 pub struct Running {
     /// The address it listens on.
     pub addr: SocketAddr,
-    /// What the store's recovery found.
-    pub recovery: Recovery,
-    /// What was restored into the schedule.
+    /// What the store held.
     pub restored: Restored,
     /// Whether the service is open (no tokens).
     pub open: bool,
-    listener: tokio::net::TcpListener,
-    app: Arc<App>,
+    serving: Serving,
 }
 
-/// Opens the store, rebuilds the schedule from it and prepares to serve on `listener`.
-pub async fn start(
+/// Opens the store (checking it was written for `world`), starts serving on `listener` and
+/// starts the planner task, which loads the store in the background. Fails at once if the
+/// folder is locked by another service, or its store is of another world or damaged at its
+/// start.
+pub async fn launch(
     world: ServiceWorld,
     options: Options,
     listener: tokio::net::TcpListener,
-) -> Result<Running, ServeError> {
+) -> Result<Launched, ServeError> {
     let addr = listener.local_addr().map_err(|source| ServeError::Io {
         what: "reading the listening address",
         source,
@@ -144,28 +182,33 @@ pub async fn start(
     if options.tokens.is_open() && !addr.ip().is_loopback() {
         return Err(ServeError::OpenNotLoopback(addr));
     }
-    let fingerprint = world.fingerprint();
+    let description = world.description();
+    let legacy = world.legacy_fingerprint();
     let data = options.data.clone();
-    let (store, records, recovery) =
-        tokio::task::spawn_blocking(move || Store::open(&data, &fingerprint))
-            .await
-            .map_err(|e| ServeError::Recovery(format!("opening the store: {e}")))??;
+    let opening = tokio::task::spawn_blocking(move || Opening::open(&data, &description, &legacy))
+        .await
+        .map_err(|e| ServeError::Stopped(format!("opening the store: {e}")))??;
+    let importing = opening.imports().map(std::path::Path::to_path_buf);
     let airspace_geojson = muse_formats::airspace_geojson::write_airspace(&world.airspace);
     let state = Arc::new(State {
         index: RwLock::new(FlightIndex::default()),
+        reader: Reader::new(options.data.join(DB_FILE)),
+        phase: Phase::default(),
         metrics: metrics::Metrics::default(),
         clock: options.clock,
-        retain: options.retain,
         zones: RwLock::new(zones::ZoneBook::new(&world.zones)),
         events: events::Events::new(options.event_buffer),
         world,
     });
-    let engine_state = Arc::clone(&state);
-    let (commands, restored) =
-        tokio::task::spawn_blocking(move || engine::start(engine_state, store, records))
-            .await
-            .map_err(|e| ServeError::Recovery(format!("restoring: {e}")))?
-            .map_err(ServeError::Recovery)?;
+    let (commands, rx) = mpsc::channel(engine::QUEUE);
+    let (ready_tx, ready) = oneshot::channel();
+    let (ended_tx, ended) = oneshot::channel();
+    engine::spawn(Arc::clone(&state), opening, rx, ready_tx, ended_tx).map_err(|source| {
+        ServeError::Io {
+            what: "starting the planner thread",
+            source,
+        }
+    })?;
     let open = options.tokens.is_open();
     let app = Arc::new(App {
         state,
@@ -175,40 +218,97 @@ pub async fn start(
         airspace_geojson,
         page: options.page,
         max_body: options.max_body,
-        stopping: tokio::sync::watch::channel(false).0,
+        stopping: watch::channel(false).0,
     });
-    Ok(Running {
+    let mut stopping = app.stopping.subscribe();
+    let server = tokio::spawn(
+        axum::serve(listener, router(Arc::clone(&app)))
+            .with_graceful_shutdown(async move {
+                let _ = stopping.wait_for(|s| *s).await;
+            })
+            .into_future(),
+    );
+    Ok(Launched {
         addr,
-        recovery,
-        restored,
         open,
-        listener,
-        app,
+        importing,
+        ready,
+        serving: Serving { app, server, ended },
     })
 }
 
+/// [`launch`], then [`Launched::ready`]: the service once every route answers.
+pub async fn start(
+    world: ServiceWorld,
+    options: Options,
+    listener: tokio::net::TcpListener,
+) -> Result<Running, ServeError> {
+    launch(world, options, listener).await?.ready().await
+}
+
+impl Launched {
+    /// Waits until the store is loaded. If it cannot be (damaged, unreadable), the server is
+    /// stopped and the error names why.
+    pub async fn ready(self) -> Result<Running, ServeError> {
+        let Launched {
+            addr,
+            open,
+            ready,
+            serving,
+            ..
+        } = self;
+        match ready.await {
+            Ok(Ok(restored)) => Ok(Running {
+                addr,
+                restored,
+                open,
+                serving,
+            }),
+            Ok(Err(e)) => {
+                let _ = serving.stop().await;
+                Err(ServeError::Store(e))
+            }
+            Err(_) => {
+                let _ = serving.stop().await;
+                Err(ServeError::Stopped(
+                    "the planner task stopped while loading the store".into(),
+                ))
+            }
+        }
+    }
+}
+
 impl Running {
-    /// Serves until the process is stopped (or `shutdown` completes: then event streams
-    /// end, and the answers under way are finished).
+    /// Serves until `shutdown` completes (then event streams end, the answers under way are
+    /// finished, and the store is closed) or the store fails (then the service stops and the
+    /// error says why: a restart recovers exactly what is durable).
     pub async fn serve_until(
         self,
         shutdown: impl std::future::Future<Output = ()> + Send + 'static,
     ) -> Result<(), ServeError> {
-        let app = Arc::clone(&self.app);
-        let stop = async move {
-            shutdown.await;
-            app.stopping.send_replace(true);
+        let Running { mut serving, .. } = self;
+        let failed = tokio::select! {
+            () = shutdown => None,
+            ended = &mut serving.ended => Some(ended),
         };
-        axum::serve(self.listener, router(self.app))
-            .with_graceful_shutdown(stop)
-            .await
-            .map_err(|source| ServeError::Io {
-                what: "serving",
-                source,
-            })
+        let (served, ended) = serving.stop().await;
+        let ended = match failed {
+            Some(ended) => ended,
+            // A clean stop: the planner task ends once the server let go of its queue.
+            None => tokio::time::timeout(Duration::from_secs(10), ended)
+                .await
+                .unwrap_or(Ok(Ok(()))),
+        };
+        match ended {
+            Ok(Ok(())) => served,
+            Ok(Err(e)) => Err(ServeError::Store(e)),
+            Err(_) => Err(ServeError::Stopped(
+                "the planner task stopped unexpectedly".into(),
+            )),
+        }
     }
 
-    /// Serves until the process is stopped.
+    /// Serves until the process is stopped or the store fails.
     pub async fn serve(self) -> Result<(), ServeError> {
         self.serve_until(std::future::pending()).await
     }

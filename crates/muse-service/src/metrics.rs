@@ -103,6 +103,7 @@ pub struct Metrics {
     reservation_bytes: AtomicU64,
     flights: AtomicU64,
     store_bytes: AtomicU64,
+    flights_stored: AtomicU64,
 }
 
 impl Default for Metrics {
@@ -128,6 +129,7 @@ impl Default for Metrics {
             reservation_bytes: AtomicU64::new(0),
             flights: AtomicU64::new(0),
             store_bytes: AtomicU64::new(0),
+            flights_stored: AtomicU64::new(0),
         }
     }
 }
@@ -186,6 +188,16 @@ impl Metrics {
     /// Counts a request refused for want of a valid token.
     pub fn count_unauthorized(&self) {
         inc(&self.unauthorized);
+    }
+
+    /// Sets how many flights the store holds.
+    pub fn set_flights_stored(&self, n: u64) {
+        self.flights_stored.store(n, Ordering::Relaxed);
+    }
+
+    /// How many flights the store holds.
+    pub fn flights_stored(&self) -> u64 {
+        self.flights_stored.load(Ordering::Relaxed)
     }
 
     /// Sets the gauges of the schedule and the store.
@@ -305,12 +317,17 @@ impl Metrics {
             ),
             (
                 "muse_flights",
-                "Flights held in memory (all statuses; flights ended more than the retention ago are evicted).",
+                "Flights held in memory: those the live schedule holds (the store keeps every flight).",
                 get(&self.flights),
             ),
             (
+                "muse_flights_stored",
+                "Flights stored: every request answered, for the life of the store.",
+                get(&self.flights_stored),
+            ),
+            (
                 "muse_store_bytes",
-                "Size of the store's log, bytes.",
+                "Size of the store on disk (database and WAL), bytes.",
                 get(&self.store_bytes),
             ),
         ];

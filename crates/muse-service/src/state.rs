@@ -1,6 +1,7 @@
 //! What the service plans on and shares between its planner task and its handlers.
 
 use std::sync::RwLock;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 use muse_airspace::closures::{ClosureError, Closures, resolve};
 use muse_model::{Airspace, FlightParams, Instant, Millis, UtcOffset, Zone};
@@ -8,6 +9,7 @@ use muse_model::{Airspace, FlightParams, Instant, Millis, UtcOffset, Zone};
 use crate::events::Events;
 use crate::flights::FlightIndex;
 use crate::metrics::Metrics;
+use crate::store::Reader;
 use crate::zones::ZoneBook;
 
 /// How far ahead zone calendars are expanded at start: a service that runs longer must be
@@ -79,13 +81,80 @@ impl ServiceWorld {
         )
     }
 
-    /// What a store must have been written for to be restored here: the airspace, zones and
-    /// parameters, as counts and checksums of their canonical files.
-    pub fn fingerprint(&self) -> String {
+    /// What a store must have been written for to be restored here, in words: the airspace
+    /// and zones (counts and checksums of their canonical files) and every flight parameter
+    /// (`("speed", "30 km/h")`). A store written for anything else is refused, naming what
+    /// differs.
+    pub fn description(&self) -> Vec<(String, String)> {
         let airspace = muse_formats::airspace_geojson::write_airspace(&self.airspace);
         let zones = muse_formats::zones::write_ed318(&self.zones);
         let p = &self.params;
-        // Logs written without battery swaps keep the description they were written with.
+        let secs = |m: Millis| format!("{} s", m.as_secs_f64());
+        let mins = |m: Millis| format!("{} min", m.as_secs_f64() / 60.0);
+        let stations = self.airspace.stations().count();
+        let ids: Vec<&str> = self.zones.iter().map(|z| z.id.as_str()).collect();
+        [
+            (
+                "airspace",
+                format!(
+                    "{} stations, {} waypoints and {} corridors (GeoJSON checksum {:08x})",
+                    stations,
+                    self.airspace.node_count() - stations,
+                    self.airspace.edge_count(),
+                    crc32fast::hash(airspace.as_bytes()),
+                ),
+            ),
+            (
+                "zones",
+                if ids.is_empty() {
+                    "none".to_owned()
+                } else {
+                    format!(
+                        "{} (ED-318 checksum {:08x})",
+                        ids.join(", "),
+                        crc32fast::hash(zones.as_bytes())
+                    )
+                },
+            ),
+            ("speed", format!("{} km/h", p.speed.kmh())),
+            ("battery", mins(p.max_flight)),
+            ("node separation", secs(p.node_separation)),
+            (
+                "edge rule",
+                match p.edge_rule {
+                    muse_model::EdgeRule::Exclusive => "exclusive".to_owned(),
+                    muse_model::EdgeRule::Headway(h) => format!("headway {}", secs(h)),
+                },
+            ),
+            ("ground delay", secs(p.max_ground_delay)),
+            (
+                "battery swaps",
+                p.battery_swap.map_or("off".to_owned(), |s| {
+                    format!(
+                        "{}, {}",
+                        secs(s.time),
+                        s.max_legs
+                            .map_or("any number of legs".into(), |k| format!("at most {k} legs"))
+                    )
+                }),
+            ),
+            (
+                "delivery deadline",
+                p.max_trip.map_or("none".to_owned(), mins),
+            ),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_owned(), v))
+        .collect()
+    }
+
+    /// How the earlier versions' log described the world it was written for (to convert such
+    /// a log: see `store::legacy`).
+    pub fn legacy_fingerprint(&self) -> String {
+        let airspace = muse_formats::airspace_geojson::write_airspace(&self.airspace);
+        let zones = muse_formats::zones::write_ed318(&self.zones);
+        let p = &self.params;
+        // Logs written without battery swaps kept the description they were written with.
         let swaps = p.battery_swap.map_or(String::new(), |s| {
             format!(
                 ", battery swaps {} ms, at most {} legs",
@@ -153,18 +222,77 @@ fn system_ms() -> i64 {
 pub struct State {
     /// What is planned on.
     pub world: ServiceWorld,
-    /// Every flight known, for reads.
+    /// The flights the schedule holds, for reads.
     pub index: RwLock<FlightIndex>,
+    /// Reads of every other flight, and of the event history.
+    pub reader: Reader,
+    /// Whether the service has loaded its store.
+    pub phase: Phase,
     /// Counters and histograms.
     pub metrics: Metrics,
     /// The clock.
     pub clock: Clock,
-    /// How long after its end a flight stays in memory (for reads and idempotent retries),
-    /// and an event in the history.
-    pub retain: Millis,
     /// The zones known from the start and those announced since (written by the planner
     /// task only).
     pub zones: RwLock<ZoneBook>,
     /// The flights' change events (published by the planner task only).
     pub events: Events,
+}
+
+/// Where a starting service is: loading its store, or serving.
+#[derive(Debug, Default)]
+pub struct Phase {
+    ready: AtomicBool,
+    /// Records of an earlier version's log converted so far.
+    imported: AtomicU64,
+    /// Flights still ahead loaded so far, and how many there are.
+    loaded: AtomicU64,
+    to_load: AtomicU64,
+}
+
+/// What a starting service has done so far (`GET /healthz` while `starting`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct Progress {
+    /// Records of an earlier version's log converted so far (0 when there is none).
+    pub imported_records: u64,
+    /// Flights still ahead put back into the schedule so far.
+    pub flights_loaded: u64,
+    /// Flights still ahead to put back (0 until counted).
+    pub flights_to_load: u64,
+}
+
+impl Phase {
+    /// Whether the store is loaded and the service answers.
+    pub fn is_ready(&self) -> bool {
+        self.ready.load(Ordering::Acquire)
+    }
+
+    /// Marks the service ready.
+    pub fn set_ready(&self) {
+        self.ready.store(true, Ordering::Release);
+    }
+
+    /// What has been done so far.
+    pub fn progress(&self) -> Progress {
+        Progress {
+            imported_records: self.imported.load(Ordering::Relaxed),
+            flights_loaded: self.loaded.load(Ordering::Relaxed),
+            flights_to_load: self.to_load.load(Ordering::Relaxed),
+        }
+    }
+
+    /// Records converted so far.
+    pub fn set_imported(&self, n: u64) {
+        self.imported.store(n, Ordering::Relaxed);
+    }
+
+    /// Flights to load.
+    pub fn set_to_load(&self, n: u64) {
+        self.to_load.store(n, Ordering::Relaxed);
+    }
+
+    /// Flights loaded so far.
+    pub fn set_loaded(&self, n: u64) {
+        self.loaded.store(n, Ordering::Relaxed);
+    }
 }

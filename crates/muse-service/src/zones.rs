@@ -1,6 +1,6 @@
-//! Zones announced during the day (SPEC §11): how a `POST /v1/zones` body becomes a zone,
-//! and what the service knows of the zones announced so far (for `GET /v1/zones`, for
-//! refusing an id twice, and for withdrawals).
+//! Zones announced during the day (SPEC §11): what the service knows of the zones announced
+//! so far (for `GET /v1/zones`, for refusing an id twice, and for withdrawals). How a
+//! `POST /v1/zones` body becomes a [`NewZone`] is the API's business (`api::zone_body`).
 //!
 //! An announced zone is one ED-318 feature. The service sets its announcement instant (its
 //! clock's now when the planner takes it); a body that gives one is refused. Its id is the
@@ -14,8 +14,6 @@ use muse_formats::zones::{read_zones, write_ed318};
 use muse_model::{Instant, UtcOffset, Zone};
 use serde_json::Value;
 
-use crate::api::MAX_ID_LEN;
-
 /// A zone to announce, read from a request body.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NewZone {
@@ -26,117 +24,6 @@ pub struct NewZone {
     /// The zones it reads as (one, or one per area: see the module docs), without
     /// announcement instant.
     pub zones: Vec<Zone>,
-}
-
-/// Why a body is not a zone to announce: the field at fault (as `muse_formats` names it) and
-/// what is wrong.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct BodyError {
-    /// The field, when one is to blame.
-    pub field: Option<String>,
-    /// What is wrong.
-    pub message: String,
-}
-
-impl BodyError {
-    fn new(field: Option<&str>, message: impl Into<String>) -> Self {
-        BodyError {
-            field: field.map(str::to_owned),
-            message: message.into(),
-        }
-    }
-}
-
-/// Reads a `POST /v1/zones` body: one ED-318 feature, or a `FeatureCollection` of exactly
-/// one, without `announced`.
-///
-/// ```
-/// use muse_service::zones::parse_feature;
-/// let body = br#"{"type": "Feature", "properties": {"identifier": "Z", "nodes": ["B"]}, "geometry": null}"#;
-/// let zone = parse_feature(body).unwrap();
-/// assert_eq!((zone.id.as_str(), zone.zones[0].node_ids.as_slice()), ("Z", &["B".to_owned()][..]));
-/// let e = parse_feature(br#"{"type": "Feature", "properties": {"identifier": "Z", "nodes": ["B"],
-///     "announced": "2026-01-05T14:00:00+08:00"}}"#).unwrap_err();
-/// assert_eq!(e.field.as_deref(), Some("properties.announced"));
-/// ```
-pub fn parse_feature(body: &[u8]) -> Result<NewZone, BodyError> {
-    let root: Value = serde_json::from_slice(body)
-        .map_err(|e| BodyError::new(None, format!("the body is not valid JSON: {e}")))?;
-    let feature = match root.get("type").and_then(Value::as_str) {
-        Some("Feature") => root,
-        Some("FeatureCollection") => match root.get("features").and_then(Value::as_array) {
-            Some(features) if features.len() == 1 => features[0].clone(),
-            Some(features) => {
-                return Err(BodyError::new(
-                    Some("features"),
-                    format!(
-                        "one zone per announcement: the FeatureCollection must hold exactly one \
-                         feature, not {}",
-                        features.len()
-                    ),
-                ));
-            }
-            None => {
-                return Err(BodyError::new(
-                    Some("features"),
-                    "the FeatureCollection has no `features` array",
-                ));
-            }
-        },
-        _ => {
-            return Err(BodyError::new(
-                Some("type"),
-                "expected an ED-318 zone: a GeoJSON Feature (or a FeatureCollection of one)",
-            ));
-        }
-    };
-    if feature
-        .get("properties")
-        .and_then(|p| p.get("announced"))
-        .is_some()
-    {
-        return Err(BodyError::new(
-            Some("properties.announced"),
-            "the service sets the announcement instant itself (its clock's now when the zone \
-             is taken into account); leave `announced` out",
-        ));
-    }
-    let text = feature.to_string();
-    let zones = read_zones(&text, "the zone").map_err(|e| {
-        BodyError::new(
-            e.field.as_deref(),
-            format!("not a valid ED-318 zone: {}", e.message),
-        )
-    })?;
-    let Some(first) = zones.first() else {
-        return Err(BodyError::new(None, "the feature holds no zone"));
-    };
-    let id = if zones.len() == 1 {
-        first.id.clone()
-    } else {
-        first
-            .id
-            .rsplit_once('#')
-            .map_or_else(|| first.id.clone(), |(id, _)| id.to_owned())
-    };
-    let ok_id = id.len() <= MAX_ID_LEN
-        && id
-            .bytes()
-            .all(|b| b.is_ascii_alphanumeric() || b"._~:-".contains(&b));
-    if !ok_id {
-        return Err(BodyError::new(
-            Some("identifier"),
-            format!(
-                "an announced zone's identifier must be 1 to {MAX_ID_LEN} characters of letters, \
-                 digits and `._~:-` (it names the zone in /v1/zones/{{id}}), got {id:?}"
-            ),
-        ));
-    }
-    Ok(NewZone {
-        id,
-        feature: text,
-        zones,
-    })
 }
 
 /// The zones a stored feature reads as, announced at `announced`.
@@ -296,39 +183,27 @@ mod tests {
             {"type": "Point", "coordinates": [103.80, 1.30], "extent": {"subType": "Circle", "radius": 100}},
             {"type": "Point", "coordinates": [103.82, 1.30], "extent": {"subType": "Circle", "radius": 100}}]}}]}"#;
 
-    #[test]
-    fn bodies_are_read_or_refused_with_the_field_at_fault() {
-        let zone = parse_feature(ZONE.as_bytes()).unwrap();
-        assert_eq!(zone.id, "EVT");
-        assert_eq!(zone.zones.len(), 2);
-        let field = |body: &str| parse_feature(body.as_bytes()).unwrap_err().field;
-        assert_eq!(field("nope"), None);
-        assert_eq!(field(r#"{"type": "Point"}"#).as_deref(), Some("type"));
-        assert_eq!(
-            field(r#"{"type": "FeatureCollection", "features": []}"#).as_deref(),
-            Some("features")
-        );
-        assert_eq!(
-            field(r#"{"type": "Feature", "properties": {"identifier": "Z", "nodes": "B"}}"#)
-                .as_deref(),
-            Some("nodes")
-        );
-        assert_eq!(
-            field(r#"{"type": "Feature", "properties": {"identifier": "a b", "nodes": ["B"]}}"#)
-                .as_deref(),
-            Some("identifier")
-        );
+    fn new_zone(text: &str) -> NewZone {
+        let zones = read_zones(text, "test").unwrap();
+        let id = zones[0]
+            .id
+            .rsplit_once('#')
+            .map_or(zones[0].id.clone(), |(s, _)| s.to_owned());
+        NewZone {
+            id,
+            feature: text.to_owned(),
+            zones,
+        }
     }
 
     #[test]
     fn ids_are_never_reused_and_withdrawals_are_listed() {
-        let base = parse_feature(
-            br#"{"type": "Feature", "properties": {"identifier": "BASE", "nodes": ["A"]}}"#,
-        )
-        .unwrap();
+        let base = new_zone(
+            r#"{"type": "Feature", "properties": {"identifier": "BASE", "nodes": ["A"]}}"#,
+        );
         let mut book = ZoneBook::new(&base.zones);
         assert!(book.is_base("BASE") && book.taken(&base));
-        let evt = parse_feature(ZONE.as_bytes()).unwrap();
+        let evt = new_zone(ZONE);
         assert!(!book.taken(&evt));
         let at = Instant::parse_rfc3339("2026-01-05T14:00:00+08:00").unwrap();
         book.announce(AnnouncedZone {

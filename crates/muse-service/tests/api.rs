@@ -583,25 +583,23 @@ async fn pages_after_concurrent_requests_list_each_flight_once() {
     assert_eq!((seen.len(), unique.len()), (64, 64), "{seen:?}");
 }
 
+/// Ids are forever (SPEC §10): a departure in the past, however old, is answered and stored,
+/// and its id names that answer from then on.
 #[tokio::test]
-async fn departures_older_than_the_retention_are_answered_but_not_kept() {
-    let s = Service::start("retain", |o| o.retain = Millis::from_secs(3_600)).await;
+async fn departures_in_the_past_are_answered_and_kept() {
+    let s = Service::start("past", |_| {}).await;
     let (code, v) = s
-        .post(None, &flight("old", "A", "B", &in_secs(-7_200)))
+        .post(None, &flight("old", "A", "B", &in_secs(-30 * 86_400)))
         .await;
     assert_eq!(
         (code, v["reason"].as_str()),
         (200, Some("departure_in_past"))
     );
-    assert_eq!(s.get("/v1/flights/old", None).await.0, 404);
-    let (code, v) = s
-        .post(None, &flight("recent", "A", "B", &in_secs(-60)))
-        .await;
-    assert_eq!(
-        (code, v["reason"].as_str()),
-        (200, Some("departure_in_past"))
-    );
-    assert_eq!(s.get("/v1/flights/recent", None).await.0, 200);
+    let (code, again) = s.get("/v1/flights/old", None).await;
+    assert_eq!((code, &again), (200, &v));
+    // The same id with a departure ahead is a conflict, not a second flight.
+    let (code, v) = s.post(None, &flight("old", "A", "B", &in_secs(600))).await;
+    assert_eq!((code, error_field(&v)), (409, Some("id")));
 }
 
 #[tokio::test]
@@ -688,7 +686,8 @@ async fn state_survives_a_restart_on_the_same_folder() {
     }
     let running = running.expect("restarts once the first service is gone");
     assert_eq!(running.restored.flights, 2);
-    assert_eq!(running.restored.cancellations, 1);
+    // The cancelled flight holds nothing: only k1 is put back into the schedule.
+    assert_eq!(running.restored.held, 1);
     let base = format!("http://{}", running.addr);
     tokio::spawn(running.serve());
     let client = reqwest::Client::new();

@@ -51,6 +51,16 @@ impl ApiError {
         ApiError::new(StatusCode::NOT_FOUND, "not_found", format!("no {what}"))
     }
 
+    /// A read of the store failed (damage found, or the database unreadable): a 500 that
+    /// names what, never data that might be wrong.
+    pub(super) fn store(e: &crate::store::StoreError) -> Self {
+        ApiError::new(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            "store",
+            format!("reading the store failed: {e}"),
+        )
+    }
+
     pub(super) fn unavailable() -> Self {
         ApiError::new(
             StatusCode::SERVICE_UNAVAILABLE,

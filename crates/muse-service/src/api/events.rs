@@ -5,9 +5,10 @@
 //! has its id (`id:`), its kind (`event:` `planned`, `cancelled`, `replanned`, `diverted` or
 //! `contingency`) and `data:` JSON `{"flight", "operator", "status", "zone" (when a zone
 //! caused it), "plan"}`. Without `Last-Event-ID` the stream starts with the events that
-//! follow the connection; with `Last-Event-ID: N` it first replays every held event with an
-//! id above `N` (`0`: all held), then continues live, with no gap and no repeat. A comment
-//! is sent every [`KEEP_ALIVE`] so that idle connections stay open.
+//! follow the connection; with `Last-Event-ID: N` it first replays every stored event with an
+//! id above `N` (`0`: all of them, read from the store page by page), then continues live,
+//! with no gap and no repeat. A comment is sent every [`KEEP_ALIVE`] so that idle connections
+//! stay open.
 
 use std::collections::VecDeque;
 use std::convert::Infallible;
@@ -25,6 +26,9 @@ use crate::events::Event;
 
 use super::{ApiError, App, Authed};
 
+/// Events read from the store at a time when a listener catches up.
+const PAGE: usize = 512;
+
 /// How often a keep-alive comment is sent on an idle stream.
 pub const KEEP_ALIVE: Duration = Duration::from_secs(15);
 
@@ -37,6 +41,9 @@ struct Listener {
     backlog: VecDeque<Arc<Event>>,
     /// The highest id sent or passed over.
     cursor: u64,
+    /// Whether events after the cursor may still be in the store only (the history is read
+    /// until it is exhausted).
+    behind: bool,
     stop: watch::Receiver<bool>,
     /// A comment to send first.
     note: Option<String>,
@@ -51,19 +58,40 @@ impl Listener {
         let w = &self.app.state.world;
         SseEvent::default()
             .id(e.id.to_string())
-            .event(e.kind)
+            .event(e.kind.as_str())
             .data(e.data(&w.airspace, w.offset))
     }
 
-    /// Reads the events after the cursor from the history (after a lag, or at the start).
-    fn refill(&mut self) {
-        let caller = &self.caller;
-        self.backlog = self
-            .app
-            .state
-            .events
-            .after(self.cursor, |e| caller.may_read(&e.entry.operator))
-            .into();
+    /// Reads the next page of events after the cursor from the store (after a lag, or at the
+    /// start). A failed read ends the catching up with a comment saying why.
+    async fn refill(&mut self) {
+        let app = Arc::clone(&self.app);
+        let operator = (self.caller.role != crate::auth::Role::Authority)
+            .then(|| self.caller.operator.clone());
+        let after = self.cursor;
+        let read = tokio::task::spawn_blocking(move || {
+            app.state.reader.events_after(
+                &app.state.world.airspace,
+                after,
+                operator.as_deref(),
+                PAGE,
+            )
+        })
+        .await;
+        match read {
+            Ok(Ok(events)) => {
+                self.behind = events.len() == PAGE;
+                self.backlog = events.into_iter().map(Arc::new).collect();
+            }
+            Ok(Err(e)) => {
+                self.behind = false;
+                self.note = Some(format!("reading the stored events failed: {e}"));
+            }
+            Err(_) => {
+                self.behind = false;
+                self.note = Some("reading the stored events failed".into());
+            }
+        }
     }
 
     /// The next event of the stream; `None` when the service stops.
@@ -79,6 +107,13 @@ impl Listener {
                 self.cursor = e.id;
                 let event = self.sse(&e);
                 return Some((Ok(event), self));
+            }
+            if self.behind {
+                self.refill().await;
+                if let Some(note) = self.note.take() {
+                    return Some((Ok(SseEvent::default().comment(note)), self));
+                }
+                continue;
             }
             let received = tokio::select! {
                 r = self.rx.recv() => r,
@@ -96,7 +131,7 @@ impl Listener {
                 // Fallen behind the channel: what it dropped is in the history.
                 Err(broadcast::error::RecvError::Lagged(_)) => {
                     self.app.state.metrics.count_event_lag();
-                    self.refill();
+                    self.behind = true;
                 }
                 Err(broadcast::error::RecvError::Closed) => return None,
             }
@@ -125,33 +160,16 @@ pub(super) async fn stream(
         .transpose()?;
     // Subscribe before reading the history: together they miss nothing.
     let rx = app.state.events.subscribe();
-    let events = &app.state.events;
-    let (cursor, note) = match last {
-        Some(id) => {
-            let first = events.first_held().unwrap_or(events.last_id() + 1);
-            let note = (id + 1 < first && id < events.last_id()).then(|| {
-                format!(
-                    "events {} to {} are no longer held (older than the retention time)",
-                    id + 1,
-                    first - 1
-                )
-            });
-            (id, note)
-        }
-        None => (events.last_id(), None),
-    };
-    let mut listener = Listener {
+    let listener = Listener {
         stop: app.stopping.subscribe(),
+        cursor: last.unwrap_or_else(|| app.state.events.last_id()),
+        behind: last.is_some(),
         app: Arc::clone(&app),
         caller,
         rx,
         backlog: VecDeque::new(),
-        cursor,
-        note,
+        note: None,
     };
-    if last.is_some() {
-        listener.refill();
-    }
     let stream = futures_util::stream::unfold(listener, Listener::next);
     Ok(Sse::new(stream)
         .keep_alive(KeepAlive::new().interval(KEEP_ALIVE).text("keep-alive"))

@@ -17,7 +17,8 @@ use crate::flights::{FlightEntry, ListQuery, Status};
 use crate::metrics::PlanOutcome;
 
 use super::error::json;
-use super::{ApiError, App, Authed, MAX_ID_LEN};
+use super::{ApiError, App, Authed};
+use crate::flights::{MAX_ID_LEN, valid_id};
 
 /// The body of `POST /v1/flights`.
 #[derive(Debug, Deserialize)]
@@ -57,13 +58,7 @@ fn parse_body<T: serde::de::DeserializeOwned>(bytes: &[u8]) -> Result<T, ApiErro
 /// Checks a new flight's fields against the airspace and the clock.
 fn validate(app: &App, body: NewFlight) -> Result<Request, ApiError> {
     let world = &app.state.world;
-    let ok_id = !body.id.is_empty()
-        && body.id.len() <= MAX_ID_LEN
-        && body
-            .id
-            .bytes()
-            .all(|b| b.is_ascii_alphanumeric() || b"._~:-".contains(&b));
-    if !ok_id {
+    if !valid_id(&body.id) {
         return Err(ApiError::invalid(
             "id",
             format!(
@@ -254,12 +249,22 @@ pub(super) async fn list(
         after: p.after,
         limit: p.limit,
     };
-    let (entries, more) = app
-        .state
-        .index
-        .read()
-        .unwrap_or_else(std::sync::PoisonError::into_inner)
-        .list(&query);
+    let reader = Arc::clone(&app);
+    let (entries, more) = tokio::task::spawn_blocking(move || {
+        reader
+            .state
+            .reader
+            .list(&reader.state.world.airspace, &query)
+    })
+    .await
+    .map_err(|_| {
+        ApiError::new(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            "internal",
+            "the listing failed",
+        )
+    })?
+    .map_err(|e| ApiError::store(&e))?;
     let w = &app.state.world;
     let body = FlightList {
         next_after: if more {
@@ -280,14 +285,24 @@ pub(super) async fn read(
     Authed(caller): Authed,
     Path(id): Path<String>,
 ) -> Result<Response, ApiError> {
-    let entry = app
+    let held = app
         .state
         .index
         .read()
         .unwrap_or_else(std::sync::PoisonError::into_inner)
         .get(&id)
+        .cloned();
+    let entry = match held {
+        Some(e) => Some(e),
+        None => app
+            .state
+            .reader
+            .flight(&app.state.world.airspace, &id)
+            .map_err(|e| ApiError::store(&e))?
+            .map(Arc::new),
+    };
+    let entry = entry
         .filter(|e| caller.may_read(&e.operator))
-        .cloned()
         .ok_or_else(|| ApiError::not_found(&format!("flight `{id}`")))?;
     Ok(flight_json(&app, StatusCode::OK, &entry))
 }

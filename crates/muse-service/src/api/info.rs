@@ -59,13 +59,18 @@ pub(super) async fn openapi() -> Response {
 
 #[derive(Serialize)]
 struct Health {
+    /// `ok`, or `starting` while the store is being loaded (answered `503`).
     status: &'static str,
     now: String,
-    flights: usize,
+    /// Flights stored (every request answered, for the life of the store).
+    flights: u64,
+    /// Of those, the flights the live schedule holds (in memory).
+    flights_held: usize,
     airspace: String,
     parameters: Parameters,
-    /// Seconds a flight stays in memory after it ends (`--retain-hours`).
-    retain_s: f64,
+    /// While starting: what has been loaded so far.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    progress: Option<crate::state::Progress>,
 }
 
 /// The flight parameters planned with (SPEC §3), as `muse plan` takes them.
@@ -87,19 +92,25 @@ struct Parameters {
 
 pub(super) async fn healthz(AxumState(app): AxumState<Arc<App>>) -> Response {
     let s = &app.state;
-    let flights = s
+    let flights_held = s
         .index
         .read()
         .unwrap_or_else(std::sync::PoisonError::into_inner)
         .len();
+    let ready = s.phase.is_ready();
     json(
-        StatusCode::OK,
+        if ready {
+            StatusCode::OK
+        } else {
+            StatusCode::SERVICE_UNAVAILABLE
+        },
         &Health {
-            status: "ok",
+            status: if ready { "ok" } else { "starting" },
             now: s.clock.now().to_rfc3339(s.world.offset),
-            flights,
+            flights: s.metrics.flights_stored(),
+            flights_held,
             airspace: s.world.label.clone(),
-            retain_s: s.retain.as_secs_f64(),
+            progress: (!ready).then(|| s.phase.progress()),
             parameters: {
                 let p = &s.world.params;
                 Parameters {

@@ -36,6 +36,7 @@ mod error;
 pub mod events;
 mod flights;
 mod info;
+pub mod zone_body;
 mod zones;
 
 use std::sync::Arc;
@@ -79,8 +80,7 @@ pub const ROUTES: &[(&str, &str)] = &[
     ("get", "/metrics"),
 ];
 
-/// Longest client id accepted.
-pub const MAX_ID_LEN: usize = 128;
+pub use crate::flights::MAX_ID_LEN;
 
 /// What the handlers share.
 #[derive(Debug)]
@@ -123,6 +123,10 @@ pub fn router(app: Arc<App>) -> Router {
         .route("/healthz", get(healthz))
         .route("/metrics", get(metrics))
         .fallback(not_found)
+        .layer(axum::middleware::from_fn_with_state(
+            Arc::clone(&app),
+            until_ready,
+        ))
         .layer(DefaultBodyLimit::max(max_body))
         .layer(CatchPanicLayer::custom(|_| {
             ApiError::new(
@@ -133,6 +137,43 @@ pub fn router(app: Arc<App>) -> Router {
             .into_response()
         }))
         .with_state(app)
+}
+
+/// While the store is being loaded, every route but `/healthz`, `/metrics` and the API
+/// description answers `503` (`starting`, retry in a second): nothing is decided on a
+/// schedule that is not whole yet.
+async fn until_ready(
+    axum::extract::State(app): axum::extract::State<Arc<App>>,
+    request: axum::extract::Request,
+    next: axum::middleware::Next,
+) -> axum::response::Response {
+    let always = matches!(
+        request.uri().path(),
+        "/healthz" | "/metrics" | "/v1/openapi.json"
+    );
+    if always || app.state.phase.is_ready() {
+        return next.run(request).await;
+    }
+    let p = app.state.phase.progress();
+    let mut e = ApiError::new(
+        StatusCode::SERVICE_UNAVAILABLE,
+        "starting",
+        format!(
+            "the service is starting: {} of {} flights still ahead loaded{}; see /healthz",
+            p.flights_loaded,
+            p.flights_to_load,
+            if p.imported_records > 0 {
+                format!(
+                    ", {} records of an earlier version's log converted",
+                    p.imported_records
+                )
+            } else {
+                String::new()
+            }
+        ),
+    );
+    e.retry_after_s = Some(1);
+    e.into_response()
 }
 
 async fn not_found() -> ApiError {

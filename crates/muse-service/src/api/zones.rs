@@ -13,7 +13,9 @@ use tokio::sync::oneshot;
 use crate::auth::{Caller, Role};
 use crate::engine::{AnnounceReply, Command, WithdrawReply};
 use crate::flights::FlightView;
-use crate::zones::{AnnouncedZone, parse_feature};
+use crate::zones::AnnouncedZone;
+
+use super::zone_body::parse_feature;
 
 use super::error::json;
 use super::{ApiError, App, Authed};

@@ -5,11 +5,12 @@ use std::sync::Arc;
 
 use muse_airspace::closures::ClosureError;
 use muse_model::Instant;
-use muse_model::plan::Fate;
 
-use super::{Engine, Staged, store_failed};
-use crate::flights::{FlightEntry, stays_to_record};
-use crate::store::{OutcomeRecord, Record, Store, ZoneRecord};
+use super::apply::Change;
+use super::{Engine, Fatal};
+use crate::events::EventKind;
+use crate::flights::FlightEntry;
+use crate::store::StoredZone;
 use crate::zones::{AnnouncedZone, NewZone};
 
 /// The answer to [`Command::Announce`](super::Command::Announce).
@@ -57,16 +58,10 @@ pub enum WithdrawReply {
     Failed(String),
 }
 
-impl Engine<'_, '_> {
-    /// Announces `zone` now: replans what it hits, stores the zone and every outcome as one
-    /// record committed alone, and stages the changed flights and their events. Returns the
-    /// answer and the zone to record as announced once published.
-    pub(super) fn announce(
-        &mut self,
-        store: &mut Store,
-        staged: &mut Staged,
-        zone: NewZone,
-    ) -> (AnnounceReply, Option<AnnouncedZone>) {
+impl Engine<'_> {
+    /// Announces `zone` now: decides what it does to the flights it hits (on a copy of the
+    /// schedule), stores the zone, every changed flight and its event, then applies it all.
+    pub(super) fn announce(&mut self, zone: NewZone) -> Result<AnnounceReply, Fatal> {
         let taken = self
             .state
             .zones
@@ -74,7 +69,7 @@ impl Engine<'_, '_> {
             .unwrap_or_else(std::sync::PoisonError::into_inner)
             .taken(&zone);
         if taken {
-            return (AnnounceReply::Taken, None);
+            return Ok(AnnounceReply::Taken);
         }
         let n = self.live.now();
         let closures = match self.state.world.announced_closures(&zone.zones, n) {
@@ -88,25 +83,27 @@ impl Engine<'_, '_> {
                     _ => None,
                 };
                 let message = format!("the zone does not fit this airspace: {e}");
-                return (AnnounceReply::Invalid { field, message }, None);
+                return Ok(AnnounceReply::Invalid { field, message });
             }
         };
         let live = &mut self.live;
-        let affected = match catch_unwind(AssertUnwindSafe(|| live.announce(&zone.id, closures))) {
+        let decided = catch_unwind(AssertUnwindSafe(|| {
+            live.decide_announcement(&zone.id, &closures)
+        }));
+        let affected = match decided {
             Ok(Ok(affected)) => affected,
-            Ok(Err(_)) => return (AnnounceReply::Taken, None),
-            // The schedule may be half replanned: stop, so that a restart recovers exactly
-            // what is stored (nothing of this announcement).
-            Err(_) => halt(&format!(
-                "internal error while replanning for zone `{}`",
-                zone.id
-            )),
+            Ok(Err(_)) => return Ok(AnnounceReply::Taken),
+            // Deciding works on a copy: nothing changed.
+            Err(_) => {
+                return Ok(AnnounceReply::Failed(format!(
+                    "internal error while replanning for zone `{}`; nothing was changed",
+                    zone.id
+                )));
+            }
         };
-        let mut outcomes = Vec::with_capacity(affected.len());
         let mut changed = Vec::with_capacity(affected.len());
         for a in affected {
-            // Staged is empty (the group before was committed): the index knows every flight
-            // the schedule holds.
+            // The group before was committed: the index knows every flight the schedule holds.
             let known = self
                 .state
                 .index
@@ -115,65 +112,57 @@ impl Engine<'_, '_> {
                 .get_seq(a.flight)
                 .cloned();
             let Some(known) = known else {
-                halt(&format!(
-                    "the schedule holds flight #{} the index does not know",
+                return Ok(AnnounceReply::Failed(format!(
+                    "internal error: the schedule holds flight #{} the index does not know; \
+                     nothing was changed",
                     a.flight
-                ))
+                )));
             };
-            let airspace = &self.state.world.airspace;
-            outcomes.push(OutcomeRecord {
-                seq: a.flight,
-                airborne: a.airborne,
-                outcome: a.fate.kind().as_str().to_owned(),
-                path: match &a.fate {
-                    Fate::Replanned(p) | Fate::Diverted(p) | Fate::Contingency(p) => {
-                        Some(stays_to_record(airspace, p))
-                    }
-                    Fate::Cancelled => None,
-                },
-            });
-            let kind = a.fate.kind().as_str();
-            let entry = Arc::new(known.changed(&zone.id, n, a.airborne, a.fate));
-            self.emit(kind, n, Some(&zone.id), &entry);
-            staged.insert(entry.request.id.clone(), Arc::clone(&entry));
-            changed.push(entry);
+            let kind = EventKind::of_fate(a.fate.kind());
+            changed.push((
+                kind,
+                Arc::new(known.changed(&zone.id, n, a.airborne, a.fate)),
+            ));
         }
-        let record = Record::Zone(ZoneRecord {
+        let stored = StoredZone {
             id: zone.id.clone(),
             feature: zone.feature,
-            announced: n.0,
-            outcomes,
-        });
-        if let Err(e) = store.commit_alone(&record) {
-            store_failed(&e, &mut Vec::new());
+            announced: n,
+            withdrawn: None,
+            affected: changed.len(),
+        };
+        self.store.put_zone(&stored)?;
+        let airspace = &self.state.world.airspace;
+        for (kind, entry) in &changed {
+            self.store.put_flight(airspace, entry, false)?;
+            self.emit(*kind, n, Some(&zone.id), entry)?;
         }
         let mut zones = zone.zones;
         for z in &mut zones {
             z.announced = Some(n);
         }
-        let known = AnnouncedZone {
-            id: zone.id.clone(),
-            zones,
-            announced: n,
-            withdrawn: None,
-            affected: changed.len(),
-        };
+        let affected: Vec<Arc<FlightEntry>> = changed.into_iter().map(|(_, e)| e).collect();
+        self.apply(Change::Zone {
+            zone: AnnouncedZone {
+                id: zone.id.clone(),
+                zones,
+                announced: n,
+                withdrawn: None,
+                affected: affected.len(),
+            },
+            closures: Some(closures),
+        });
+        self.apply(Change::Flights(affected.clone()));
         self.state.metrics.count_zone(true);
-        let answer = Announcement {
+        Ok(AnnounceReply::Done(Announcement {
             zone: zone.id,
             announced: n,
-            affected: changed,
-        };
-        (AnnounceReply::Done(answer), Some(known))
+            affected,
+        }))
     }
 
-    /// Withdraws the announced zone `id` now (nothing is replanned) and appends its record.
-    /// Returns the answer and the withdrawal to record once durable.
-    pub(super) fn withdraw(
-        &mut self,
-        store: &mut Store,
-        id: &str,
-    ) -> (WithdrawReply, Option<(String, Instant)>) {
+    /// Withdraws the announced zone `id` now (nothing is replanned): stores it, applies it.
+    pub(super) fn withdraw(&mut self, id: &str) -> Result<WithdrawReply, Fatal> {
         let zone = {
             let book = self
                 .state
@@ -181,38 +170,25 @@ impl Engine<'_, '_> {
                 .read()
                 .unwrap_or_else(std::sync::PoisonError::into_inner);
             if book.is_base(id) {
-                return (WithdrawReply::Base, None);
+                return Ok(WithdrawReply::Base);
             }
             match book.get(id) {
-                None => return (WithdrawReply::Unknown, None),
+                None => return Ok(WithdrawReply::Unknown),
                 Some(z) if z.withdrawn.is_some() => {
-                    return (WithdrawReply::Already(z.clone()), None);
+                    return Ok(WithdrawReply::Already(z.clone()));
                 }
                 Some(z) => z.clone(),
             }
         };
-        if self.live.withdraw(id).is_err() {
-            return (
-                WithdrawReply::Failed(format!(
-                    "internal error: the schedule does not hold zone `{id}`"
-                )),
-                None,
-            );
-        }
         let at = self.live.now();
-        store.append(&Record::Withdraw {
-            id: id.to_owned(),
-            at: at.0,
-        });
-        self.state.metrics.count_zone(false);
         let mut zone = zone;
         zone.withdrawn = Some(at);
-        (WithdrawReply::Done(zone), Some((id.to_owned(), at)))
+        self.store.put_zone_withdrawn(id, at)?;
+        self.apply(Change::Withdrawal {
+            id: id.to_owned(),
+            at,
+        });
+        self.state.metrics.count_zone(false);
+        Ok(WithdrawReply::Done(zone))
     }
-}
-
-/// Stops the service after an internal error that leaves the schedule unlike the store.
-fn halt(message: &str) -> ! {
-    eprintln!("muse serve: {message}; the service stops (a restart recovers what is stored)");
-    std::process::exit(70);
 }

@@ -1,0 +1,69 @@
+//! The start: what the planner needs from the store, and nothing more.
+//!
+//! Every announced zone (a handful) and every flight that still holds a reservation (ending
+//! at or after the clock's now) are read, their checksums checked, and applied with
+//! [`Engine::apply`], as live changes are. Flights that ended stay in the store, where reads
+//! find them; so the start's time and memory grow with the traffic still ahead, not with the
+//! days served. Nothing is planned again: each flight is put back as it stands, with the
+//! outcome of every zone that changed it.
+
+use std::sync::Arc;
+
+use super::apply::Change;
+use super::{Engine, Restored};
+use crate::store::StoreError;
+use crate::zones::{AnnouncedZone, read_stored};
+
+impl Engine<'_> {
+    /// Loads the store into the schedule, the index and the zones; returns what it found.
+    pub(super) fn load(&mut self) -> Result<Restored, StoreError> {
+        let state = self.state;
+        let world = &state.world;
+        let now = self.live.now();
+        let label = self.store.path().display().to_string();
+        let damaged = |what: String| StoreError::Damaged {
+            path: label.clone(),
+            what,
+        };
+        let mut restored = Restored::default();
+        for z in self.store.zones()? {
+            let zones = read_stored(&z.feature, z.announced)
+                .map_err(|e| damaged(format!("zones row {:?}: {e}", z.id)))?;
+            let closures = match z.withdrawn {
+                Some(_) => None,
+                None => Some(
+                    world
+                        .announced_closures(&zones, z.announced)
+                        .map_err(|e| damaged(format!("zones row {:?}: {e}", z.id)))?,
+                ),
+            };
+            restored.zones += 1;
+            restored.withdrawn += usize::from(z.withdrawn.is_some());
+            self.apply(Change::Zone {
+                zone: AnnouncedZone {
+                    id: z.id,
+                    zones,
+                    announced: z.announced,
+                    withdrawn: z.withdrawn,
+                    affected: z.affected,
+                },
+                closures,
+            });
+        }
+        state.phase.set_to_load(self.store.count_holding(now)?);
+        let phase = &state.phase;
+        let held = self
+            .store
+            .holding(&world.airspace, now, &mut |n| phase.set_loaded(n))?;
+        restored.held = held.len();
+        self.apply(Change::Flights(held.into_iter().map(Arc::new).collect()));
+        let (last_seq, last_event) = self.store.last_keys()?;
+        self.next_seq = last_seq + 1;
+        self.next_event = last_event + 1;
+        restored.flights = last_seq;
+        restored.events = last_event;
+        state.events.restore(last_event);
+        self.publish();
+        Ok(restored)
+    }
+}

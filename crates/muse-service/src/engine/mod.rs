@@ -1,0 +1,586 @@
+//! The planner task: the one place where the service's state changes.
+//!
+//! Handlers send [`Command`]s over a channel; one thread takes them in arrival order, in
+//! groups of whatever has queued up (up to [`MAX_GROUP`]). Every command goes the same way:
+//!
+//! 1. it is **decided** against the live schedule, without changing it: planned, rejected,
+//!    repeated, conflicting, cancelled, refused; a zone's outcomes are decided on a copy;
+//! 2. what it changes is **stored** as rows in the group's transaction (the flight as it now
+//!    stands, its event, the zone);
+//! 3. the change is **applied** to the schedule by [`Engine::apply`] — the one function that
+//!    changes it, used alike when the service restarts and puts back what its store holds —
+//!    so that the group's later commands are decided against it;
+//! 4. once the whole group is **committed** (durable), the changed flights and zones become
+//!    visible to reads, the events go out, and every answer of the group is sent.
+//!
+//! So nothing is acknowledged before it is durable, planning is serialized against one
+//! schedule (no double booking under any interleaving), and reads never wait for planning. A
+//! zone announcement or withdrawal (SPEC §11, in the `zones` submodule) is a group of its own.
+//!
+//! If the store fails, the schedule may hold what the store does not: the task answers the
+//! group's commands with an error, stops, and reports the failure to [`crate::Running`],
+//! which stops the service (a restart recovers exactly what is durable). At start the task
+//! first loads the store (the `load` submodule), then serves.
+
+mod apply;
+mod load;
+mod zones;
+
+use std::collections::HashMap;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::Arc;
+use std::time::Instant as WallInstant;
+
+use muse_model::{Instant, Request};
+use muse_planner::online::CancelError;
+use muse_planner::{Live, Planner};
+use tokio::sync::{mpsc, oneshot};
+
+use crate::auth::Caller;
+use crate::events::{Event, EventKind};
+use crate::flights::{FlightEntry, Status};
+use crate::metrics::PlanOutcome;
+use crate::state::State;
+use crate::store::{ImportReport, Opening, Store, StoreError};
+use crate::zones::{AnnouncedZone, NewZone};
+
+pub use zones::{AnnounceReply, Announcement, WithdrawReply};
+
+use apply::Change;
+
+/// How far the clock moves between two evictions of ended flights from the index.
+const EVICT_EVERY: muse_model::Millis = muse_model::Millis::from_secs(60);
+
+/// Most commands decided and committed as one group.
+pub const MAX_GROUP: usize = 512;
+/// Commands that may wait in the channel before senders wait too (back-pressure).
+pub const QUEUE: usize = 8_192;
+
+/// A change asked of the planner task.
+#[derive(Debug)]
+pub enum Command {
+    /// Plan a new flight (or answer a retry of one).
+    Plan {
+        /// Who asks.
+        caller: Caller,
+        /// The request, validated.
+        request: Request,
+        /// Where to send the answer.
+        reply: oneshot::Sender<PlanReply>,
+    },
+    /// Cancel a flight.
+    Cancel {
+        /// Who asks.
+        caller: Caller,
+        /// The flight's id.
+        id: String,
+        /// Where to send the answer.
+        reply: oneshot::Sender<CancelReply>,
+    },
+    /// Announce a zone now (SPEC §11); the caller is the authority.
+    Announce {
+        /// The zone, read and checked.
+        zone: NewZone,
+        /// Where to send the answer.
+        reply: oneshot::Sender<AnnounceReply>,
+    },
+    /// Withdraw an announced zone; the caller is the authority.
+    Withdraw {
+        /// The zone's id.
+        id: String,
+        /// Where to send the answer.
+        reply: oneshot::Sender<WithdrawReply>,
+    },
+}
+
+impl Command {
+    /// Answers that the service failed, without deciding anything.
+    fn refuse(self, message: &str) {
+        let m = message.to_owned();
+        match self {
+            Command::Plan { reply, .. } => drop(reply.send(PlanReply::Failed(m))),
+            Command::Cancel { reply, .. } => drop(reply.send(CancelReply::Failed(m))),
+            Command::Announce { reply, .. } => drop(reply.send(AnnounceReply::Failed(m))),
+            Command::Withdraw { reply, .. } => drop(reply.send(WithdrawReply::Failed(m))),
+        }
+    }
+}
+
+/// The answer to [`Command::Plan`].
+#[derive(Debug)]
+pub enum PlanReply {
+    /// A new request, answered (planned or rejected) and stored.
+    New(Arc<FlightEntry>),
+    /// A retry with the same id and content: the flight as it stands.
+    Repeat(Arc<FlightEntry>),
+    /// The id names another request (or another operator's).
+    Conflict,
+    /// The service could not answer (nothing was booked).
+    Failed(String),
+}
+
+/// The answer to [`Command::Cancel`].
+#[derive(Debug)]
+pub enum CancelReply {
+    /// Cancelled now, durably.
+    Done(Arc<FlightEntry>),
+    /// Already cancelled earlier.
+    Already(Arc<FlightEntry>),
+    /// No such flight for this caller.
+    NotFound,
+    /// It has taken off: committed.
+    TookOff(Arc<FlightEntry>),
+    /// It was rejected: there is nothing to cancel.
+    NotPlanned(Arc<FlightEntry>),
+    /// The service could not answer.
+    Failed(String),
+}
+
+/// What the start found in the store, for the start-up message.
+#[derive(Clone, Debug, Default)]
+pub struct Restored {
+    /// Flights stored (every status, for the life of the store).
+    pub flights: u64,
+    /// Of those, the flights still ahead or in the air, put back into the schedule.
+    pub held: usize,
+    /// Zones announced (their outcomes are in the flights).
+    pub zones: usize,
+    /// Of those, zones withdrawn since.
+    pub withdrawn: usize,
+    /// Events stored (the id of the last one).
+    pub events: u64,
+    /// What the conversion of an earlier version's log did, if there was one.
+    pub import: Option<ImportReport>,
+}
+
+/// How the planner task ended: `Ok` when every sender was gone (a clean stop).
+pub type Ended = Result<(), StoreError>;
+
+/// Starts the planner task on its own thread: it converts and loads the store (`opening`),
+/// reports what it restored on `ready`, then serves `commands` until every sender is gone,
+/// and reports how it ended on `ended`.
+pub fn spawn(
+    state: Arc<State>,
+    opening: Opening,
+    commands: mpsc::Receiver<Command>,
+    ready: oneshot::Sender<Result<Restored, StoreError>>,
+    ended: oneshot::Sender<Ended>,
+) -> Result<(), std::io::Error> {
+    std::thread::Builder::new()
+        .name("muse-planner".into())
+        .spawn(move || {
+            let result = run(&state, opening, commands, ready);
+            let _ = ended.send(result);
+        })
+        .map(drop)
+}
+
+fn run(
+    state: &State,
+    opening: Opening,
+    mut rx: mpsc::Receiver<Command>,
+    ready: oneshot::Sender<Result<Restored, StoreError>>,
+) -> Ended {
+    let world = &state.world;
+    let planner = Planner::new(&world.airspace, world.params);
+    let live = Live::new(planner, &world.closures, state.clock.now());
+    let description = world.description();
+    let phase = &state.phase;
+    let opened = opening.finish(&world.airspace, &description, &mut |n| {
+        phase.set_imported(n)
+    });
+    let (store, import) = match opened {
+        Ok(s) => s,
+        Err(e) => {
+            // The start fails: `ready` says why.
+            let _ = ready.send(Err(e));
+            return Ok(());
+        }
+    };
+    let mut engine = Engine {
+        state,
+        live,
+        store,
+        next_seq: 1,
+        next_event: 1,
+        events: Vec::new(),
+        staged: Staged::default(),
+        zone_changes: Vec::new(),
+        last_evict: state.clock.now(),
+    };
+    match engine.load() {
+        Ok(mut restored) => {
+            restored.import = import;
+            state.phase.set_ready();
+            let _ = ready.send(Ok(restored));
+        }
+        Err(e) => {
+            let _ = ready.send(Err(e));
+            return Ok(());
+        }
+    }
+    engine.update_gauges();
+    let mut group = Vec::with_capacity(MAX_GROUP);
+    while let Some(first) = rx.blocking_recv() {
+        group.push(first);
+        while group.len() < MAX_GROUP {
+            match rx.try_recv() {
+                Ok(c) => group.push(c),
+                Err(_) => break,
+            }
+        }
+        engine.decide_and_commit(&mut group)?;
+    }
+    engine.store.close()
+}
+
+/// An answer waiting for its group to be durable.
+enum Pending {
+    Plan(oneshot::Sender<PlanReply>, PlanReply),
+    Cancel(oneshot::Sender<CancelReply>, CancelReply),
+    Announce(oneshot::Sender<AnnounceReply>, AnnounceReply),
+    Withdraw(oneshot::Sender<WithdrawReply>, WithdrawReply),
+}
+
+impl Pending {
+    /// Answers that the store failed.
+    fn fail(self, message: &str) {
+        let m = message.to_owned();
+        match self {
+            Pending::Plan(tx, _) => drop(tx.send(PlanReply::Failed(m))),
+            Pending::Cancel(tx, _) => drop(tx.send(CancelReply::Failed(m))),
+            Pending::Announce(tx, _) => drop(tx.send(AnnounceReply::Failed(m))),
+            Pending::Withdraw(tx, _) => drop(tx.send(WithdrawReply::Failed(m))),
+        }
+    }
+
+    /// Sends the answer (a client that went away no longer waits for it; its work is done).
+    fn send(self) {
+        match self {
+            Pending::Plan(tx, answer) => drop(tx.send(answer)),
+            Pending::Cancel(tx, answer) => drop(tx.send(answer)),
+            Pending::Announce(tx, answer) => drop(tx.send(answer)),
+            Pending::Withdraw(tx, answer) => drop(tx.send(answer)),
+        }
+    }
+}
+
+/// Flights changed by the current group, by id: visible to its later commands, published to
+/// reads once the group is durable.
+type Staged = HashMap<String, Arc<FlightEntry>>;
+
+/// A change of the zones known, published with its group.
+enum ZoneChange {
+    Announced(AnnouncedZone),
+    Withdrawn(String, Instant),
+}
+
+struct Engine<'s> {
+    state: &'s State,
+    live: Live<'s>,
+    store: Store,
+    next_seq: u64,
+    /// The id of the next event.
+    next_event: u64,
+    /// Events of the current group, published after its commit.
+    events: Vec<Arc<Event>>,
+    staged: Staged,
+    zone_changes: Vec<ZoneChange>,
+    /// When flights were last evicted from the index.
+    last_evict: Instant,
+}
+
+/// A failure of the store while deciding: the group is answered with it and the task stops.
+struct Fatal(StoreError);
+
+impl From<StoreError> for Fatal {
+    fn from(e: StoreError) -> Self {
+        Fatal(e)
+    }
+}
+
+impl Engine<'_> {
+    /// Decides every command of `group`, commits the group, then publishes and answers. A
+    /// failure of the store answers the group with it and ends the task.
+    fn decide_and_commit(&mut self, group: &mut Vec<Command>) -> Ended {
+        self.live.advance(self.state.clock.now());
+        let now = self.live.now();
+        if now - self.last_evict >= EVICT_EVERY {
+            self.state
+                .index
+                .write()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .evict_ended_before(now);
+            self.last_evict = now;
+        }
+        let mut answers = Vec::with_capacity(group.len());
+        let mut commands = group.drain(..);
+        let outcome = commands
+            .by_ref()
+            .try_for_each(|command| self.decide(command, &mut answers))
+            .and_then(|()| self.commit(&mut answers));
+        match outcome {
+            Ok(()) => {
+                self.update_gauges();
+                Ok(())
+            }
+            Err(Fatal(e)) => {
+                // Nothing of the group is durable: every one of its commands is answered so.
+                let message = format!("the store failed ({e}); the service stops");
+                for a in answers.drain(..) {
+                    a.fail(&message);
+                }
+                for command in commands {
+                    command.refuse(&message);
+                }
+                Err(e)
+            }
+        }
+    }
+
+    fn decide(&mut self, command: Command, answers: &mut Vec<Pending>) -> Result<(), Fatal> {
+        match command {
+            Command::Plan {
+                caller,
+                request,
+                reply,
+            } => {
+                let answer = self.plan(&caller, request)?;
+                answers.push(Pending::Plan(reply, answer));
+            }
+            Command::Cancel { caller, id, reply } => {
+                let answer = self.cancel(&caller, &id)?;
+                answers.push(Pending::Cancel(reply, answer));
+            }
+            // Zone changes are groups of their own.
+            Command::Announce { zone, reply } => {
+                self.commit(answers)?;
+                let answer = self.announce(zone)?;
+                answers.push(Pending::Announce(reply, answer));
+                self.commit(answers)?;
+            }
+            Command::Withdraw { id, reply } => {
+                self.commit(answers)?;
+                let answer = self.withdraw(&id)?;
+                answers.push(Pending::Withdraw(reply, answer));
+                self.commit(answers)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The flight with client id `id`: as changed by this group, as held, or as stored.
+    fn lookup(&self, id: &str) -> Result<Option<Arc<FlightEntry>>, StoreError> {
+        if let Some(e) = self.staged.get(id) {
+            return Ok(Some(Arc::clone(e)));
+        }
+        let held = self
+            .state
+            .index
+            .read()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .get(id)
+            .cloned();
+        if held.is_some() {
+            return Ok(held);
+        }
+        Ok(self
+            .store
+            .flight(&self.state.world.airspace, id)?
+            .map(Arc::new))
+    }
+
+    fn plan(&mut self, caller: &Caller, request: Request) -> Result<PlanReply, Fatal> {
+        let metrics = &self.state.metrics;
+        // Ids are forever: a stored id, at any age, is a retry or a conflict.
+        if let Some(known) = self.lookup(&request.id)? {
+            return Ok(
+                if known.operator == caller.operator && known.same_request(&request) {
+                    metrics.count_plan(PlanOutcome::Repeated);
+                    PlanReply::Repeat(known)
+                } else {
+                    metrics.count_plan(PlanOutcome::Conflict);
+                    PlanReply::Conflict
+                },
+            );
+        }
+        let seq = self.next_seq;
+        let started = WallInstant::now();
+        let live = &mut self.live;
+        let Ok(outcome) = catch_unwind(AssertUnwindSafe(|| live.plan(&request))) else {
+            return Ok(PlanReply::Failed(format!(
+                "internal error while planning `{}`; nothing was booked",
+                request.id
+            )));
+        };
+        metrics.plan_latency.observe(started.elapsed());
+        self.next_seq += 1;
+        metrics.count_plan(match &outcome.result {
+            Ok(_) => PlanOutcome::Planned,
+            Err(r) => PlanOutcome::Rejected(*r),
+        });
+        let entry = Arc::new(FlightEntry {
+            seq,
+            operator: caller.operator.clone(),
+            request,
+            result: outcome.result,
+            free_flow: outcome.free_flow,
+            expanded: outcome.expanded,
+            answered: self.live.now(),
+            cancelled_at: None,
+            changes: Vec::new(),
+            fates: Vec::new(),
+        });
+        self.store
+            .put_flight(&self.state.world.airspace, &entry, true)?;
+        if entry.result.is_ok() {
+            self.emit(EventKind::Planned, entry.answered, None, &entry)?;
+        }
+        self.apply(Change::Flights(vec![Arc::clone(&entry)]));
+        Ok(PlanReply::New(entry))
+    }
+
+    fn cancel(&mut self, caller: &Caller, id: &str) -> Result<CancelReply, Fatal> {
+        let metrics = &self.state.metrics;
+        // Only the owner may cancel (SPEC §10); to anyone else the flight does not exist.
+        let Some(known) = self.lookup(id)?.filter(|e| e.operator == caller.operator) else {
+            return Ok(CancelReply::NotFound);
+        };
+        match known.status() {
+            Status::Cancelled => return Ok(CancelReply::Already(known)),
+            Status::Rejected => {
+                metrics.count_cancel(false);
+                return Ok(CancelReply::NotPlanned(known));
+            }
+            // Airborne when a zone was announced: it took off.
+            Status::Contingency => {
+                metrics.count_cancel(false);
+                return Ok(CancelReply::TookOff(known));
+            }
+            Status::Planned | Status::Replanned | Status::Diverted => {}
+        }
+        // A flight that has landed is no longer held by the live schedule; it took off.
+        let took_off = known
+            .booked_plan()
+            .is_some_and(|p| p.takeoff() <= self.live.now());
+        let decided = if took_off {
+            Err(CancelError::TookOff)
+        } else {
+            self.live.can_cancel(known.seq).map(drop)
+        };
+        match decided {
+            Ok(()) => {}
+            Err(CancelError::TookOff) => {
+                metrics.count_cancel(false);
+                return Ok(CancelReply::TookOff(known));
+            }
+            Err(CancelError::NotHeld) => {
+                return Ok(CancelReply::Failed(format!(
+                    "internal error: the schedule does not hold flight `{id}`"
+                )));
+            }
+        }
+        metrics.count_cancel(true);
+        let at = self.live.now();
+        let mut entry = (*known).clone();
+        entry.cancelled_at = Some(at);
+        let entry = Arc::new(entry);
+        self.store
+            .put_flight(&self.state.world.airspace, &entry, false)?;
+        self.emit(EventKind::Cancelled, at, None, &entry)?;
+        self.apply(Change::Flights(vec![Arc::clone(&entry)]));
+        Ok(CancelReply::Done(entry))
+    }
+
+    /// Numbers a change of a flight and stores it; it is published with the group.
+    fn emit(
+        &mut self,
+        kind: EventKind,
+        at: Instant,
+        zone: Option<&str>,
+        entry: &Arc<FlightEntry>,
+    ) -> Result<(), StoreError> {
+        let event = Arc::new(Event {
+            id: self.next_event,
+            kind,
+            at,
+            zone: zone.map(str::to_owned),
+            entry: Arc::clone(entry),
+        });
+        self.store.put_event(&event)?;
+        self.events.push(event);
+        self.next_event += 1;
+        Ok(())
+    }
+
+    /// Makes the group durable, then publishes what it changed and sends its answers.
+    fn commit(&mut self, answers: &mut Vec<Pending>) -> Result<(), Fatal> {
+        let started = WallInstant::now();
+        let rows = self.store.commit()?;
+        if rows > 0 {
+            self.state.metrics.store_latency.observe(started.elapsed());
+            self.state
+                .metrics
+                .group_size
+                .observe_value(answers.len() as f64);
+        }
+        self.publish();
+        for a in answers.drain(..) {
+            a.send();
+        }
+        Ok(())
+    }
+
+    /// Makes what the committed group changed visible: the flights to reads, the zones to
+    /// `GET /v1/zones`, the events to their listeners.
+    fn publish(&mut self) {
+        let now = self.live.now();
+        if !self.staged.is_empty() {
+            let mut index = self
+                .state
+                .index
+                .write()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            for (_, entry) in self.staged.drain() {
+                index.put(entry, now);
+            }
+        }
+        if !self.zone_changes.is_empty() {
+            let mut book = self
+                .state
+                .zones
+                .write()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            for change in self.zone_changes.drain(..) {
+                match change {
+                    ZoneChange::Announced(zone) => book.announce(zone),
+                    ZoneChange::Withdrawn(id, at) => {
+                        book.withdraw(&id, at);
+                    }
+                }
+            }
+        }
+        if !self.events.is_empty() {
+            self.state.events.publish(self.events.drain(..));
+        }
+    }
+
+    fn update_gauges(&self) {
+        let schedule = self.live.schedule();
+        let flights = self
+            .state
+            .index
+            .read()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .len();
+        self.state
+            .metrics
+            .set_flights_stored(self.next_seq.saturating_sub(1));
+        self.state.metrics.set_sizes(
+            schedule.reservations(),
+            schedule.reservation_bytes(),
+            flights,
+            self.store.bytes(),
+        );
+    }
+}

@@ -1,0 +1,210 @@
+//! Reads shared by the planner task's connection and the handlers' read connections: every
+//! row read is checked against its checksum before it is used.
+
+use muse_model::{Airspace, Instant};
+use rusqlite::{Connection, OptionalExtension as _, params};
+
+use super::rows::{EVENT_COLUMNS, EventRow, FLIGHT_COLUMNS, FlightRow, ZONE_COLUMNS, ZoneRow};
+use super::{StoreError, StoredZone, sql};
+use crate::events::Event;
+use crate::flights::{FlightEntry, ListQuery};
+
+/// The flight with client id `id`.
+pub(super) fn flight_by_id(
+    conn: &Connection,
+    airspace: &Airspace,
+    path: &str,
+    id: &str,
+) -> Result<Option<FlightEntry>, StoreError> {
+    let mut stmt = conn
+        .prepare_cached(&format!(
+            "SELECT {FLIGHT_COLUMNS} FROM flights WHERE id = ?1"
+        ))
+        .map_err(sql("reading a flight"))?;
+    let row = stmt
+        .query_row([id], |r| FlightRow::read(r, 0))
+        .optional()
+        .map_err(sql("reading a flight"))?;
+    row.map(|r| {
+        if r.id != id {
+            return Err(StoreError::Damaged {
+                path: path.to_owned(),
+                what: format!(
+                    "flights row seq {}: found under id {id:?} but names {:?}",
+                    r.seq, r.id
+                ),
+            });
+        }
+        r.entry(airspace, path)
+    })
+    .transpose()
+}
+
+/// The flight with sequence number `seq`.
+pub(super) fn flight_by_seq(
+    conn: &Connection,
+    airspace: &Airspace,
+    path: &str,
+    seq: u64,
+) -> Result<Option<FlightEntry>, StoreError> {
+    let mut stmt = conn
+        .prepare_cached(&format!(
+            "SELECT {FLIGHT_COLUMNS} FROM flights WHERE seq = ?1"
+        ))
+        .map_err(sql("reading a flight"))?;
+    let row = stmt
+        .query_row([seq as i64], |r| FlightRow::read(r, 0))
+        .optional()
+        .map_err(sql("reading a flight"))?;
+    row.map(|r| r.entry(airspace, path)).transpose()
+}
+
+/// The flights a listing asks for, in answer order, and whether more follow the page.
+pub(super) fn list(
+    conn: &Connection,
+    airspace: &Airspace,
+    path: &str,
+    q: &ListQuery,
+) -> Result<(Vec<FlightEntry>, bool), StoreError> {
+    let limit = q.limit.map_or(i64::MAX, |l| l as i64);
+    let mut stmt = conn
+        .prepare_cached(&format!(
+            "SELECT {FLIGHT_COLUMNS} FROM flights
+             WHERE seq > ?1
+               AND (?2 IS NULL OR operator = ?2)
+               AND (?3 IS NULL OR status = ?3)
+               AND (?4 IS NULL OR landing_ms >= ?4)
+               AND (?5 IS NULL OR takeoff_ms < ?5)
+             ORDER BY seq LIMIT ?6"
+        ))
+        .map_err(sql("listing flights"))?;
+    let rows = stmt
+        .query_map(
+            params![
+                q.after.map_or(0, |a| a as i64),
+                q.operator,
+                q.status.map(crate::flights::Status::as_str),
+                q.from.map(|t| t.0),
+                q.to.map(|t| t.0),
+                limit.saturating_add(1),
+            ],
+            |r| FlightRow::read(r, 0),
+        )
+        .map_err(sql("listing flights"))?;
+    let mut out = Vec::new();
+    for row in rows {
+        let row = row.map_err(sql("listing flights"))?;
+        if out.len() as i64 == limit {
+            return Ok((out, true));
+        }
+        out.push(row.entry(airspace, path)?);
+    }
+    Ok((out, false))
+}
+
+/// Up to `limit` events with an id above `after`, each with its flight as it stood then,
+/// keeping those of `operator` only when it is given.
+pub(super) fn events_after(
+    conn: &Connection,
+    airspace: &Airspace,
+    path: &str,
+    after: u64,
+    operator: Option<&str>,
+    limit: usize,
+) -> Result<Vec<Event>, StoreError> {
+    let columns: String = FLIGHT_COLUMNS
+        .split(", ")
+        .map(|c| format!("f.{}", c.trim()))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let event_columns: String = EVENT_COLUMNS
+        .split(", ")
+        .map(|c| format!("e.{}", c.trim()))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let mut stmt = conn
+        .prepare_cached(&format!(
+            "SELECT {event_columns}, {columns} FROM events e JOIN flights f ON f.seq = e.flight_seq
+             WHERE e.id > ?1 AND (?2 IS NULL OR f.operator = ?2)
+             ORDER BY e.id LIMIT ?3"
+        ))
+        .map_err(sql("reading events"))?;
+    let rows = stmt
+        .query_map(params![after as i64, operator, limit as i64], |r| {
+            Ok((EventRow::read(r, 0)?, FlightRow::read(r, 7)?))
+        })
+        .map_err(sql("reading events"))?;
+    let mut out = Vec::new();
+    for row in rows {
+        let (event, flight) = row.map_err(sql("reading events"))?;
+        let flight = flight.entry(airspace, path)?;
+        out.push(event.event(&flight, path)?);
+    }
+    Ok(out)
+}
+
+/// Every announced zone, in announcement order.
+pub(super) fn zones(conn: &Connection, path: &str) -> Result<Vec<StoredZone>, StoreError> {
+    let mut stmt = conn
+        .prepare_cached(&format!("SELECT {ZONE_COLUMNS} FROM zones ORDER BY seq"))
+        .map_err(sql("reading zones"))?;
+    let rows = stmt
+        .query_map([], ZoneRow::read)
+        .map_err(sql("reading zones"))?;
+    let mut out = Vec::new();
+    for row in rows {
+        out.push(row.map_err(sql("reading zones"))?.zone(path)?);
+    }
+    Ok(out)
+}
+
+/// The flights holding a reservation that ends at or after `now`, in answer order; calls
+/// `progress` with how many were read so far.
+pub(super) fn holding(
+    conn: &Connection,
+    airspace: &Airspace,
+    path: &str,
+    now: Instant,
+    progress: &mut dyn FnMut(u64),
+) -> Result<Vec<FlightEntry>, StoreError> {
+    let mut stmt = conn
+        .prepare_cached(&format!(
+            "SELECT {FLIGHT_COLUMNS} FROM flights WHERE holds_until_ms >= ?1 ORDER BY seq"
+        ))
+        .map_err(sql("reading the flights still ahead"))?;
+    let rows = stmt
+        .query_map([now.0], |r| FlightRow::read(r, 0))
+        .map_err(sql("reading the flights still ahead"))?;
+    let mut out = Vec::new();
+    for row in rows {
+        out.push(
+            row.map_err(sql("reading the flights still ahead"))?
+                .entry(airspace, path)?,
+        );
+        if out.len() % 1_024 == 0 {
+            progress(out.len() as u64);
+        }
+    }
+    progress(out.len() as u64);
+    Ok(out)
+}
+
+/// How many flights hold a reservation that ends at or after `now`.
+pub(super) fn count_holding(conn: &Connection, now: Instant) -> Result<u64, StoreError> {
+    conn.query_row(
+        "SELECT count(*) FROM flights WHERE holds_until_ms >= ?1",
+        [now.0],
+        |r| r.get::<_, i64>(0),
+    )
+    .map(|n| n as u64)
+    .map_err(sql("counting the flights still ahead"))
+}
+
+/// The largest value of an integer key of `table` (0 for an empty table).
+pub(super) fn max_key(conn: &Connection, table: &str, key: &str) -> Result<u64, StoreError> {
+    conn.query_row(&format!("SELECT max({key}) FROM {table}"), [], |r| {
+        r.get::<_, Option<i64>>(0)
+    })
+    .map(|n| n.map_or(0, |n| n as u64))
+    .map_err(sql("reading the last key"))
+}

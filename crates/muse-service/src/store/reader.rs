@@ -1,0 +1,85 @@
+//! Reads for the HTTP handlers: a small pool of read-only connections to the store, used
+//! beside the planner task's (WAL lets readers and the writer work at once). A reader sees
+//! what is committed, which is everything acknowledged: answers go out after their commit.
+
+use std::path::PathBuf;
+use std::sync::Mutex;
+
+use muse_model::Airspace;
+use rusqlite::Connection;
+
+use super::{StoreError, connect, queries};
+use crate::events::Event;
+use crate::flights::{FlightEntry, ListQuery};
+
+/// Most idle connections kept for reuse.
+const KEEP: usize = 8;
+
+/// The handlers' reads (see the module docs).
+#[derive(Debug)]
+pub struct Reader {
+    path: PathBuf,
+    label: String,
+    idle: Mutex<Vec<Connection>>,
+}
+
+impl Reader {
+    /// Reads the store at `path` (the database file); connects on first use.
+    pub fn new(path: PathBuf) -> Self {
+        Reader {
+            label: path.display().to_string(),
+            path,
+            idle: Mutex::new(Vec::new()),
+        }
+    }
+
+    fn with<T>(
+        &self,
+        f: impl FnOnce(&Connection, &str) -> Result<T, StoreError>,
+    ) -> Result<T, StoreError> {
+        let idle = self
+            .idle
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .pop();
+        let conn = match idle {
+            Some(c) => c,
+            None => connect(&self.path, false)?,
+        };
+        let out = f(&conn, &self.label);
+        let mut idle = self
+            .idle
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if idle.len() < KEEP {
+            idle.push(conn);
+        }
+        out
+    }
+
+    /// The flight with client id `id`.
+    pub fn flight(&self, airspace: &Airspace, id: &str) -> Result<Option<FlightEntry>, StoreError> {
+        self.with(|c, label| queries::flight_by_id(c, airspace, label, id))
+    }
+
+    /// The flights a listing asks for, in answer order, and whether more follow the page.
+    pub fn list(
+        &self,
+        airspace: &Airspace,
+        query: &ListQuery,
+    ) -> Result<(Vec<FlightEntry>, bool), StoreError> {
+        self.with(|c, label| queries::list(c, airspace, label, query))
+    }
+
+    /// Up to `limit` events with an id above `after` (of `operator`'s flights only, when
+    /// given), each with its flight as it stood then.
+    pub fn events_after(
+        &self,
+        airspace: &Airspace,
+        after: u64,
+        operator: Option<&str>,
+        limit: usize,
+    ) -> Result<Vec<Event>, StoreError> {
+        self.with(|c, label| queries::events_after(c, airspace, label, after, operator, limit))
+    }
+}
