@@ -62,6 +62,11 @@ pub struct ServeArgs {
     /// Bookings open this many days ahead of now.
     #[arg(long, value_name = "DAYS", default_value_t = 30)]
     booking_horizon_days: u32,
+    /// Convert the data folder's log written by an earlier version (`muse.log`) into the
+    /// store and exit, without serving (`muse serve` also converts it at start). The log is
+    /// kept, renamed `muse.log.imported`.
+    #[arg(long)]
+    import_log: bool,
     /// Largest request body, KiB (larger: 413).
     #[arg(long, value_name = "KIB", default_value_t = 16)]
     max_body_kib: usize,
@@ -107,6 +112,9 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     options.rate_limit = args.rate_limit;
     options.burst = args.burst;
     options.page = Some(page);
+    if args.import_log {
+        return import_log(&args.data, &service_world);
+    }
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()
@@ -156,6 +164,37 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         running.serve_until(shutdown_signal()).await?;
         anyhow::Ok(())
     })?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `muse serve --import-log`: converts the folder's log of an earlier version, then exits.
+fn import_log(data: &std::path::Path, world: &ServiceWorld) -> anyhow::Result<ExitCode> {
+    let description = world.description();
+    let opening =
+        muse_service::store::Opening::open(data, &description, &world.legacy_fingerprint())?;
+    let Some(log) = opening.imports().map(std::path::Path::to_path_buf) else {
+        anyhow::bail!(
+            "{} holds no log of an earlier version to convert ({} is missing, or was converted \
+             already)",
+            data.display(),
+            data.join(muse_service::store::legacy::LOG_FILE).display()
+        );
+    };
+    println!("converting {} ...", log.display());
+    let started = std::time::Instant::now();
+    let (store, import) = opening.finish(&world.airspace, &description, &mut |_| {})?;
+    store.close()?;
+    let restored = muse_service::engine::Restored {
+        flights: import.as_ref().map_or(0, |i| i.flights),
+        import,
+        ..Default::default()
+    };
+    report(
+        &mut std::io::stdout().lock(),
+        &data.join(muse_service::store::DB_FILE),
+        &restored,
+        started.elapsed().as_secs_f64(),
+    )?;
     Ok(ExitCode::SUCCESS)
 }
 

@@ -187,7 +187,7 @@ fn run(
     let description = world.description();
     let phase = &state.phase;
     let opened = opening.finish(&world.airspace, &description, &mut |n| {
-        phase.set_imported(n)
+        phase.set_imported(n);
     });
     let (store, import) = match opened {
         Ok(s) => s,
