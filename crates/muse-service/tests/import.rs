@@ -252,3 +252,79 @@ async fn a_log_of_the_earlier_version_is_converted_once_with_everything_kept() {
     drop(db);
     std::fs::remove_dir_all(&data).unwrap();
 }
+
+/// A long conversion (or load) does not leave the service silent: it listens at once,
+/// `/healthz` answers `starting` with how far it got, every other route `503` `starting`.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_service_says_it_is_starting_while_it_converts() {
+    const FLIGHTS: u64 = 60_000;
+    let data = std::env::temp_dir().join(format!("muse-import-long-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&data);
+    std::fs::create_dir_all(&data).unwrap();
+    let now = Instant(1_767_571_200_000);
+    let world = || {
+        ServiceWorld::new(
+            "import test".into(),
+            airspace(),
+            Vec::new(),
+            FlightParams::default(),
+            UtcOffset::SINGAPORE,
+            Millis::from_secs(30 * 86_400),
+            now,
+        )
+        .unwrap()
+    };
+    let mut log = b"MUSE-LOG-V1\n\0\0\0\0".to_vec();
+    record(
+        &mut log,
+        &json!({"kind": "header", "world": world().legacy_fingerprint()}),
+    );
+    for seq in 1..=FLIGHTS {
+        let at = now.0 - 86_400_000 + seq as i64;
+        record(
+            &mut log,
+            &flight(
+                seq,
+                &format!("f{seq}"),
+                &[("A", at), ("B", at + 120_000)],
+                Some("no_feasible_plan"),
+                at,
+            ),
+        );
+    }
+    std::fs::write(data.join("muse.log"), &log).unwrap();
+    let mut options = Options::new(data.clone());
+    options.clock = Clock::starting_at(now);
+    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
+    let launched = muse_service::launch(world(), options, listener)
+        .await
+        .unwrap();
+    let base = format!("http://{}", launched.addr);
+    let http = reqwest::Client::new();
+    let health = http.get(format!("{base}/healthz")).send().await.unwrap();
+    assert_eq!(health.status().as_u16(), 503);
+    let health: Value = health.json().await.unwrap();
+    assert_eq!(health["status"], "starting", "{health}");
+    assert!(health["progress"]["imported_records"].is_u64(), "{health}");
+    let refused = http.get(format!("{base}/v1/flights")).send().await.unwrap();
+    assert_eq!(refused.status().as_u16(), 503);
+    assert_eq!(refused.headers()["retry-after"], "1");
+    let refused: Value = refused.json().await.unwrap();
+    assert_eq!(refused["error"]["code"], "starting");
+    let running = launched.ready().await.unwrap();
+    assert_eq!(running.restored.flights, FLIGHTS);
+    let health: Value = http
+        .get(format!("{base}/healthz"))
+        .send()
+        .await
+        .unwrap()
+        .json()
+        .await
+        .unwrap();
+    assert_eq!(
+        (health["status"].as_str(), health["flights"].as_u64()),
+        (Some("ok"), Some(FLIGHTS))
+    );
+    drop(running);
+    let _ = std::fs::remove_dir_all(&data);
+}
