@@ -5,6 +5,13 @@
 //! pages the database has. Every page the header counts must be in the file, or in the WAL
 //! beside it (a crash during a checkpoint can leave the file shorter than its new header; the
 //! WAL still holds those pages then).
+//!
+//! The WAL is checked too. SQLite reads it frame by frame, each frame's checksum chained to
+//! the one before, and stops at the first frame that fails: what follows is taken for a write
+//! torn by a crash and ignored. A crash can tear only the last transaction (every earlier one
+//! was synced before its commit returned), so a failing frame followed by the commit frames of
+//! two or more transactions is damage, not a torn write: ignoring it would drop committed
+//! transactions, or bring back older copies of pages they changed. It is refused.
 
 use std::collections::HashSet;
 use std::io::Read as _;
@@ -56,6 +63,7 @@ pub(super) fn check(path: &Path) -> Result<(), StoreError> {
             "its header gives a page size of {page_size}"
         )));
     }
+    check_wal(&path.with_extension("db-wal"))?;
     let be32 = |at: usize| u32::from_be_bytes(header[at..at + 4].try_into().expect("4 bytes"));
     let (counter, pages, valid_for) = (be32(24), u64::from(be32(28)), be32(92));
     if counter != valid_for || pages == 0 {
@@ -81,6 +89,83 @@ pub(super) fn check(path: &Path) -> Result<(), StoreError> {
     )))
 }
 
+/// The chained checksum of SQLite's WAL over `data` (a multiple of 8 bytes), from `s`.
+fn wal_sum(data: &[u8], big_endian: bool, mut s: (u32, u32)) -> (u32, u32) {
+    let word = |b: &[u8]| {
+        let b: [u8; 4] = b.try_into().expect("4 bytes");
+        if big_endian {
+            u32::from_be_bytes(b)
+        } else {
+            u32::from_le_bytes(b)
+        }
+    };
+    for pair in data.chunks_exact(8) {
+        s.0 = s.0.wrapping_add(word(&pair[..4])).wrapping_add(s.1);
+        s.1 = s.1.wrapping_add(word(&pair[4..])).wrapping_add(s.0);
+    }
+    s
+}
+
+/// Refuses a WAL whose failing frame is followed by two or more committed transactions (see
+/// the module docs). No WAL, or a WAL of another generation only, is fine.
+fn check_wal(path: &Path) -> Result<(), StoreError> {
+    let Ok(bytes) = std::fs::read(path) else {
+        return Ok(());
+    };
+    if bytes.len() < 32 {
+        return Ok(());
+    }
+    let be32 = |at: usize| u32::from_be_bytes(bytes[at..at + 4].try_into().expect("4 bytes"));
+    let big_endian = match be32(0) {
+        0x377f_0683 => true,
+        0x377f_0682 => false,
+        _ => return Ok(()),
+    };
+    let page_size = be32(8) as usize;
+    if !page_size.is_power_of_two() || !(512..=65_536).contains(&page_size) {
+        return Ok(());
+    }
+    let mut sum = wal_sum(&bytes[..24], big_endian, (0, 0));
+    if sum != (be32(24), be32(28)) {
+        // A header torn while the WAL was restarted: SQLite ignores the whole file.
+        return Ok(());
+    }
+    let salts = &bytes[16..24];
+    let frame = 24 + page_size;
+    let mut at = 32;
+    let mut n = 0usize;
+    while at + frame <= bytes.len() {
+        if &bytes[at + 8..at + 16] != salts {
+            return Ok(());
+        }
+        n += 1;
+        let next = wal_sum(&bytes[at..at + 8], big_endian, sum);
+        let next = wal_sum(&bytes[at + 24..at + frame], big_endian, next);
+        if next != (be32(at + 16), be32(at + 20)) {
+            let mut commits = 0;
+            let mut later = at + frame;
+            while later + frame <= bytes.len() && &bytes[later + 8..later + 16] == salts {
+                commits += usize::from(be32(later + 4) != 0);
+                later += frame;
+            }
+            if commits >= 2 {
+                return Err(StoreError::Damaged {
+                    path: path.display().to_string(),
+                    what: format!(
+                        "frame {n} of the WAL (page {}) fails its checksum and {commits} \
+                         committed transactions follow it: not a write torn by a crash",
+                        be32(at)
+                    ),
+                });
+            }
+            return Ok(());
+        }
+        sum = next;
+        at += frame;
+    }
+    Ok(())
+}
+
 /// The page numbers of the WAL's frames of its current generation (those whose salts match
 /// the WAL header's); empty if there is no WAL.
 fn wal_pages(path: &Path, page_size: u64) -> HashSet<u64> {
@@ -103,4 +188,67 @@ fn wal_pages(path: &Path, page_size: u64) -> HashSet<u64> {
         at += frame;
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A store with a WAL of `n` transactions, copied while open (so the WAL is kept).
+    fn wal_of(name: &str, n: usize) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("muse-wal-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("copy")).unwrap();
+        let db = dir.join("muse.db");
+        let conn = rusqlite::Connection::open(&db).unwrap();
+        conn.execute_batch(
+            "PRAGMA journal_mode = WAL; PRAGMA wal_autocheckpoint = 0; \
+             CREATE TABLE t (k INTEGER PRIMARY KEY, v TEXT);",
+        )
+        .unwrap();
+        for k in 0..n {
+            conn.execute(
+                "INSERT INTO t (k, v) VALUES (?1, ?2)",
+                rusqlite::params![k as i64, "x".repeat(3_000)],
+            )
+            .unwrap();
+        }
+        for f in ["muse.db", "muse.db-wal"] {
+            std::fs::copy(dir.join(f), dir.join("copy").join(f)).unwrap();
+        }
+        drop(conn);
+        dir.join("copy").join("muse.db")
+    }
+
+    fn flip(path: &Path, at: usize) {
+        let mut bytes = std::fs::read(path).unwrap();
+        bytes[at] ^= 0x5a;
+        std::fs::write(path, bytes).unwrap();
+    }
+
+    #[test]
+    fn damage_inside_the_wal_is_refused_and_a_torn_tail_is_not() {
+        let db = wal_of("mid", 12);
+        let wal = db.with_extension("db-wal");
+        assert!(check(&db).is_ok());
+        let len = std::fs::metadata(&wal).unwrap().len() as usize;
+        // A torn last frame: what a crash leaves.
+        let torn = std::fs::read(&wal).unwrap();
+        std::fs::write(&wal, &torn[..len - 1_000]).unwrap();
+        assert!(check(&db).is_ok());
+        std::fs::write(&wal, &torn).unwrap();
+        // The last frame damaged: indistinguishable from a torn write.
+        flip(&wal, len - 10);
+        assert!(check(&db).is_ok());
+        std::fs::write(&wal, &torn).unwrap();
+        // The second frame's page damaged, with ten committed transactions after it.
+        let page = 4_096;
+        flip(&wal, 32 + (24 + page) + 24 + 100);
+        let e = check(&db).unwrap_err().to_string();
+        assert!(
+            e.contains("frame 2 of the WAL") && e.contains("committed transactions follow"),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(db.parent().unwrap().parent().unwrap());
+    }
 }

@@ -52,6 +52,7 @@ use muse_model::{Airspace, Instant};
 use rusqlite::{Connection, OpenFlags, OptionalExtension as _, params};
 
 pub use legacy::ImportReport;
+pub use queries::Checked;
 pub use reader::Reader;
 
 use crate::events::Event;
@@ -518,6 +519,16 @@ impl Store {
         progress: &mut dyn FnMut(u64),
     ) -> Result<Vec<FlightEntry>, StoreError> {
         queries::holding(&self.conn, airspace, &self.label(), now, progress)
+    }
+
+    /// Reads every row and checks it (see the module docs): the whole store, in time that
+    /// grows with it (`muse serve --check-store`); `progress` is told the flights checked.
+    pub fn check_all(
+        &self,
+        airspace: &Airspace,
+        progress: &mut dyn FnMut(u64),
+    ) -> Result<Checked, StoreError> {
+        queries::check_all(&self.conn, airspace, &self.label(), progress)
     }
 
     /// The last sequence number and the last event id stored (0: none).

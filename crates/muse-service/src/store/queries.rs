@@ -208,3 +208,67 @@ pub(super) fn max_key(conn: &Connection, table: &str, key: &str) -> Result<u64, 
     .map(|n| n.map_or(0, |n| n as u64))
     .map_err(sql("reading the last key"))
 }
+
+/// What a full check of the store read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Checked {
+    /// Flight rows read and checked.
+    pub flights: u64,
+    /// Event rows read and checked.
+    pub events: u64,
+    /// Zone rows read and checked.
+    pub zones: u64,
+}
+
+/// Reads every row of the store and checks its checksum (and that it decodes), after SQLite's
+/// own check of the database's structure; the first damage found is the error.
+pub(super) fn check_all(
+    conn: &Connection,
+    airspace: &Airspace,
+    path: &str,
+    progress: &mut dyn FnMut(u64),
+) -> Result<Checked, StoreError> {
+    let verdict: String = conn
+        .query_row("PRAGMA quick_check", [], |r| r.get(0))
+        .map_err(sql("checking the database's structure"))?;
+    if verdict != "ok" {
+        return Err(StoreError::Damaged {
+            path: path.to_owned(),
+            what: format!("SQLite's check of its structure says: {verdict}"),
+        });
+    }
+    let mut checked = Checked::default();
+    let mut stmt = conn
+        .prepare(&format!(
+            "SELECT {FLIGHT_COLUMNS} FROM flights ORDER BY seq"
+        ))
+        .map_err(sql("checking flights"))?;
+    let mut flights = std::collections::HashMap::new();
+    for row in stmt
+        .query_map([], |r| FlightRow::read(r, 0))
+        .map_err(sql("checking flights"))?
+    {
+        let entry = row
+            .map_err(sql("checking flights"))?
+            .entry(airspace, path)?;
+        flights.insert(entry.seq, entry.changes.len());
+        checked.flights += 1;
+        if checked.flights.is_multiple_of(65_536) {
+            progress(checked.flights);
+        }
+    }
+    let mut stmt = conn
+        .prepare(&format!("SELECT {EVENT_COLUMNS} FROM events ORDER BY id"))
+        .map_err(sql("checking events"))?;
+    for row in stmt
+        .query_map([], |r| EventRow::read(r, 0))
+        .map_err(sql("checking events"))?
+    {
+        let row = row.map_err(sql("checking events"))?;
+        row.check(path, flights.get(&(row.flight_seq as u64)).copied())?;
+        checked.events += 1;
+    }
+    checked.zones = zones(conn, path)?.len() as u64;
+    progress(checked.flights);
+    Ok(checked)
+}

@@ -365,6 +365,31 @@ impl EventRow {
         })
     }
 
+    /// Checks the row's checksum and that it names a stored flight (`changes`: how many zone
+    /// changes that flight has, `None` if there is no such flight).
+    pub(super) fn check(&self, path: &str, changes: Option<usize>) -> Result<(), StoreError> {
+        let damaged = |what: String| StoreError::Damaged {
+            path: path.to_owned(),
+            what: format!("events row id {}: {what}", self.id),
+        };
+        if self.sum() != self.crc {
+            return Err(damaged(
+                "its checksum does not match its content (a byte of it changed on disk)".into(),
+            ));
+        }
+        match changes {
+            None => Err(damaged(format!(
+                "it names flight seq {}, which is not stored",
+                self.flight_seq
+            ))),
+            Some(c) if usize::try_from(self.changes).is_ok_and(|k| k <= c) => Ok(()),
+            Some(_) => Err(damaged(format!(
+                "{} changes of a flight that has fewer",
+                self.changes
+            ))),
+        }
+    }
+
     /// The event, with `flight` the current state of its flight (checked by the caller).
     pub(super) fn event(&self, flight: &FlightEntry, path: &str) -> Result<Event, StoreError> {
         let damaged = |what: String| StoreError::Damaged {
