@@ -140,6 +140,156 @@ fn verify_names_a_hand_made_conflict() {
     assert!(o.status.success(), "{}", stdout(&o));
 }
 
+/// A file of `crates/muse-formats/testdata/service`: a real `muse serve` session's listing
+/// saved one flight a line, its airspace and its zones (the folder's README tells the session).
+fn service_testdata(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("crates/muse-formats/testdata/service")
+        .join(name)
+        .display()
+        .to_string()
+}
+
+#[test]
+fn verify_reads_every_line_of_a_service_listing() {
+    let dir = scratch_dir("verify_service_listing");
+    let (air, zones) = (
+        service_testdata("line.geojson"),
+        service_testdata("zones.geojson"),
+    );
+    let verify = |plans: &str| {
+        muse(&[
+            "verify",
+            "--plans",
+            plans,
+            "--airspace",
+            &air,
+            "--zones",
+            &zones,
+        ])
+    };
+    let o = verify(&service_testdata("flights.jsonl"));
+    assert!(o.status.success(), "{}{}", stdout(&o), stderr(&o));
+    assert_eq!(
+        stdout(&o),
+        "OK: 10 lines read (1 planned, 1 replanned, 1 diverted, 1 contingency, 2 cancelled by a \
+         zone, 2 cancelled by their operator, 2 rejected); 4 flights checked, every rule holds \
+         (exclusive; 2 zone(s), 2 announced during the day; 6 flights changed by announcements)\n"
+    );
+
+    let listing = std::fs::read_to_string(service_testdata("flights.jsonl")).unwrap();
+    let edited = |request: &str, edit: &dyn Fn(&mut serde_json::Map<String, serde_json::Value>)| {
+        let mut text = String::new();
+        for l in listing.lines() {
+            let mut v: serde_json::Value = serde_json::from_str(l).unwrap();
+            if v["request"] == request {
+                edit(v.as_object_mut().unwrap());
+            }
+            text.push_str(&v.to_string());
+            text.push('\n');
+        }
+        write(&dir, &format!("{request}.jsonl"), &text)
+    };
+    // The final plan is what is checked: e1 keeping its original plan breaks ZC.
+    let kept = edited("e1", &|f| {
+        let original = f["original"]["path"].clone();
+        f.insert("path".into(), original);
+        f.insert("status".into(), "planned".into());
+        for field in ["original", "changes", "extra_delay_s"] {
+            f.remove(field);
+        }
+    });
+    let o = verify(&kept);
+    assert_eq!(o.status.code(), Some(1), "{}{}", stdout(&o), stderr(&o));
+    let out = stdout(&o);
+    assert!(
+        out.starts_with("FAILED: ")
+            && out.contains("among the 4 flights checked (10 lines read")
+            && out.contains("ZC")
+            && out.contains("e1"),
+        "{out}"
+    );
+
+    // Malformed lines are named: file, line and field.
+    for (request, edit, expected) in [
+        (
+            "c1",
+            &(|f: &mut serde_json::Map<String, serde_json::Value>| {
+                f.insert("path".into(), serde_json::json!([]));
+            }) as &dyn Fn(&mut serde_json::Map<String, serde_json::Value>),
+            "c1.jsonl: line 8: field `path`: a flight cancelled by its operator flies nothing",
+        ),
+        (
+            "a3",
+            &|f| {
+                f.insert("pilot".into(), "Ann".into());
+            },
+            "a3.jsonl: line 7: field `pilot`: not a plan record: unknown field `pilot`",
+        ),
+        (
+            "a3",
+            &|f| {
+                f.insert("cancelled_at".into(), f["requested_departure"].clone());
+            },
+            "a3.jsonl: line 7: field `cancelled_at`: only a flight cancelled by its operator",
+        ),
+        (
+            "b1",
+            &|f| {
+                f.insert("cancelled_at".into(), "2026-11-25T23:59:60+08:00".into());
+            },
+            "b1.jsonl: line 4: field `cancelled_at`: `2026-11-25T23:59:60+08:00` is a leap second",
+        ),
+    ] {
+        let o = verify(&edited(request, edit));
+        assert_eq!(o.status.code(), Some(2), "{}", stdout(&o));
+        assert!(stderr(&o).contains(expected), "{}", stderr(&o));
+    }
+}
+
+#[test]
+fn times_are_read_exactly_and_leap_seconds_refused() {
+    let dir = scratch_dir("times_exact");
+    let requests = |name: &str, departure: &str| {
+        write(
+            &dir,
+            name,
+            &format!("id,origin,destination,departure\nr1,S063,S066,{departure}\n"),
+        )
+    };
+    let out = dir.join("out").display().to_string();
+    for (departure, expected) in [
+        (
+            "2026-06-30T23:59:60+08:00",
+            "leap.csv: line 2: field `departure`: `2026-06-30T23:59:60+08:00` is a leap second \
+             (second 60): leap seconds are not accepted",
+        ),
+        (
+            "23:59:60",
+            "leap.csv: line 2: field `departure`: `23:59:60` is a leap second",
+        ),
+        (
+            "+1000000-01-01T00:00:00Z",
+            "leap.csv: line 2: field `departure`: `+1000000-01-01T00:00:00Z` is out of the range \
+             MUSE represents",
+        ),
+    ] {
+        let r = requests("leap.csv", departure);
+        let o = muse(&["plan", "--requests", &r, "--out", &out]);
+        assert_eq!(o.status.code(), Some(2), "{departure}: {}", stdout(&o));
+        assert!(stderr(&o).contains(expected), "{}", stderr(&o));
+    }
+    // Year 9999 is read (no "not RFC 3339"); what stops it is the zone calendar's range.
+    let r = requests("far.csv", "9999-12-31T23:59:59+08:00");
+    let o = muse(&["plan", "--requests", &r, "--out", &out]);
+    assert_eq!(o.status.code(), Some(2), "{}", stdout(&o));
+    assert!(
+        stderr(&o).contains("outside the supported years") && !stderr(&o).contains("RFC 3339"),
+        "{}",
+        stderr(&o)
+    );
+}
+
 #[test]
 fn plan_then_verify_on_the_singapore_default() {
     let dir = scratch_dir("plan_verify");
@@ -814,6 +964,14 @@ fn argument_errors_are_clear() {
         (
             vec!["simulate", "--from", "25:00"],
             "--from `25:00` is not a local time",
+        ),
+        (
+            vec!["demand", "--to", "23:59:60"],
+            "--to: `23:59:60` is a leap second (second 60): leap seconds are not accepted",
+        ),
+        (
+            vec!["serve", "--clock", "2026-06-30T23:59:60+08:00"],
+            "--clock 2026-06-30T23:59:60+08:00: `2026-06-30T23:59:60+08:00` is a leap second",
         ),
         (
             vec!["simulate", "--max-flight-min=-1"],

@@ -3,10 +3,9 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::Context as _;
 use clap::Args;
 use muse_formats::requests::write_requests;
-use muse_model::time::parse_clock;
+use muse_model::time::{TimeError, parse_clock};
 use muse_model::{Instant, Millis};
 use muse_sim::demand::{BookingLead, DemandSpec, OdRule, generate};
 
@@ -130,8 +129,12 @@ impl DemandArgs {
 
     /// The generation spec for a world.
     pub fn spec(&self, world: &World, range: RangeArgs) -> anyhow::Result<DemandSpec> {
-        let clock = |name: &str, v: &str| {
-            parse_clock(v).with_context(|| format!("--{name} `{v}` is not a local time HH:MM[:SS]"))
+        let clock = |name: &str, v: &str| -> anyhow::Result<Millis> {
+            parse_clock(v).map_err(|e| match e {
+                TimeError::LeapSecond(_) => anyhow::anyhow!("--{name}: {e}"),
+                _ => anyhow::Error::new(e)
+                    .context(format!("--{name} `{v}` is not a local time HH:MM[:SS]")),
+            })
         };
         let start = Instant::at_local(world.date, clock("from", &self.from)?, world.offset);
         let end = Instant::at_local(world.date, clock("to", &self.to)?, world.offset);

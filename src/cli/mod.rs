@@ -57,7 +57,8 @@ enum Command {
     /// The paper's experiment: request counts × repetitions × scenario variants, with plots;
     /// `--vary announce-lead`: how much warning before a temporary zone keeps its cost low.
     Sweep(Box<sweep::SweepArgs>),
-    /// Check a plans file against every rule, independently of the planner (exit 1 on a violation).
+    /// Check a plans file (or a `muse serve` listing saved one flight a line) against every
+    /// rule, independently of the planner (exit 1 on a violation).
     Verify(verify::VerifyArgs),
     /// Write one self-contained HTML page that plays a plans file's day on a map (no network
     /// needed to open it).

@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use clap::Args;
 use muse_airspace::announced::KnownZones;
-use muse_formats::plans::read_plans_file;
+use muse_formats::plans::{PlanEntry, PlanItem, read_plan_entries_file};
 use muse_model::{Millis, Request};
 use muse_verify::{Flight, verify_known};
 
@@ -14,7 +14,8 @@ use super::common::{FlightArgs, WorldArgs};
 /// Arguments of `muse verify`.
 #[derive(Debug, Args)]
 pub struct VerifyArgs {
-    /// Plans file (JSON Lines, as written by `muse plan`).
+    /// Plans file (JSON Lines, as written by `muse plan`, or a `muse serve` listing saved one
+    /// flight a line).
     #[arg(long, value_name = "FILE")]
     plans: PathBuf,
     #[command(flatten)]
@@ -26,30 +27,49 @@ pub struct VerifyArgs {
     max_listed: usize,
 }
 
-/// Runs `muse verify`: exit 0 if every planned flight satisfies SPEC §3–§4, 1 otherwise.
+/// The statuses a plans file's lines may have, in the order the summary counts them.
+const STATUSES: [&str; 6] = [
+    "planned",
+    "replanned",
+    "diverted",
+    "contingency",
+    "cancelled",
+    "rejected",
+];
+
+/// Runs `muse verify`: exit 0 if every flight that flies satisfies SPEC §3–§4 (and §11, §12),
+/// 1 otherwise. Every line of the plans file is read: those of `muse plan` and `muse
+/// simulate`, and those of a service listing saved one flight a line (flights cancelled by
+/// their operator and rejected requests are read and counted, and fly nothing).
 pub fn run(args: &VerifyArgs) -> anyhow::Result<ExitCode> {
     let params = args.flight.params()?;
     let world = args.world.load()?;
     let a = &world.airspace;
-    let records = read_plans_file(&args.plans, a)?;
+    let entries = read_plan_entries_file(&args.plans, a)?;
     let file = args.plans.display().to_string();
-    let mut requests = Vec::with_capacity(records.len());
-    for (i, r) in records.iter().enumerate() {
+    let mut records = Vec::with_capacity(entries.len());
+    let mut requests = Vec::with_capacity(entries.len());
+    for e in &entries {
         let station = |id: &str, field: &str| {
             a.node_id(id).ok_or_else(|| {
                 anyhow::anyhow!(
                     "{file}: line {}: field `{field}`: unknown node id `{id}`",
-                    i + 1
+                    e.line
                 )
             })
         };
-        requests.push(Request {
-            id: r.request.clone(),
-            origin: station(&r.origin, "origin")?,
-            destination: station(&r.destination, "destination")?,
-            departure: r.requested_departure,
-            submitted: r.requested_departure,
-        });
+        let (origin, destination) = e.stations();
+        let request = Request {
+            id: e.request().to_owned(),
+            origin: station(origin, "origin")?,
+            destination: station(destination, "destination")?,
+            departure: e.requested_departure(),
+            submitted: e.requested_departure(),
+        };
+        if let Some(r) = e.record() {
+            records.push(r);
+            requests.push(request);
+        }
     }
     let flights: Vec<Flight<'_>> = records
         .iter()
@@ -77,8 +97,9 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<ExitCode> {
         .map_or(from, |n| n.min(from));
     let zones = KnownZones::resolve(a, &world.zones, from, to)?;
     let violations = verify_known(a, &zones, &params, &flights);
+    let read = lines_read(&entries);
     if violations.is_empty() {
-        let changed = records.iter().filter(|r| r.fate.is_some()).count();
+        let changed = entries.iter().filter(|e| !e.changes().is_empty()).count();
         let announced = if zones.announced.is_empty() {
             String::new()
         } else {
@@ -88,16 +109,15 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<ExitCode> {
             )
         };
         println!(
-            "OK: {} flights of {} requests satisfy every rule ({}; {} zone(s){announced})",
+            "OK: {read}; {} flights checked, every rule holds ({}; {} zone(s){announced})",
             flights.len(),
-            records.len(),
             params.edge_rule.name(),
             world.zones.len()
         );
         return Ok(ExitCode::SUCCESS);
     }
     println!(
-        "FAILED: {} violation(s) among {} planned flights",
+        "FAILED: {} violation(s) among the {} flights checked ({read})",
         violations.len(),
         flights.len()
     );
@@ -108,4 +128,43 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<ExitCode> {
         println!("  … and {} more", violations.len() - args.max_listed);
     }
     Ok(ExitCode::FAILURE)
+}
+
+/// `N lines read (P planned, …, Z cancelled by a zone, K cancelled by their operator, R
+/// rejected)`: the lines of a plans file by status, statuses with none left out.
+fn lines_read(entries: &[PlanEntry]) -> String {
+    let by_operator = |e: &PlanEntry| matches!(e.item, PlanItem::CancelledByOperator(_));
+    let parts: Vec<String> = STATUSES
+        .iter()
+        .flat_map(|&status| {
+            let of = |e: &&PlanEntry| e.status() == status;
+            if status == "cancelled" {
+                vec![
+                    (
+                        "cancelled by a zone",
+                        entries
+                            .iter()
+                            .filter(of)
+                            .filter(|e| !by_operator(e))
+                            .count(),
+                    ),
+                    (
+                        "cancelled by their operator",
+                        entries.iter().filter(of).filter(|e| by_operator(e)).count(),
+                    ),
+                ]
+            } else {
+                vec![(status, entries.iter().filter(of).count())]
+            }
+        })
+        .filter(|(_, n)| *n > 0)
+        .map(|(s, n)| format!("{n} {s}"))
+        .collect();
+    let lines = entries.len();
+    let noun = if lines == 1 { "line" } else { "lines" };
+    if parts.is_empty() {
+        format!("{lines} {noun} read")
+    } else {
+        format!("{lines} {noun} read ({})", parts.join(", "))
+    }
 }

@@ -28,11 +28,19 @@
 //! ground time included, `distance_m` the edges flown, `path` every stay with the station
 //! repeated at each swap) and adds `legs`, one `{"takeoff", "landing", "path"}` per leg; so do
 //! `original` and `committed` (as `committed_legs`). See [`LegLine`].
+//!
+//! The service (`muse serve`, SPEC §10) answers with the same object plus `operator`, the
+//! operator the flight belongs to, and lists a flight its operator cancelled before take-off
+//! with `status: "cancelled"`, `reason: "cancelled_by_operator"`, `cancelled_at` and no plan
+//! (no `path`, null times; `changes` and `original` stay when zone announcements had changed
+//! it before). A service listing saved as JSON Lines is a plans file: [`read_plan_entries`]
+//! reads every line of it, [`read_plans`] the lines that hold a request's answer. Any other
+//! field is an error naming it, as is a value of the wrong kind.
 
 use std::fmt::Write as _;
 use std::path::Path;
 
-use muse_model::plan::{Fate, FateKind, ZONE_ANNOUNCED};
+use muse_model::plan::{CANCELLED_BY_OPERATOR, Fate, FateKind, ZONE_ANNOUNCED};
 use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Stay, UtcOffset};
 use serde::{Deserialize, Serialize};
 
@@ -124,6 +132,7 @@ pub struct ChangeNote {
 
 /// A [`ChangeNote`] as written.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ChangeLine {
     /// Zone id.
     pub zone: String,
@@ -137,6 +146,7 @@ pub struct ChangeLine {
 
 /// The plan first accepted for a flight that announcements changed, as written.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct OriginalLine {
     /// Take-off, RFC 3339.
     pub takeoff: String,
@@ -151,6 +161,7 @@ pub struct OriginalLine {
 
 /// One stay of a [`PlanLine`], as written.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct StayLine {
     /// Node id.
     pub node: String,
@@ -161,14 +172,19 @@ pub struct StayLine {
 }
 
 /// The SPEC §7 object as written: one line of a plans file, or the body of the service's
-/// answer about a flight.
+/// answer about a flight (which adds `operator` and, once its operator cancelled it,
+/// `cancelled_at`). Reading refuses any other field.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct PlanLine {
     /// Request id.
     pub request: String,
-    /// `planned` or `rejected` (the service also says `cancelled`).
+    /// `planned`, `rejected`, or what zone announcements made of it (`replanned`, `diverted`,
+    /// `cancelled`, `contingency`); the service also says `cancelled` for a flight its
+    /// operator cancelled.
     pub status: String,
-    /// Rejection (or cancellation) reason; `null` when planned.
+    /// Rejection (or cancellation: `zone_announced`, `cancelled_by_operator`) reason; `null`
+    /// when planned.
     pub reason: Option<String>,
     /// Origin station id.
     pub origin: String,
@@ -217,6 +233,108 @@ pub struct PlanLine {
     /// Changed by announcements: the plan first accepted.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub original: Option<OriginalLine>,
+    /// The operator the flight belongs to: given by the service (`muse serve`), never by
+    /// [`plan_line`].
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub operator: Option<String>,
+    /// When its operator cancelled the flight, RFC 3339: given by the service for a flight
+    /// cancelled by its operator, never by [`plan_line`].
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub cancelled_at: Option<String>,
+}
+
+/// A flight its operator cancelled before take-off, as the service lists it (SPEC §10):
+/// `status: "cancelled"`, `reason: "cancelled_by_operator"`, no plan. It holds no reservation
+/// and flies nothing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OperatorCancellation {
+    /// Request id.
+    pub request: String,
+    /// Origin station id.
+    pub origin: String,
+    /// Destination station id.
+    pub destination: String,
+    /// Requested departure.
+    pub requested_departure: Instant,
+    /// Free-flow airborne time, where the destination is reachable.
+    pub free_flow: Option<Millis>,
+    /// The plan first accepted, when the line gives it (`original`: zone announcements had
+    /// changed the flight before it was cancelled).
+    pub original: Option<Plan>,
+    /// The zone announcements that had changed it, in order (SPEC §11).
+    pub changes: Vec<ChangeNote>,
+    /// When it was cancelled, if the line says (`cancelled_at`).
+    pub cancelled_at: Option<Instant>,
+}
+
+/// What one line of a plans file holds.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PlanItem {
+    /// A request's answer: planned, rejected, or changed by zone announcements (SPEC §7, §11).
+    Record(PlanRecord),
+    /// A flight its operator cancelled (a service listing): it flies nothing.
+    CancelledByOperator(OperatorCancellation),
+}
+
+/// One line of a plans file, as [`read_plan_entries`] reads it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlanEntry {
+    /// Its line number in the file (1-based; blank lines count).
+    pub line: usize,
+    /// The operator the flight belongs to, when the line gives it (a service listing).
+    pub operator: Option<String>,
+    /// What the line holds.
+    pub item: PlanItem,
+}
+
+impl PlanEntry {
+    /// The request id.
+    pub fn request(&self) -> &str {
+        match &self.item {
+            PlanItem::Record(r) => &r.request,
+            PlanItem::CancelledByOperator(c) => &c.request,
+        }
+    }
+
+    /// The origin and destination station ids.
+    pub fn stations(&self) -> (&str, &str) {
+        match &self.item {
+            PlanItem::Record(r) => (&r.origin, &r.destination),
+            PlanItem::CancelledByOperator(c) => (&c.origin, &c.destination),
+        }
+    }
+
+    /// The requested departure.
+    pub fn requested_departure(&self) -> Instant {
+        match &self.item {
+            PlanItem::Record(r) => r.requested_departure,
+            PlanItem::CancelledByOperator(c) => c.requested_departure,
+        }
+    }
+
+    /// The status the line gives: [`PlanRecord::status`], or `cancelled`.
+    pub fn status(&self) -> &'static str {
+        match &self.item {
+            PlanItem::Record(r) => r.status(),
+            PlanItem::CancelledByOperator(_) => "cancelled",
+        }
+    }
+
+    /// The zone announcements that changed the flight, in order.
+    pub fn changes(&self) -> &[ChangeNote] {
+        match &self.item {
+            PlanItem::Record(r) => &r.changes,
+            PlanItem::CancelledByOperator(c) => &c.changes,
+        }
+    }
+
+    /// The record of a request's answer; `None` for a flight its operator cancelled.
+    pub fn record(&self) -> Option<&PlanRecord> {
+        match &self.item {
+            PlanItem::Record(r) => Some(r),
+            PlanItem::CancelledByOperator(_) => None,
+        }
+    }
 }
 
 /// Total length of the edges a plan flies, metres (rounded to the millimetre): the time on
@@ -334,16 +452,53 @@ pub fn plan_line(airspace: &Airspace, offset: UtcOffset, record: &PlanRecord) ->
             path: stay_lines(airspace, offset, &o.path),
             legs: leg_lines(airspace, offset, o, true),
         }),
+        operator: None,
+        cancelled_at: None,
     }
 }
 
-/// Reads a plans JSON Lines file's text. Node ids are resolved against `airspace`; every
-/// error names the file, line and field.
+/// Reads the records of a plans JSON Lines file's text: every line that holds a request's
+/// answer (planned, rejected, or changed by zone announcements). A line of a flight its
+/// operator cancelled (a service listing) is read and checked like any other but, holding no
+/// answer that flies, is left out; [`read_plan_entries`] gives every line. Node ids are
+/// resolved against `airspace`; every error names the file, line and field.
 pub fn read_plans(
     text: &str,
     file: &str,
     airspace: &Airspace,
 ) -> Result<Vec<PlanRecord>, InputError> {
+    Ok(read_plan_entries(text, file, airspace)?
+        .into_iter()
+        .filter_map(|e| match e.item {
+            PlanItem::Record(r) => Some(r),
+            PlanItem::CancelledByOperator(_) => None,
+        })
+        .collect())
+}
+
+/// Reads every line of a plans JSON Lines file's text (blank lines aside): the lines `muse
+/// plan` and `muse simulate` write, and those of a service listing saved one flight a line
+/// (`operator`, `cancelled_at` and flights cancelled by their operator included). Node ids
+/// are resolved against `airspace`; every error names the file, line and field.
+///
+/// ```
+/// use muse_formats::plans::{PlanItem, read_plan_entries};
+/// # let air = muse_formats::airspace_geojson::read_airspace(r#"{"type": "FeatureCollection", "features": []}"#, "a").unwrap();
+/// let line = r#"{"request": "f1", "status": "cancelled", "reason": "cancelled_by_operator",
+///   "origin": "A", "destination": "B", "requested_departure": "2026-01-05T09:00:00.000+08:00",
+///   "takeoff": null, "landing": null, "airborne_s": null, "free_flow_s": 120.0,
+///   "air_delay_s": null, "ground_delay_s": null, "distance_m": null, "expanded": 1,
+///   "operator": "alpha", "cancelled_at": "2026-01-05T08:30:00.000+08:00"}"#;
+/// let entries = read_plan_entries(&line.replace('\n', ""), "p.jsonl", &air).unwrap();
+/// assert_eq!(entries[0].status(), "cancelled");
+/// assert_eq!(entries[0].operator.as_deref(), Some("alpha"));
+/// assert!(matches!(entries[0].item, PlanItem::CancelledByOperator(_)));
+/// ```
+pub fn read_plan_entries(
+    text: &str,
+    file: &str,
+    airspace: &Airspace,
+) -> Result<Vec<PlanEntry>, InputError> {
     let mut out = Vec::new();
     for (i, raw) in text.lines().enumerate() {
         if raw.trim().is_empty() {
@@ -354,9 +509,13 @@ pub fn read_plans(
             line_no: i + 1,
             airspace,
         };
-        let line: PlanLine = serde_json::from_str(raw)
-            .map_err(|e| at.err(None, format!("not a plan record: {e}")))?;
-        out.push(at.record(&line)?);
+        let line = at.parse(raw)?;
+        let item = at.item(&line)?;
+        out.push(PlanEntry {
+            line: i + 1,
+            operator: line.operator,
+            item,
+        });
     }
     Ok(out)
 }
@@ -371,6 +530,20 @@ struct LineReader<'a> {
 impl LineReader<'_> {
     fn err(&self, field: Option<&str>, msg: String) -> InputError {
         InputError::new(self.file, Location::Line(self.line_no), field, msg)
+    }
+
+    /// The JSON object of a line; an unknown field, a missing one or a value of the wrong
+    /// kind is named.
+    fn parse(&self, raw: &str) -> Result<PlanLine, InputError> {
+        let mut de = serde_json::Deserializer::from_str(raw);
+        let line: PlanLine = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+            let path = e.path().to_string();
+            let field = (path != ".").then_some(path.as_str());
+            self.err(field, format!("not a plan record: {}", e.inner()))
+        })?;
+        de.end()
+            .map_err(|e| self.err(None, format!("not a plan record: {e}")))?;
+        Ok(line)
     }
 
     fn time(&self, field: &str, text: &str) -> Result<Instant, InputError> {
@@ -406,20 +579,108 @@ impl LineReader<'_> {
         Ok(Plan { path })
     }
 
-    fn record(&self, line: &PlanLine) -> Result<PlanRecord, InputError> {
-        let free_flow = line
-            .free_flow_s
+    fn free_flow(&self, line: &PlanLine) -> Result<Option<Millis>, InputError> {
+        line.free_flow_s
             .map(|s| {
                 Millis::from_secs_f64(s).map_err(|e| self.err(Some("free_flow_s"), e.to_string()))
             })
-            .transpose()?;
+            .transpose()
+    }
+
+    /// What a line holds: a request's answer, or a flight its operator cancelled.
+    fn item(&self, line: &PlanLine) -> Result<PlanItem, InputError> {
+        let status = line.status.as_str();
+        let reason = line.reason.as_deref();
+        if status == "cancelled" && reason == Some(CANCELLED_BY_OPERATOR) {
+            return Ok(PlanItem::CancelledByOperator(self.cancellation(line)?));
+        }
+        if status == "cancelled" && reason != Some(ZONE_ANNOUNCED) {
+            return Err(self.err(
+                Some("reason"),
+                format!(
+                    "{} is not the reason of a `cancelled` flight: `{ZONE_ANNOUNCED}` (a zone \
+                     announcement cancelled it) or `{CANCELLED_BY_OPERATOR}` (its operator did)",
+                    reason.map_or_else(|| "null".to_owned(), |r| format!("`{r}`"))
+                ),
+            ));
+        }
+        if line.cancelled_at.is_some() {
+            return Err(self.err(
+                Some("cancelled_at"),
+                format!(
+                    "only a flight cancelled by its operator (status `cancelled`, reason \
+                     `{CANCELLED_BY_OPERATOR}`) has one; this line's status is `{status}`"
+                ),
+            ));
+        }
+        self.record(line).map(PlanItem::Record)
+    }
+
+    /// A flight its operator cancelled: no plan of its own; its changes and first plan, if it
+    /// had any, are checked like those of any other line.
+    fn cancellation(&self, line: &PlanLine) -> Result<OperatorCancellation, InputError> {
+        let flies = [
+            ("path", line.path.is_some()),
+            ("legs", line.legs.is_some()),
+            ("committed", line.committed.is_some()),
+            ("committed_legs", line.committed_legs.is_some()),
+            ("diverted_to", line.diverted_to.is_some()),
+        ];
+        if let Some((field, _)) = flies.iter().find(|(_, given)| *given) {
+            return Err(self.err(
+                Some(field),
+                format!(
+                    "a flight cancelled by its operator flies nothing: it has no `{field}` \
+                     (status `cancelled`, reason `{CANCELLED_BY_OPERATOR}`)"
+                ),
+            ));
+        }
+        let changes = self.changes(line)?;
+        let original = match (&line.original, changes.is_empty()) {
+            (Some(o), _) => Some(self.plan(
+                "cancelled",
+                &PlanFields {
+                    path: "original.path",
+                    stays: Some(&o.path),
+                    legs: "original.legs",
+                    leg_lines: o.legs.as_ref(),
+                    lands: true,
+                },
+            )?),
+            (None, false) => {
+                return Err(self.err(
+                    Some("original.path"),
+                    "missing for a flight that zone announcements changed before its operator \
+                     cancelled it"
+                        .into(),
+                ));
+            }
+            (None, true) => None,
+        };
+        Ok(OperatorCancellation {
+            request: line.request.clone(),
+            origin: line.origin.clone(),
+            destination: line.destination.clone(),
+            requested_departure: self.time("requested_departure", &line.requested_departure)?,
+            free_flow: self.free_flow(line)?,
+            original,
+            changes,
+            cancelled_at: line
+                .cancelled_at
+                .as_deref()
+                .map(|t| self.time("cancelled_at", t))
+                .transpose()?,
+        })
+    }
+
+    fn record(&self, line: &PlanLine) -> Result<PlanRecord, InputError> {
         let mut record = PlanRecord::first(
             line.request.clone(),
             line.origin.clone(),
             line.destination.clone(),
             self.time("requested_departure", &line.requested_departure)?,
             Err(RejectReason::NoFeasiblePlan),
-            free_flow,
+            self.free_flow(line)?,
             line.expanded,
         );
         let status = line.status.as_str();
@@ -437,6 +698,26 @@ impl LineReader<'_> {
             _ => self.changed(line, &mut record)?,
         }
         Ok(record)
+    }
+
+    /// The zone announcements a line lists (`changes`), in order; none if it lists none.
+    fn changes(&self, line: &PlanLine) -> Result<Vec<ChangeNote>, InputError> {
+        let mut notes = Vec::new();
+        for (k, c) in line.changes.iter().flatten().enumerate() {
+            let outcome = FateKind::parse(&c.outcome).ok_or_else(|| {
+                self.err(
+                    Some(&format!("changes[{k}].outcome")),
+                    format!("`{}` is not an outcome", c.outcome),
+                )
+            })?;
+            notes.push(ChangeNote {
+                zone: c.zone.clone(),
+                announced: self.time(&format!("changes[{k}].announced"), &c.announced)?,
+                airborne: c.airborne,
+                outcome,
+            });
+        }
+        Ok(notes)
     }
 
     /// The first plan, changes and fate of a flight zone announcements changed.
@@ -462,26 +743,9 @@ impl LineReader<'_> {
                 lands: true,
             },
         )?);
-        let changes = line
-            .changes
-            .as_ref()
-            .filter(|c| !c.is_empty())
-            .ok_or_else(|| {
-                self.err(Some("changes"), format!("missing for a `{status}` request"))
-            })?;
-        for (k, c) in changes.iter().enumerate() {
-            let outcome = FateKind::parse(&c.outcome).ok_or_else(|| {
-                self.err(
-                    Some(&format!("changes[{k}].outcome")),
-                    format!("`{}` is not an outcome", c.outcome),
-                )
-            })?;
-            record.changes.push(ChangeNote {
-                zone: c.zone.clone(),
-                announced: self.time(&format!("changes[{k}].announced"), &c.announced)?,
-                airborne: c.airborne,
-                outcome,
-            });
+        record.changes = self.changes(line)?;
+        if record.changes.is_empty() {
+            return Err(self.err(Some("changes"), format!("missing for a `{status}` request")));
         }
         if record.changes.last().map(|c| c.outcome) != Some(kind) {
             return Err(self.err(
@@ -518,9 +782,21 @@ fn final_plan(line: &PlanLine) -> PlanFields<'_> {
     }
 }
 
-/// Reads a plans JSON Lines file.
+/// Reads the records of a plans JSON Lines file (see [`read_plans`]).
 pub fn read_plans_file(path: &Path, airspace: &Airspace) -> Result<Vec<PlanRecord>, InputError> {
     read_plans(
+        &crate::read_to_string(path)?,
+        &path.display().to_string(),
+        airspace,
+    )
+}
+
+/// Reads every line of a plans JSON Lines file (see [`read_plan_entries`]).
+pub fn read_plan_entries_file(
+    path: &Path,
+    airspace: &Airspace,
+) -> Result<Vec<PlanEntry>, InputError> {
+    read_plan_entries(
         &crate::read_to_string(path)?,
         &path.display().to_string(),
         airspace,
@@ -672,8 +948,9 @@ mod tests {
             UtcOffset::SINGAPORE,
             &changed(Fate::Cancelled),
         );
-        let no_original = out.replace(r#""original":"#, r#""first":"#);
-        let e = read_plans(&no_original, "p.jsonl", &air())
+        let mut no_original: serde_json::Value = serde_json::from_str(&out).unwrap();
+        no_original.as_object_mut().unwrap().remove("original");
+        let e = read_plans(&no_original.to_string(), "p.jsonl", &air())
             .unwrap_err()
             .to_string();
         assert_eq!(
@@ -687,6 +964,176 @@ mod tests {
         assert_eq!(
             e,
             "p.jsonl: line 1: field `status`: `diverted` is not the outcome of the last change"
+        );
+    }
+
+    /// The airspace and the listing of `testdata/service` (see its README): a real `muse
+    /// serve` session's `GET /v1/flights`, one flight a line.
+    fn service_listing() -> (Airspace, &'static str) {
+        let air = read_airspace(
+            include_str!("../testdata/service/line.geojson"),
+            "line.geojson",
+        )
+        .unwrap();
+        (air, include_str!("../testdata/service/flights.jsonl"))
+    }
+
+    #[test]
+    fn a_service_listing_is_read_line_by_line() {
+        let (air, text) = service_listing();
+        let entries = read_plan_entries(text, "flights.jsonl", &air).unwrap();
+        let seen: Vec<(&str, &str, usize)> = entries
+            .iter()
+            .map(|e| (e.request(), e.status(), e.line))
+            .collect();
+        assert_eq!(
+            seen,
+            [
+                ("a1", "diverted", 1),
+                ("k1", "contingency", 2),
+                ("a2", "cancelled", 3),
+                ("b1", "cancelled", 4),
+                ("e1", "replanned", 5),
+                ("b2", "cancelled", 6),
+                ("a3", "planned", 7),
+                ("c1", "cancelled", 8),
+                ("r1", "rejected", 9),
+                ("r2", "rejected", 10),
+            ]
+        );
+        assert!(
+            entries
+                .iter()
+                .all(|e| e.operator.as_deref() == Some("open"))
+        );
+        let cancelled: Vec<&OperatorCancellation> = entries
+            .iter()
+            .filter_map(|e| match &e.item {
+                PlanItem::CancelledByOperator(c) => Some(c),
+                PlanItem::Record(_) => None,
+            })
+            .collect();
+        assert_eq!(cancelled.len(), 2);
+        // b1 was replanned by ZC, then cancelled by its operator: its change and first plan
+        // are kept; c1 was cancelled before any zone.
+        let (b1, c1) = (cancelled[0], cancelled[1]);
+        assert_eq!((b1.request.as_str(), c1.request.as_str()), ("b1", "c1"));
+        assert_eq!(b1.changes.len(), 1);
+        assert_eq!(b1.changes[0].outcome, FateKind::Replanned);
+        assert_eq!(b1.original.as_ref().map(|p| p.path.len()), Some(2));
+        assert!(c1.changes.is_empty() && c1.original.is_none());
+        assert!(b1.cancelled_at.is_some() && c1.cancelled_at.is_some());
+        assert_eq!(b1.free_flow, Some(Millis(120_000)));
+        // The records are the other eight lines, as read_plans gives them.
+        let records = read_plans(text, "flights.jsonl", &air).unwrap();
+        let from_entries: Vec<&PlanRecord> = entries.iter().filter_map(PlanEntry::record).collect();
+        assert_eq!(records.iter().collect::<Vec<_>>(), from_entries);
+        assert_eq!(records.len(), 8);
+        let flying = records.iter().filter(|r| r.final_plan().is_some()).count();
+        assert_eq!(flying, 3, "a1, e1 and a3 land; k1 is committed only");
+        assert!(matches!(
+            records[1].fate,
+            Some(Fate::Contingency(ref p)) if p.path.len() == 2
+        ));
+        // A line of `muse plan` (no operator) reads the same as the service's.
+        let planned = text
+            .lines()
+            .nth(6)
+            .unwrap()
+            .replace(r#","operator":"open""#, "");
+        let plain = read_plan_entries(&planned, "p.jsonl", &air).unwrap();
+        assert_eq!(plain[0].operator, None);
+        assert_eq!(plain[0].item, entries[6].item);
+    }
+
+    #[test]
+    fn malformed_service_lines_are_named() {
+        let (air, text) = service_listing();
+        let b1 = text.lines().nth(3).unwrap();
+        let c1 = text.lines().nth(7).unwrap();
+        let a3 = text.lines().nth(6).unwrap();
+        let edit = |line: &str, f: &dyn Fn(&mut serde_json::Map<String, serde_json::Value>)| {
+            let mut v: serde_json::Value = serde_json::from_str(line).unwrap();
+            f(v.as_object_mut().unwrap());
+            read_plan_entries(&format!("\n{v}\n"), "p.jsonl", &air)
+                .unwrap_err()
+                .to_string()
+        };
+        let a3_path = serde_json::from_str::<serde_json::Value>(a3).unwrap()["path"].clone();
+        assert_eq!(
+            edit(c1, &|o| {
+                o.insert("path".into(), a3_path.clone());
+            }),
+            "p.jsonl: line 2: field `path`: a flight cancelled by its operator flies nothing: it \
+             has no `path` (status `cancelled`, reason `cancelled_by_operator`)"
+        );
+        assert_eq!(
+            edit(b1, &|o| {
+                o.remove("original");
+            }),
+            "p.jsonl: line 2: field `original.path`: missing for a flight that zone \
+             announcements changed before its operator cancelled it"
+        );
+        assert!(
+            edit(c1, &|o| {
+                o.insert("cancelled_at".into(), "yesterday".into());
+            })
+            .starts_with(
+                "p.jsonl: line 2: field `cancelled_at`: `yesterday` is not an RFC 3339 timestamp"
+            )
+        );
+        assert_eq!(
+            edit(a3, &|o| {
+                o.insert("cancelled_at".into(), "2026-01-05T08:00:00Z".into());
+            }),
+            "p.jsonl: line 2: field `cancelled_at`: only a flight cancelled by its operator \
+             (status `cancelled`, reason `cancelled_by_operator`) has one; this line's status is \
+             `planned`"
+        );
+        assert_eq!(
+            edit(c1, &|o| {
+                o.insert("reason".into(), serde_json::Value::Null);
+            }),
+            "p.jsonl: line 2: field `reason`: null is not the reason of a `cancelled` flight: \
+             `zone_announced` (a zone announcement cancelled it) or `cancelled_by_operator` (its \
+             operator did)"
+        );
+        assert!(
+            edit(c1, &|o| {
+                o.insert("operator".into(), 7.into());
+            })
+            .starts_with("p.jsonl: line 2: field `operator`: not a plan record: invalid type"),
+        );
+        let e = edit(a3, &|o| {
+            o.insert("pilot".into(), "Ann".into());
+        });
+        assert!(
+            e.starts_with(
+                "p.jsonl: line 2: field `pilot`: not a plan record: unknown field `pilot`"
+            ),
+            "{e}"
+        );
+        let e = edit(a3, &|o| {
+            o["path"][1]
+                .as_object_mut()
+                .unwrap()
+                .insert("hover".into(), true.into());
+        });
+        assert!(
+            e.starts_with(
+                "p.jsonl: line 2: field `path[1].hover`: not a plan record: unknown field `hover`"
+            ),
+            "{e}"
+        );
+        let e = edit(a3, &|o| {
+            o.insert(
+                "requested_departure".into(),
+                "2026-06-30T23:59:60+08:00".into(),
+            );
+        });
+        assert!(
+            e.starts_with("p.jsonl: line 2: field `requested_departure`: `2026-06-30T23:59:60+08:00` is a leap second"),
+            "{e}"
         );
     }
 

@@ -23,7 +23,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use jiff::civil::Date;
-use muse_model::time::parse_clock;
+use muse_model::time::{TimeError, parse_clock};
 use muse_model::{Airspace, Instant, NodeId, Request, UtcOffset};
 
 use crate::error::{InputError, Location};
@@ -295,8 +295,11 @@ fn parse_time(text: &str, day: LocalDay) -> Result<Instant, String> {
     if text.contains('T') || text.contains('t') || text.contains('-') && text.len() > 10 {
         return Instant::parse_rfc3339(text).map_err(|e| e.to_string());
     }
-    let tod = parse_clock(text).map_err(|_| {
-        format!("`{text}` is neither an RFC 3339 timestamp with offset nor a local time HH:MM[:SS]")
+    let tod = parse_clock(text).map_err(|e| match e {
+        TimeError::LeapSecond(_) => e.to_string(),
+        _ => format!(
+            "`{text}` is neither an RFC 3339 timestamp with offset nor a local time HH:MM[:SS]"
+        ),
     })?;
     Ok(Instant::at_local(day.date, tod, day.offset))
 }
@@ -497,6 +500,40 @@ mod tests {
         );
         assert!(err("r1,A,B,2026-01-05T08:15:00\n").starts_with(
             "r.csv: line 2: field `departure`: `2026-01-05T08:15:00` is not an RFC 3339"
+        ));
+        assert_eq!(
+            err("r1,A,B,2026-06-30T23:59:60+00:00\n"),
+            "r.csv: line 2: field `departure`: `2026-06-30T23:59:60+00:00` is a leap second \
+             (second 60): leap seconds are not accepted, since MUSE time (like Unix time) has 60 \
+             seconds in every minute; give :59 or the next minute's :00"
+        );
+        assert!(err("r1,A,B,23:59:60\n").starts_with(
+            "r.csv: line 2: field `departure`: `23:59:60` is a leap second (second 60): leap \
+             seconds are not accepted"
+        ));
+        assert!(
+            read("id,origin,destination,departure,submitted\nr1,A,B,23:59:59,23:59:60.5\n")
+                .unwrap_err()
+                .starts_with(
+                    "r.csv: line 2: field `submitted`: `23:59:60.5` is a leap second (second 60)"
+                )
+        );
+        // A valid timestamp far ahead is read exactly; one beyond 64-bit milliseconds is out of
+        // range.
+        let far = read_requests(
+            "id,origin,destination,departure\nr1,A,B,9999-12-31T23:59:59.999+08:00\n",
+            "r.csv",
+            &air(),
+            DAY,
+        )
+        .unwrap();
+        assert_eq!(
+            far[0].departure.to_rfc3339(UtcOffset::SINGAPORE),
+            "9999-12-31T23:59:59.999+08:00"
+        );
+        assert!(err("r1,A,B,+999999999-01-01T00:00:00Z\n").starts_with(
+            "r.csv: line 2: field `departure`: `+999999999-01-01T00:00:00Z` is out of the range \
+             MUSE represents"
         ));
         assert_eq!(
             err("r1,A,B,08:00\nr1,B,A,09:00\n"),

@@ -164,6 +164,10 @@ impl FateKind {
 /// The reason a flight cancelled by a zone announcement is given (SPEC §11).
 pub const ZONE_ANNOUNCED: &str = "zone_announced";
 
+/// The reason given for a flight its operator cancelled before take-off (the service, SPEC
+/// §10): it then holds no plan.
+pub const CANCELLED_BY_OPERATOR: &str = "cancelled_by_operator";
+
 /// Why a request was rejected (SPEC §6).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum RejectReason {

@@ -25,6 +25,7 @@ use crate::error::InputError;
 
 /// One leg of a multi-leg plan, as written.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct LegLine {
     /// The leg's take-off (arrival at its first stay), RFC 3339.
     pub takeoff: String,

@@ -490,6 +490,63 @@ fn clock_offsets_and_midnight() {
 }
 
 #[test]
+fn leap_seconds_are_refused_in_schedules_and_date_times() {
+    let e = err_of(&ed318_with(|p, _| {
+        p.insert(
+            "limitedApplicability".into(),
+            json!([{"schedule": [
+            {"day": ["ANY"], "startTime": "10:00:00+08:00", "endTime": "23:59:60+08:00"}]}]),
+        );
+    }));
+    assert_err(
+        &e,
+        "limitedApplicability[0].schedule[0].endTime",
+        "`23:59:60` is a leap second (second 60): leap seconds are not accepted",
+    );
+    let e = err_of(&ed318_with(|p, _| {
+        p.insert(
+            "limitedApplicability".into(),
+            json!([{"startDateTime": "2026-06-30T23:59:60Z"}]),
+        );
+    }));
+    assert_err(
+        &e,
+        "limitedApplicability[0].startDateTime",
+        "leap seconds are not accepted",
+    );
+    let e = err_of(&ed318_with(|p, _| {
+        p.insert("announced".into(), json!("2026-06-30T23:59:60+00:00"));
+    }));
+    assert_err(&e, "announced", "leap seconds are not accepted");
+}
+
+#[test]
+fn date_times_of_year_9999_are_read_exactly() {
+    let text = ed318_with(|p, _| {
+        p.insert(
+            "limitedApplicability".into(),
+            json!([{"startDateTime": "2026-01-05T10:00:00+08:00", "endDateTime": "9999-12-31T23:59:59+08:00"}]),
+        );
+    });
+    let zones = read_zones(&text, "z.json").unwrap();
+    assert_eq!(
+        zones[0].periods[0].end,
+        Some(Instant::parse_rfc3339("9999-12-31T15:59:59Z").unwrap())
+    );
+    let e = err_of(&ed318_with(|p, _| {
+        p.insert(
+            "limitedApplicability".into(),
+            json!([{"endDateTime": "+999999999-01-01T00:00:00Z"}]),
+        );
+    }));
+    assert_err(
+        &e,
+        "limitedApplicability[0].endDateTime",
+        "`+999999999-01-01T00:00:00Z` is out of the range MUSE represents",
+    );
+}
+
+#[test]
 fn collections_split_into_one_zone_per_area() {
     let text = ed318_with(|_, g| {
         *g = json!({"type": "GeometryCollection", "geometries": [
