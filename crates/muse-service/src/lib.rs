@@ -8,6 +8,7 @@
 //! - [`zones`]: zones announced during the day (SPEC §11): reading them, knowing them;
 //! - [`events`]: the flights' change events, kept and streamed (`GET /v1/events`);
 //! - [`api`]: the HTTP routes (axum), input checks and answers;
+//! - [`http`]: the HTTP server itself: timeouts, connection cap, graceful stop;
 //! - [`auth`]: bearer tokens, operators and the authority, the rate limit;
 //! - [`metrics`]: the Prometheus exposition;
 //! - [`state`]: what is planned on (airspace, zones, parameters, clock).
@@ -29,6 +30,7 @@ pub mod auth;
 pub mod engine;
 pub mod events;
 pub mod flights;
+pub mod http;
 pub mod metrics;
 pub mod state;
 pub mod store;
@@ -71,11 +73,14 @@ pub struct Options {
     pub event_buffer: usize,
     /// The page served at `GET /` (the live viewer, built by the caller), if any.
     pub page: Option<String>,
+    /// The HTTP server's timeouts and connection cap (see [`http`]).
+    pub http: http::Limits,
 }
 
 impl Options {
     /// Defaults: open, system clock, 16 KiB bodies, 20,000 requests per second per token with
-    /// bursts of 40,000, flights kept in memory for a day after they end.
+    /// bursts of 40,000, flights kept in memory for a day after they end; HTTP timeouts of
+    /// 10 s for headers, 30 s for bodies and 60 s idle, at most 10,000 connections.
     pub fn new(data: PathBuf) -> Self {
         Options {
             data,
@@ -87,6 +92,7 @@ impl Options {
             retain: Millis::from_secs(86_400),
             event_buffer: events::LIVE_CAPACITY,
             page: None,
+            http: http::Limits::default(),
         }
     }
 }
@@ -129,6 +135,7 @@ pub struct Running {
     pub open: bool,
     listener: tokio::net::TcpListener,
     app: Arc<App>,
+    http: http::Limits,
 }
 
 /// Opens the store, rebuilds the schedule from it and prepares to serve on `listener`.
@@ -184,28 +191,29 @@ pub async fn start(
         open,
         listener,
         app,
+        http: options.http,
     })
 }
 
 impl Running {
     /// Serves until the process is stopped (or `shutdown` completes: then event streams
-    /// end, and the answers under way are finished).
+    /// end, and the answers under way are finished), with the HTTP limits of
+    /// [`Options::http`] (see [`http`]).
     pub async fn serve_until(
         self,
         shutdown: impl std::future::Future<Output = ()> + Send + 'static,
     ) -> Result<(), ServeError> {
+        self.http.check().map_err(|message| ServeError::Io {
+            what: "checking the HTTP limits",
+            source: std::io::Error::new(std::io::ErrorKind::InvalidInput, message),
+        })?;
         let app = Arc::clone(&self.app);
         let stop = async move {
             shutdown.await;
             app.stopping.send_replace(true);
         };
-        axum::serve(self.listener, router(self.app))
-            .with_graceful_shutdown(stop)
-            .await
-            .map_err(|source| ServeError::Io {
-                what: "serving",
-                source,
-            })
+        http::serve(self.listener, router(self.app), self.http, stop).await;
+        Ok(())
     }
 
     /// Serves until the process is stopped.
