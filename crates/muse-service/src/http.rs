@@ -364,36 +364,49 @@ enum Phase {
     Idle(Instant),
     /// A request's first byte arrived at this instant; its headers are not complete.
     Head(Instant),
-    /// This many requests are being answered (headers read, answer not fully sent).
+    /// This many requests are being answered (headers read, answer not yet handed over
+    /// whole).
     Busy(usize),
 }
 
-/// A connection's phase, shared by its socket, its service and its watchdog.
+/// A connection's phase and writes, shared by its socket, its service and its watchdog.
 #[derive(Debug)]
 struct Track {
-    phase: Mutex<(Phase, Option<Instant>)>,
+    state: Mutex<TrackState>,
     /// Woken when a deadline may have moved.
     changed: Notify,
+}
+
+#[derive(Debug)]
+struct TrackState {
+    phase: Phase,
+    /// When the last write proceeded.
+    wrote: Option<Instant>,
+    /// Since when writes cannot proceed (the client is not reading), if they cannot.
+    blocked: Option<Instant>,
 }
 
 impl Track {
     fn new() -> Self {
         Track {
-            phase: Mutex::new((Phase::Idle(Instant::now()), None)),
+            state: Mutex::new(TrackState {
+                phase: Phase::Idle(Instant::now()),
+                wrote: None,
+                blocked: None,
+            }),
             changed: Notify::new(),
         }
     }
 
-    /// The phase and, if the last write could not proceed, since when it could not.
-    fn lock(&self) -> std::sync::MutexGuard<'_, (Phase, Option<Instant>)> {
-        self.phase.lock().unwrap_or_else(PoisonError::into_inner)
+    fn lock(&self) -> std::sync::MutexGuard<'_, TrackState> {
+        self.state.lock().unwrap_or_else(PoisonError::into_inner)
     }
 
     /// Bytes arrived.
     fn read(&self) {
         let mut state = self.lock();
-        if let Phase::Idle(_) = state.0 {
-            state.0 = Phase::Head(Instant::now());
+        if let Phase::Idle(_) = state.phase {
+            state.phase = Phase::Head(Instant::now());
             drop(state);
             self.changed.notify_one();
         }
@@ -402,8 +415,8 @@ impl Track {
     /// A write could not proceed (the client is not reading).
     fn write_blocked(&self) {
         let mut state = self.lock();
-        if state.1.is_none() {
-            state.1 = Some(Instant::now());
+        if state.blocked.is_none() {
+            state.blocked = Some(Instant::now());
             drop(state);
             self.changed.notify_one();
         }
@@ -411,22 +424,24 @@ impl Track {
 
     /// A write proceeded.
     fn wrote(&self) {
-        self.lock().1 = None;
+        let mut state = self.lock();
+        state.wrote = Some(Instant::now());
+        state.blocked = None;
     }
 
     /// A request's headers are complete: it is being answered.
     fn begin(&self) {
         let mut state = self.lock();
-        state.0 = match state.0 {
+        state.phase = match state.phase {
             Phase::Busy(n) => Phase::Busy(n + 1),
             Phase::Idle(_) | Phase::Head(_) => Phase::Busy(1),
         };
     }
 
-    /// A request's answer is sent (or abandoned).
+    /// A request's answer has been handed over whole to the connection (or abandoned).
     fn end(&self) {
         let mut state = self.lock();
-        state.0 = match state.0 {
+        state.phase = match state.phase {
             Phase::Busy(n) if n > 1 => Phase::Busy(n - 1),
             _ => Phase::Idle(Instant::now()),
         };
@@ -436,16 +451,21 @@ impl Track {
 
     /// Whether a request is being answered.
     fn busy(&self) -> bool {
-        matches!(self.lock().0, Phase::Busy(_))
+        matches!(self.lock().phase, Phase::Busy(_))
     }
 
-    /// When the current phase times out, if it can.
+    /// When the current phase times out, if it can. Idle counts from the end of the last
+    /// answer or from its last write, whichever is later (a long answer still being written
+    /// to a client that reads it is not idle); an answer in progress times out only when
+    /// its writes have not proceeded for the idle timeout.
     fn deadline(&self, limits: &Limits) -> Option<Instant> {
         let state = self.lock();
-        match state.0 {
-            Phase::Idle(since) => Some(since + limits.idle_timeout),
+        match state.phase {
+            Phase::Idle(since) => {
+                Some(since.max(state.wrote.unwrap_or(since)) + limits.idle_timeout)
+            }
             Phase::Head(since) => Some(since + limits.header_timeout),
-            Phase::Busy(_) => state.1.map(|since| since + limits.idle_timeout),
+            Phase::Busy(_) => state.blocked.map(|since| since + limits.idle_timeout),
         }
     }
 

@@ -680,3 +680,47 @@ async fn an_event_stream_outlives_the_idle_timeout() {
     let end = read_all(&mut stream, Duration::from_secs(5)).await;
     assert!(end.closed);
 }
+
+/// An answer the client stops reading is cut once its writes have made no progress for the
+/// idle timeout; a client that keeps reading gets all of it, however long it takes.
+#[tokio::test]
+async fn an_answer_the_client_stops_reading_is_cut() {
+    const PAGE: usize = 16 << 20;
+    let s = Service::start("stall", |o| {
+        o.http = short(1, 1, 1);
+        o.page = Some("x".repeat(PAGE));
+    })
+    .await;
+    let get_page = "GET / HTTP/1.1\r\nHost: 127.0.0.1\r\n\r\n";
+    // A slow but steady reader gets the whole page, though it takes longer than the idle
+    // timeout.
+    let mut reader = TcpStream::connect(s.addr).await.unwrap();
+    reader.write_all(get_page.as_bytes()).await.unwrap();
+    let began = Instant::now();
+    let mut total = 0;
+    let mut buf = vec![0u8; 64 * 1024];
+    while total < PAGE {
+        let n = tokio::time::timeout(Duration::from_secs(10), reader.read(&mut buf))
+            .await
+            .expect("the page keeps coming")
+            .unwrap();
+        assert!(n > 0, "cut after {total} bytes");
+        total += n;
+        tokio::time::sleep(Duration::from_millis(10)).await;
+    }
+    println!("a steady reader took {:?} for the page", began.elapsed());
+    assert!(began.elapsed() > Duration::from_millis(1_500));
+    // A client with a small receive buffer that stops reading.
+    let socket = tokio::net::TcpSocket::new_v4().unwrap();
+    socket.set_recv_buffer_size(4096).unwrap();
+    let mut stalled = socket.connect(s.addr).await.unwrap();
+    stalled.write_all(get_page.as_bytes()).await.unwrap();
+    tokio::time::sleep(Duration::from_secs(3)).await;
+    let got = read_all(&mut stalled, Duration::from_secs(20)).await;
+    println!(
+        "a stalled client read {} bytes before the cut",
+        got.text.len()
+    );
+    assert!(got.closed, "the stalled answer was not cut");
+    assert!(got.text.len() < PAGE, "the whole page arrived");
+}
