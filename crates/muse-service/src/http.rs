@@ -9,10 +9,11 @@
 //!   the answer is `408` and the connection is closed. A route that reads no body answers at
 //!   once and closes the connection if a declared body has not arrived by then.
 //! - **Idle timeout** ([`Limits::idle_timeout`], 60 s): a connection with no request in
-//!   progress (a new one that has sent nothing, or a kept-alive one between requests) is
-//!   closed once idle that long. A request in progress is never cut by it, however long its
-//!   answer streams (the server-sent events of `GET /v1/events`), unless the client stops
-//!   reading: an answer whose writes have made no progress for the idle timeout is cut.
+//!   progress (a new one that has sent nothing, or a kept-alive one between requests, counted
+//!   from the last byte of the last answer written) is closed once idle that long. A request
+//!   in progress is never cut by it, however long its answer takes or streams (the
+//!   server-sent events of `GET /v1/events`), unless the client stops reading: an answer
+//!   whose writes have made no progress for the idle timeout is cut.
 //! - **Connection cap** ([`Limits::max_connections`], 10,000, lowered to what the open-file
 //!   limit allows: see [`connection_cap`]): a connection above it is answered at once with a
 //!   minimal `503` (`Retry-After: 1`, `Connection: close`) and closed, so a flood of idle
