@@ -76,6 +76,7 @@ async fn client(
             .insert(id.clone(), body.clone());
         let Ok(response) = http
             .post(format!("{base}/v1/flights"))
+            .header("content-type", "application/json")
             .body(body.to_string())
             .send()
             .await
@@ -171,6 +172,7 @@ async fn check_restart(base: &str, ledger: &Mutex<Ledger>) {
     for (id, body) in &unanswered {
         let post = || {
             http.post(format!("{base}/v1/flights"))
+                .header("content-type", "application/json")
                 .body(body.to_string())
                 .send()
         };

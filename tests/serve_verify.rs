@@ -35,7 +35,9 @@ async fn send(
 ) -> (u16, Value) {
     let mut r = http.request(method, url);
     if let Some(b) = body {
-        r = r.body(b.to_string());
+        r = r
+            .header("content-type", "application/json")
+            .body(b.to_string());
     }
     let r = r.send().await.expect("the service answers");
     let code = r.status().as_u16();

@@ -151,6 +151,7 @@ async fn book(http: &reqwest::Client, base: &str) -> BTreeMap<String, Value> {
         });
         let r = http
             .post(format!("{base}/v1/flights"))
+            .header("content-type", "application/json")
             .body(body.to_string())
             .send()
             .await
@@ -260,6 +261,7 @@ async fn an_announcement_survives_sigkill_right_after_its_answer() {
     tokio::time::sleep(Duration::from_millis(4_500).saturating_sub(booking.elapsed())).await;
     let r = http
         .post(format!("{}/v1/zones", server.base))
+        .header("content-type", "application/geo+json")
         .body(stadium_feature().to_string())
         .send()
         .await
@@ -347,6 +349,7 @@ async fn an_announcement_survives_sigkill_right_after_its_answer() {
     assert!(zones.contains("SG-NATIONAL-STADIUM-EVENT"), "{zones}");
     let again = http
         .post(format!("{}/v1/zones", server.base))
+        .header("content-type", "application/geo+json")
         .body(stadium_feature().to_string())
         .send()
         .await

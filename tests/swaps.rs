@@ -247,6 +247,7 @@ async fn the_service_plans_multi_leg_flights_and_reports_its_swap_time() {
                       "departure": "2026-01-05T09:00:00.000+08:00"});
     let r = http
         .post(format!("{}/v1/flights", server.base))
+        .header("content-type", "application/json")
         .body(body.to_string())
         .send()
         .await

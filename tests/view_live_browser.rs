@@ -208,9 +208,9 @@ fn live_page_shows_an_operator_its_own_flights_and_the_authority_all() {
     let tokens = data.with_extension("toml");
     std::fs::write(
         &tokens,
-        "[[tokens]]\ntoken = \"alpha-secret\"\noperator = \"alpha\"\nrole = \"operator\"\n\n\
-         [[tokens]]\ntoken = \"bravo-secret\"\noperator = \"bravo\"\nrole = \"operator\"\n\n\
-         [[tokens]]\ntoken = \"authority-secret\"\noperator = \"caas\"\nrole = \"authority\"\n",
+        "[[tokens]]\ntoken = \"alpha-secret-0001\"\noperator = \"alpha\"\nrole = \"operator\"\n\n\
+         [[tokens]]\ntoken = \"bravo-secret-0002\"\noperator = \"bravo\"\nrole = \"operator\"\n\n\
+         [[tokens]]\ntoken = \"authority-secret-0003\"\noperator = \"caas\"\nrole = \"authority\"\n",
     )
     .expect("tokens file");
     let server = support::start(
@@ -223,23 +223,23 @@ fn live_page_shows_an_operator_its_own_flights_and_the_authority_all() {
         ],
     );
     let alpha = browser.new_page().expect("a page");
-    open_live(&alpha, &format!("{}/?token=alpha-secret", server.base));
+    open_live(&alpha, &format!("{}/?token=alpha-secret-0001", server.base));
     let authority = browser.new_page().expect("a page");
     open_live(
         &authority,
-        &format!("{}/?token=authority-secret", server.base),
+        &format!("{}/?token=authority-secret-0003", server.base),
     );
 
     plan(
         &server.base,
-        Some("bravo-secret"),
+        Some("bravo-secret-0002"),
         "b1",
         ("S012", "S040"),
         60,
     );
     plan(
         &server.base,
-        Some("alpha-secret"),
+        Some("alpha-secret-0001"),
         "a1",
         ("S001", "S002"),
         60,

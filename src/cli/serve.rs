@@ -7,16 +7,22 @@
 //! announces a zone now, SPEC §11, and the flights it hits are replanned; or withdraws one);
 //! `GET /v1/events` (the caller's flights' changes as server-sent events, resumable with
 //! `Last-Event-ID`); `GET /v1/airspace`, `/healthz`, `/metrics`.
+//!
+//! HTTP limits (see `muse_service::http`): `--header-timeout-s`, `--body-timeout-s`,
+//! `--idle-timeout-s`, `--max-connections` (lowered to what the open-file limit allows, after
+//! raising the soft limit to the hard one). With `--tokens`, SIGHUP rereads the file.
 
 use std::io::Write as _;
 use std::net::SocketAddr;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Duration;
 
 use anyhow::Context as _;
 use clap::Args;
 use muse_model::{Instant, Millis};
 use muse_service::auth::Tokens;
+use muse_service::http::{self, Limits};
 use muse_service::state::{Clock, ServiceWorld};
 use muse_service::{Options, launch};
 
@@ -35,7 +41,11 @@ Routes (JSON; the full description at GET /v1/openapi.json):
   DELETE /v1/zones/{id}        authority: withdraw an announced zone (replans nothing)
   GET    /v1/events            server-sent events of the caller's flights' changes; resume with
                                Last-Event-ID
-  GET    /v1/airspace, /healthz, /metrics";
+  GET    /v1/airspace, /healthz, /metrics
+
+Writes with a body need Content-Type: application/json (415 otherwise). Without --tokens,
+only requests addressed to a loopback name (Host localhost, 127.0.0.1, [::1]) are answered
+(403 otherwise). With --tokens, `kill -HUP <pid>` rereads the tokens file.";
 
 /// Arguments of `muse serve`.
 #[derive(Debug, Args)]
@@ -51,8 +61,10 @@ pub struct ServeArgs {
     /// Data folder: the durable store (created if missing; one service per folder).
     #[arg(long, value_name = "DIR", default_value = "./muse-data")]
     data: PathBuf,
-    /// Bearer tokens (TOML `[[tokens]]` with `token`, `operator`, `role`). Without it the
-    /// service is open to anyone on this machine and listens on loopback addresses only.
+    /// Bearer tokens (TOML `[[tokens]]` with `token` (16 characters or more), `operator`,
+    /// `role`), reread on SIGHUP. Without it the service is open to anyone on this machine:
+    /// it listens on loopback addresses only and answers only requests addressed to a
+    /// loopback name (Host `localhost`, `127.0.0.1`, ...).
     #[arg(long, value_name = "FILE")]
     tokens: Option<PathBuf>,
     /// Start the service clock at this instant (RFC 3339) instead of the system time; it runs
@@ -81,6 +93,29 @@ pub struct ServeArgs {
     /// Burst of requests allowed above the rate, per token.
     #[arg(long, value_name = "N", default_value_t = 40_000.0)]
     burst: f64,
+    /// Seconds a client has, from the first byte of a request, to send all its headers
+    /// (slower clients are disconnected).
+    #[arg(long, value_name = "S", default_value = "10", value_parser = http::parse_timeout)]
+    header_timeout_s: Duration,
+    /// Seconds a client has, after the headers, to send the body of a POST (later: 408).
+    #[arg(long, value_name = "S", default_value = "30", value_parser = http::parse_timeout)]
+    body_timeout_s: Duration,
+    /// Seconds a connection may stay open with no request in progress (an event stream is a
+    /// request in progress).
+    #[arg(long, value_name = "S", default_value = "60", value_parser = http::parse_timeout)]
+    idle_timeout_s: Duration,
+    /// Most connections open at once, lowered to what the open-file limit allows (the soft
+    /// limit is raised to the hard one first); connections above it are answered 503.
+    #[arg(long, value_name = "N", default_value = "10000", value_parser = parse_connections)]
+    max_connections: usize,
+}
+
+/// `--max-connections`: a whole number, at least 1.
+fn parse_connections(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err("must be a whole number of connections, at least 1".into()),
+    }
 }
 
 /// Runs `muse serve` until the process is stopped (Ctrl-C or SIGTERM stop it cleanly; any
@@ -98,6 +133,13 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         None => Tokens::Open,
         Some(path) => Tokens::read(path)?,
     };
+    let limits = Limits {
+        header_timeout: args.header_timeout_s,
+        body_timeout: args.body_timeout_s,
+        idle_timeout: args.idle_timeout_s,
+        max_connections: args.max_connections,
+    };
+    limits.check().map_err(anyhow::Error::msg)?;
     let label = world_label(&world);
     let stations = world.airspace.stations().count();
     let page = super::view::live_page(&world, clock.now())?;
@@ -111,7 +153,8 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         clock.now(),
     )?;
     let mut options = Options::new(args.data.clone());
-    options.tokens = tokens;
+    options.tokens = tokens.clone();
+    options.http = limits;
     options.clock = clock;
     options.max_body = args.max_body_kib * 1024;
     options.rate_limit = args.rate_limit;
@@ -158,17 +201,21 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         if running.open {
             writeln!(
                 out,
-                "  access     OPEN: no --tokens, so anyone on this machine may plan, read and cancel, and announce zones (loopback only)"
+                "  access     OPEN: no --tokens, so anyone on this machine may plan, read and cancel, and announce zones (loopback only; requests must name a loopback host)"
             )?;
         } else {
-            writeln!(out, "  access     bearer tokens from {}", args.tokens.as_ref().map_or_else(String::new, |p| p.display().to_string()))?;
+            writeln!(out, "  access     bearer tokens from {} (reread on SIGHUP)", args.tokens.as_ref().map_or_else(String::new, |p| p.display().to_string()))?;
         }
+        writeln!(out, "  http       {}", limits_line(&limits))?;
         writeln!(out, "  API        http://{}/v1/openapi.json", running.addr)?;
         let token_hint = if running.open { "" } else { "?token=YOUR_TOKEN" };
         writeln!(out, "  viewer     http://{}/{token_hint}", running.addr)?;
         writeln!(out, "listening on http://{}", running.addr)?;
         out.flush()?;
         drop(out);
+        if let Some(path) = &args.tokens {
+            tokio::spawn(reload_on_hangup(tokens, path.clone()));
+        }
         running.serve_until(shutdown_signal()).await?;
         anyhow::Ok(())
     })?;
@@ -291,6 +338,67 @@ fn world_label(world: &super::common::World) -> String {
     }
     let zones: Vec<&str> = world.zones.iter().map(|z| z.id.as_str()).collect();
     format!("{} ({})", world.airspace_source, zones.join(", "))
+}
+
+/// The start-up line about the HTTP limits, with the connection cap in force.
+fn limits_line(limits: &Limits) -> String {
+    let cap = http::connection_cap(limits.max_connections);
+    let files = http::open_file_limit().map_or_else(
+        || "no open-file limit".to_owned(),
+        |f| format!("open-file limit {f}"),
+    );
+    let lowered = if cap < limits.max_connections {
+        format!(
+            ", lowered from --max-connections {}",
+            limits.max_connections
+        )
+    } else {
+        String::new()
+    };
+    format!(
+        "at most {cap} connections ({files}{lowered}); timeouts: headers {} s, bodies {} s, \
+         idle {} s",
+        limits.header_timeout.as_secs_f64(),
+        limits.body_timeout.as_secs_f64(),
+        limits.idle_timeout.as_secs_f64()
+    )
+}
+
+/// Rereads the tokens file on each SIGHUP: one line on stdout when the new tokens are in
+/// force, the error on stderr (naming the file) when the file is refused and the tokens in
+/// force are kept.
+#[cfg(unix)]
+async fn reload_on_hangup(tokens: Tokens, path: PathBuf) {
+    use tokio::signal::unix::{SignalKind, signal};
+    let mut hangups = match signal(SignalKind::hangup()) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!(
+                "muse serve: cannot listen for SIGHUP ({e}); the tokens will not be reloaded"
+            );
+            return;
+        }
+    };
+    while hangups.recv().await.is_some() {
+        reload(&tokens, &path);
+    }
+}
+
+#[cfg(not(unix))]
+async fn reload_on_hangup(_tokens: Tokens, _path: PathBuf) {}
+
+fn reload(tokens: &Tokens, path: &Path) {
+    match tokens.reload(path) {
+        Ok(n) => {
+            let mut out = std::io::stdout().lock();
+            let _ = writeln!(out, "tokens reloaded from {}: {n} token(s)", path.display());
+            let _ = out.flush();
+        }
+        Err(e) => eprintln!(
+            "muse serve: tokens not reloaded, keeping the {} token(s) in force: {e}",
+            tokens.len()
+        ),
+    }
 }
 
 /// Completes on Ctrl-C or SIGTERM.

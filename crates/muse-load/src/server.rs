@@ -129,7 +129,9 @@ impl Server {
             .timeout(timeout)
             .connect_timeout(timeout.min(Duration::from_secs(5)))
             .tcp_nodelay(true)
-            .pool_idle_timeout(Duration::from_secs(90))
+            // Below the service's idle timeout (60 s by default), so that the pool lets an
+            // idle connection go before the service closes it under a request.
+            .pool_idle_timeout(Duration::from_secs(30))
             .no_proxy()
             .build()
             .map_err(|e| LoadError::Config(format!("building the HTTP client: {}", causes(&e))))?;

@@ -9,6 +9,7 @@
 //! - [`zones`]: zones announced during the day (SPEC §11): reading them, knowing them;
 //! - [`events`]: the flights' change events, kept and streamed (`GET /v1/events`);
 //! - [`api`]: the HTTP routes (axum), input checks and answers;
+//! - [`http`]: the HTTP server itself: timeouts, connection cap, graceful stop;
 //! - [`auth`]: bearer tokens, operators and the authority, the rate limit;
 //! - [`metrics`]: the Prometheus exposition;
 //! - [`state`]: what is planned on (airspace, zones, parameters, clock).
@@ -31,6 +32,7 @@ pub mod auth;
 pub mod engine;
 pub mod events;
 pub mod flights;
+pub mod http;
 pub mod metrics;
 pub mod state;
 pub mod store;
@@ -70,11 +72,14 @@ pub struct Options {
     pub event_buffer: usize,
     /// The page served at `GET /` (the live viewer, built by the caller), if any.
     pub page: Option<String>,
+    /// The HTTP server's timeouts and connection cap (see [`http`]).
+    pub http: http::Limits,
 }
 
 impl Options {
     /// Defaults: open, system clock, 16 KiB bodies, 20,000 requests per second per token with
-    /// bursts of 40,000.
+    /// bursts of 40,000; HTTP timeouts of 10 s for headers, 30 s for bodies and 60 s idle,
+    /// at most 10,000 connections.
     pub fn new(data: PathBuf) -> Self {
         Options {
             data,
@@ -85,6 +90,7 @@ impl Options {
             burst: 40_000.0,
             event_buffer: events::LIVE_CAPACITY,
             page: None,
+            http: http::Limits::default(),
         }
     }
 }
@@ -182,6 +188,10 @@ pub async fn launch(
     if options.tokens.is_open() && !addr.ip().is_loopback() {
         return Err(ServeError::OpenNotLoopback(addr));
     }
+    options.http.check().map_err(|message| ServeError::Io {
+        what: "checking the HTTP limits",
+        source: std::io::Error::new(std::io::ErrorKind::InvalidInput, message),
+    })?;
     let description = world.description();
     let legacy = world.legacy_fingerprint();
     let data = options.data.clone();
@@ -221,13 +231,17 @@ pub async fn launch(
         stopping: watch::channel(false).0,
     });
     let mut stopping = app.stopping.subscribe();
-    let server = tokio::spawn(
-        axum::serve(listener, router(Arc::clone(&app)))
-            .with_graceful_shutdown(async move {
+    let limits = options.http;
+    let server = tokio::spawn({
+        let router = router(Arc::clone(&app));
+        async move {
+            http::serve(listener, router, limits, async move {
                 let _ = stopping.wait_for(|s| *s).await;
             })
-            .into_future(),
-    );
+            .await;
+            Ok(())
+        }
+    });
     Ok(Launched {
         addr,
         open,

@@ -325,7 +325,13 @@ async fn retries_are_idempotent_and_conflicts_refused() {
         let url = format!("{}/v1/flights", s.base);
         let body = flight("r3", "B", "C", &t2).to_string();
         tasks.push(tokio::spawn(async move {
-            let r = client.post(url).body(body).send().await.unwrap();
+            let r = client
+                .post(url)
+                .header("content-type", "application/json")
+                .body(body)
+                .send()
+                .await
+                .unwrap();
             (r.status().as_u16(), r.text().await.unwrap())
         }));
     }
@@ -381,17 +387,17 @@ async fn cancel_before_take_off_frees_the_slot_and_not_after() {
 
 const TOKENS: &str = r#"
 [[tokens]]
-token = "alpha-secret"
+token = "alpha-secret-0001"
 operator = "alpha"
 role = "operator"
 
 [[tokens]]
-token = "bravo-secret"
+token = "bravo-secret-0002"
 operator = "bravo"
 role = "operator"
 
 [[tokens]]
-token = "authority-secret"
+token = "authority-secret-0003"
 operator = "caas"
 role = "authority"
 "#;
@@ -404,9 +410,9 @@ async fn operators_see_their_own_flights_and_the_authority_all() {
     })
     .await;
     let (a, b, auth) = (
-        Some("alpha-secret"),
-        Some("bravo-secret"),
-        Some("authority-secret"),
+        Some("alpha-secret-0001"),
+        Some("bravo-secret-0002"),
+        Some("authority-secret-0003"),
     );
     let t = in_secs(600);
     assert_eq!(s.post(None, &flight("a1", "A", "B", &t)).await.0, 401);
@@ -550,6 +556,7 @@ async fn pages_after_concurrent_requests_list_each_flight_once() {
         tasks.push(tokio::spawn(async move {
             client
                 .post(url)
+                .header("content-type", "application/json")
                 .body(body)
                 .send()
                 .await
@@ -643,12 +650,7 @@ async fn state_survives_a_restart_on_the_same_folder() {
             let _ = stop_rx.await;
         }));
         let client = reqwest::Client::new();
-        let post = |body: Value| {
-            client
-                .post(format!("{base}/v1/flights"))
-                .body(body.to_string())
-                .send()
-        };
+        let post = |body: Value| client.post(format!("{base}/v1/flights")).json(&body).send();
         let planned: Value = post(flight("k1", "A", "C", &t))
             .await
             .unwrap()
@@ -712,7 +714,7 @@ async fn state_survives_a_restart_on_the_same_folder() {
     // The restored flight still holds its slot: the same request under a new id is refused.
     let v: Value = client
         .post(format!("{base}/v1/flights"))
-        .body(flight("k3", "A", "C", &t).to_string())
+        .json(&flight("k3", "A", "C", &t))
         .send()
         .await
         .unwrap()
@@ -893,9 +895,9 @@ async fn an_announced_zone_replans_what_it_hits_and_everything_still_verifies() 
     })
     .await;
     let (a, b, auth) = (
-        Some("alpha-secret"),
-        Some("bravo-secret"),
-        Some("authority-secret"),
+        Some("alpha-secret-0001"),
+        Some("bravo-secret-0002"),
+        Some("authority-secret-0003"),
     );
     // Two flights take off in 1.5 s; the others are ahead.
     let soon = in_ms(1_500);
@@ -1225,7 +1227,7 @@ fn summary(events: &[Received]) -> Vec<(u64, &str, &str)> {
 /// Checks the data of alpha's (`mine`) and bravo's (`theirs`) events of the event test:
 /// who, what, why, and the flight as `GET /v1/flights/{id}` shows it.
 async fn check_event_data(s: &Service, mine: &[Received], theirs: &[Received]) {
-    let (a, b) = (Some("alpha-secret"), Some("bravo-secret"));
+    let (a, b) = (Some("alpha-secret-0001"), Some("bravo-secret-0002"));
     for (_, kind, data) in mine.iter().chain(theirs) {
         assert_eq!(data["status"].as_str(), Some(kind.as_str()), "{data}");
         assert_eq!(data["plan"]["status"], data["status"]);
@@ -1256,9 +1258,9 @@ async fn event_streams_show_each_operator_its_own_flights_and_resume_exactly() {
     })
     .await;
     let (a, b, auth) = (
-        Some("alpha-secret"),
-        Some("bravo-secret"),
-        Some("authority-secret"),
+        Some("alpha-secret-0001"),
+        Some("bravo-secret-0002"),
+        Some("authority-secret-0003"),
     );
     // Alpha listens live from now; bravo and the authority from the start of the history.
     let mut alpha = EventStream::open(&s, a, None).await;
@@ -1339,7 +1341,7 @@ async fn event_streams_show_each_operator_its_own_flights_and_resume_exactly() {
     let r = s
         .client
         .get(format!("{}/v1/events", s.base))
-        .bearer_auth("alpha-secret")
+        .bearer_auth("alpha-secret-0001")
         .header("last-event-id", "x")
         .send()
         .await

@@ -12,6 +12,9 @@ pub struct ApiError {
     message: String,
     field: Option<String>,
     pub(super) retry_after_s: Option<u64>,
+    /// Whether the connection is closed after this answer (`Connection: close`): the request's
+    /// body was not read to its end.
+    pub(super) close: bool,
 }
 
 #[derive(Serialize)]
@@ -35,11 +38,18 @@ impl ApiError {
             message: message.into(),
             field: None,
             retry_after_s: None,
+            close: false,
         }
     }
 
     pub(super) fn field(mut self, field: impl Into<String>) -> Self {
         self.field = Some(field.into());
+        self
+    }
+
+    /// This answer closes the connection.
+    pub(super) fn closing(mut self) -> Self {
+        self.close = true;
         self
     }
 
@@ -85,6 +95,11 @@ impl IntoResponse for ApiError {
             response
                 .headers_mut()
                 .insert(header::RETRY_AFTER, HeaderValue::from(s));
+        }
+        if self.close {
+            response
+                .headers_mut()
+                .insert(header::CONNECTION, HeaderValue::from_static("close"));
         }
         response
     }

@@ -3,8 +3,7 @@
 use std::sync::Arc;
 use std::time::Instant as WallInstant;
 
-use axum::body::Bytes;
-use axum::extract::rejection::{BytesRejection, QueryRejection};
+use axum::extract::rejection::QueryRejection;
 use axum::extract::{Path, Query, State as AxumState};
 use axum::http::StatusCode;
 use axum::response::Response;
@@ -17,6 +16,7 @@ use crate::flights::{FlightEntry, ListQuery, Status};
 use crate::metrics::PlanOutcome;
 
 use super::error::json;
+use super::guard::JsonBody;
 use super::{ApiError, App, Authed};
 use crate::flights::{MAX_ID_LEN, valid_id};
 
@@ -134,11 +134,10 @@ fn answer_status(entry: &FlightEntry) -> StatusCode {
 pub(super) async fn create(
     AxumState(app): AxumState<Arc<App>>,
     Authed(caller): Authed,
-    body: Result<Bytes, BytesRejection>,
+    JsonBody(body): JsonBody<false>,
 ) -> Result<Response, ApiError> {
     let started = WallInstant::now();
     let checked = body
-        .map_err(|r| ApiError::new(r.status(), "body", r.body_text()))
         .and_then(|b| parse_body::<NewFlight>(&b))
         .and_then(|b| validate(&app, b));
     let request = match checked {

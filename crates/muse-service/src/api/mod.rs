@@ -16,7 +16,15 @@
 //! | `GET /metrics` | Prometheus metrics |
 //!
 //! Every error is `{"error": {"status", "code", "message", "field"}}`; `field` names the
-//! offending input field when there is one.
+//! offending input field (or header) when there is one.
+//!
+//! Before any route: in open mode (no tokens) a request whose `Host` is not a loopback name
+//! (`localhost`, `*.localhost`, 127.0.0.0/8, `[::1]`) is refused `403` (`host_not_allowed`:
+//! DNS-rebinding protection; no route is exempt), and a declared `Content-Length` above what
+//! the route takes is refused `413` at once, closing the connection. The writes with a body
+//! (`POST /v1/flights`, `POST /v1/zones`) need `Content-Type: application/json` (zones also
+//! take `application/geo+json`), else `415` (`unsupported_media_type`); a body that has not
+//! arrived within the body timeout is `408` (see [`crate::http`]).
 //!
 //! The handlers are grouped by concept: `error` (the error answer and JSON bodies),
 //! `caller` (who calls: token and rate limit), `flights` (the flight routes and their
@@ -35,6 +43,7 @@ mod caller;
 mod error;
 pub mod events;
 mod flights;
+mod guard;
 mod info;
 pub mod zone_body;
 mod zones;
@@ -115,7 +124,10 @@ pub fn router(app: Arc<App>) -> Router {
             "/v1/zones",
             get(zones::list)
                 .post(zones::announce)
-                .layer(DefaultBodyLimit::max(MAX_ZONE_BODY.max(max_body))),
+                .layer(DefaultBodyLimit::max(guard::body_limit(
+                    max_body,
+                    "/v1/zones",
+                ))),
         )
         .route("/v1/zones/{id}", delete(zones::withdraw))
         .route("/v1/events", get(events::stream))
@@ -128,6 +140,10 @@ pub fn router(app: Arc<App>) -> Router {
             until_ready,
         ))
         .layer(DefaultBodyLimit::max(max_body))
+        .layer(axum::middleware::from_fn_with_state(
+            Arc::clone(&app),
+            guard::gate,
+        ))
         .layer(CatchPanicLayer::custom(|_| {
             ApiError::new(
                 StatusCode::INTERNAL_SERVER_ERROR,

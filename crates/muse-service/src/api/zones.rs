@@ -2,8 +2,6 @@
 
 use std::sync::Arc;
 
-use axum::body::Bytes;
-use axum::extract::rejection::BytesRejection;
 use axum::extract::{Path, State as AxumState};
 use axum::http::{HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
@@ -18,6 +16,7 @@ use crate::zones::AnnouncedZone;
 use super::zone_body::parse_feature;
 
 use super::error::json;
+use super::guard::JsonBody;
 use super::{ApiError, App, Authed};
 
 /// Largest `POST /v1/zones` body, bytes (zones may carry long polygons; only the authority
@@ -57,10 +56,10 @@ struct AffectedBody {
 pub(super) async fn announce(
     AxumState(app): AxumState<Arc<App>>,
     Authed(caller): Authed,
-    body: Result<Bytes, BytesRejection>,
+    JsonBody(body): JsonBody<true>,
 ) -> Result<Response, ApiError> {
     authority_only(&caller)?;
-    let body = body.map_err(|r| ApiError::new(r.status(), "body", r.body_text()))?;
+    let body = body?;
     let zone = parse_feature(&body).map_err(|e| {
         let mut err = ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, "invalid_zone", e.message);
         if let Some(f) = e.field {

@@ -1,0 +1,658 @@
+//! The HTTP/1.1 server the API is served by: hyper's connection handling around the axum
+//! router, with the limits a service exposed to misbehaving clients needs.
+//!
+//! - **Header timeout** ([`Limits::header_timeout`], 10 s by default): once the first byte of
+//!   a request has arrived, its request line and headers must be complete within it, or the
+//!   connection is closed (a slowloris client dribbling a byte now and then is cut).
+//! - **Body timeout** ([`Limits::body_timeout`], 30 s): a body the API reads
+//!   (`POST /v1/flights`, `POST /v1/zones`) must have arrived within it of the headers; if not
+//!   the answer is `408` and the connection is closed. A route that reads no body answers at
+//!   once and closes the connection if a declared body has not arrived by then.
+//! - **Idle timeout** ([`Limits::idle_timeout`], 60 s): a connection with no request in
+//!   progress (a new one that has sent nothing, or a kept-alive one between requests, counted
+//!   from the last byte of the last answer written) is closed once idle that long. A request
+//!   in progress is never cut by it, however long its answer takes or streams (the
+//!   server-sent events of `GET /v1/events`), unless the client stops reading: an answer
+//!   whose writes have made no progress for the idle timeout is cut.
+//! - **Connection cap** ([`Limits::max_connections`], 10,000, lowered to what the open-file
+//!   limit allows: see [`connection_cap`]): a connection above it is answered at once with a
+//!   minimal `503` (`Retry-After: 1`, `Connection: close`) and closed, so a flood of idle
+//!   sockets never leaves the service answering no one.
+//!
+//! A graceful stop (the future given to [`crate::Running::serve_until`]) stops accepting,
+//! closes the connections with no request being answered (idle ones, and those still sending
+//! headers), lets the answers under way finish (event streams end then) and returns once
+//! every connection is closed.
+
+use std::convert::Infallible;
+use std::future::Future;
+use std::io;
+use std::pin::Pin;
+use std::sync::{Arc, Mutex, PoisonError};
+use std::task::{Context, Poll};
+use std::time::Duration;
+
+use axum::Router;
+use axum::body::{Body, Bytes};
+use axum::http::{Request, Response};
+use http_body::{Frame, SizeHint};
+use hyper::body::Incoming;
+use hyper_util::rt::TokioIo;
+use tokio::io::{AsyncRead, AsyncReadExt as _, AsyncWrite, AsyncWriteExt as _, ReadBuf};
+use tokio::net::{TcpListener, TcpStream};
+use tokio::sync::{Notify, OwnedSemaphorePermit, Semaphore, watch};
+use tokio::time::Instant;
+use tower_service::Service as _;
+
+/// Default [`Limits::header_timeout`].
+pub const DEFAULT_HEADER_TIMEOUT: Duration = Duration::from_secs(10);
+/// Default [`Limits::body_timeout`].
+pub const DEFAULT_BODY_TIMEOUT: Duration = Duration::from_secs(30);
+/// Default [`Limits::idle_timeout`].
+pub const DEFAULT_IDLE_TIMEOUT: Duration = Duration::from_secs(60);
+/// Default [`Limits::max_connections`] (before the open-file limit lowers it).
+pub const DEFAULT_MAX_CONNECTIONS: usize = 10_000;
+/// Open files kept back from the connection cap for everything else the process opens: the
+/// store's log and lock, the listening socket, connections being refused.
+pub const FILE_RESERVE: u64 = 64;
+/// Shortest timeout accepted.
+pub const MIN_TIMEOUT: Duration = Duration::from_millis(100);
+/// Longest timeout accepted (a day).
+pub const MAX_TIMEOUT: Duration = Duration::from_secs(86_400);
+
+/// Connections above the cap being answered `503` at once: each is given up to
+/// [`REFUSAL_LINGER`] to read its answer; beyond this many the socket is closed right after
+/// the answer is written (part of [`FILE_RESERVE`]).
+const REFUSING: usize = 32;
+/// How long a closed connection's unread input is drained so that the client reads the
+/// answer rather than a reset.
+const LINGER: Duration = Duration::from_secs(1);
+/// The same for a connection refused above the cap (shorter: there may be many).
+const REFUSAL_LINGER: Duration = Duration::from_millis(250);
+/// At most this much unread input is drained before closing.
+const LINGER_BYTES: usize = 256 * 1024;
+/// How long to wait after an `accept` error (such as running out of open files).
+const ACCEPT_BACKOFF: Duration = Duration::from_millis(250);
+
+/// The limits of the HTTP server (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Limits {
+    /// From the first byte of a request to the end of its headers.
+    pub header_timeout: Duration,
+    /// From the end of the headers to the end of a body the API reads.
+    pub body_timeout: Duration,
+    /// Longest time a connection stays open with no request in progress.
+    pub idle_timeout: Duration,
+    /// Most connections served at once (lowered to [`connection_cap`]).
+    pub max_connections: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            header_timeout: DEFAULT_HEADER_TIMEOUT,
+            body_timeout: DEFAULT_BODY_TIMEOUT,
+            idle_timeout: DEFAULT_IDLE_TIMEOUT,
+            max_connections: DEFAULT_MAX_CONNECTIONS,
+        }
+    }
+}
+
+impl Limits {
+    /// Checks that every timeout is within [`MIN_TIMEOUT`]..=[`MAX_TIMEOUT`] and that at
+    /// least one connection is allowed; the error names the field.
+    pub fn check(&self) -> Result<(), String> {
+        for (name, t) in [
+            ("header_timeout", self.header_timeout),
+            ("body_timeout", self.body_timeout),
+            ("idle_timeout", self.idle_timeout),
+        ] {
+            if !(MIN_TIMEOUT..=MAX_TIMEOUT).contains(&t) {
+                return Err(format!(
+                    "{name} must be between {} and {} seconds, got {}",
+                    MIN_TIMEOUT.as_secs_f64(),
+                    MAX_TIMEOUT.as_secs_f64(),
+                    t.as_secs_f64()
+                ));
+            }
+        }
+        if self.max_connections == 0 {
+            return Err("max_connections must be at least 1".into());
+        }
+        Ok(())
+    }
+}
+
+/// Parses a timeout given in seconds (`"10"`, `"2.5"`) as the command line takes it: a
+/// finite number within [`MIN_TIMEOUT`]..=[`MAX_TIMEOUT`].
+pub fn parse_timeout(text: &str) -> Result<Duration, String> {
+    let bad = || {
+        format!(
+            "must be a number of seconds from {} to {}",
+            MIN_TIMEOUT.as_secs_f64(),
+            MAX_TIMEOUT.as_secs_f64()
+        )
+    };
+    let secs: f64 = text.trim().parse().map_err(|_| bad())?;
+    if !secs.is_finite() {
+        return Err(bad());
+    }
+    let t = Duration::try_from_secs_f64(secs).map_err(|_| bad())?;
+    if (MIN_TIMEOUT..=MAX_TIMEOUT).contains(&t) {
+        Ok(t)
+    } else {
+        Err(bad())
+    }
+}
+
+/// The open-file limit of this process after raising its soft limit to the hard one (as far
+/// as the system allows); `None` when there is no limit or it cannot be read.
+pub fn open_file_limit() -> Option<u64> {
+    #[cfg(unix)]
+    {
+        let raised = rlimit::increase_nofile_limit(u64::MAX).ok();
+        let soft = raised.or_else(|| rlimit::Resource::NOFILE.get().ok().map(|(soft, _)| soft))?;
+        (soft != rlimit::INFINITY).then_some(soft)
+    }
+    #[cfg(not(unix))]
+    {
+        None
+    }
+}
+
+/// How many connections the server takes at once when `requested` are asked for: at most
+/// the open-file limit (raised first, see [`open_file_limit`]) less [`FILE_RESERVE`], and at
+/// least one.
+pub fn connection_cap(requested: usize) -> usize {
+    match open_file_limit() {
+        Some(files) => {
+            let room = usize::try_from(files.saturating_sub(FILE_RESERVE)).unwrap_or(usize::MAX);
+            requested.min(room).max(1)
+        }
+        None => requested.max(1),
+    }
+}
+
+/// When the body of the request being handled must have arrived (a request extension the
+/// server adds; the API's body reader answers `408` past it).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BodyDeadline {
+    /// The instant.
+    pub(crate) at: Instant,
+    /// The body timeout it was set from.
+    pub(crate) after: Duration,
+}
+
+/// Serves `router` on `listener` with `limits` until `shutdown` completes, then stops
+/// gracefully (see the module docs).
+pub(crate) async fn serve(
+    listener: TcpListener,
+    router: Router,
+    limits: Limits,
+    shutdown: impl Future<Output = ()> + Send,
+) {
+    let cap = connection_cap(limits.max_connections);
+    let permits = Arc::new(Semaphore::new(cap));
+    let refusing = Arc::new(Semaphore::new(REFUSING));
+    let busy: Arc<[u8]> = busy_answer().into();
+    let (stop_tx, stop_rx) = watch::channel(false);
+    let mut shutdown = std::pin::pin!(shutdown);
+    loop {
+        let accepted = tokio::select! {
+            () = &mut shutdown => break,
+            accepted = listener.accept() => accepted,
+        };
+        let stream = match accepted {
+            Ok((stream, _)) => stream,
+            Err(e) if is_connection_error(&e) => continue,
+            Err(e) => {
+                // Most likely out of open files: the connection waits in the backlog.
+                eprintln!(
+                    "muse serve: accepting a connection: {e}; retrying in {} ms",
+                    ACCEPT_BACKOFF.as_millis()
+                );
+                tokio::select! {
+                    () = &mut shutdown => break,
+                    () = tokio::time::sleep(ACCEPT_BACKOFF) => continue,
+                }
+            }
+        };
+        match Arc::clone(&permits).try_acquire_owned() {
+            Ok(permit) => {
+                tokio::spawn(connection(
+                    stream,
+                    router.clone(),
+                    limits,
+                    stop_rx.clone(),
+                    permit,
+                ));
+            }
+            Err(_) => refuse(stream, &refusing, &busy),
+        }
+    }
+    drop(listener);
+    stop_tx.send_replace(true);
+    drop(stop_rx);
+    // Every connection holds a receiver: this completes when the last one has closed.
+    stop_tx.closed().await;
+}
+
+/// The answer to a connection above the cap: the project's error JSON, `503`.
+fn busy_answer() -> Vec<u8> {
+    let body = serde_json::json!({"error": {
+        "status": 503,
+        "code": "too_many_connections",
+        "message": "the service has as many connections open as it allows; retry in a second",
+        "field": null,
+    }})
+    .to_string();
+    format!(
+        "HTTP/1.1 503 Service Unavailable\r\nretry-after: 1\r\nconnection: close\r\n\
+         content-type: application/json\r\ncontent-length: {}\r\n\r\n{body}",
+        body.len()
+    )
+    .into_bytes()
+}
+
+/// Answers a connection above the cap with `503` and closes it, without waiting on the client.
+fn refuse(stream: TcpStream, refusing: &Arc<Semaphore>, busy: &Arc<[u8]>) {
+    // A fresh socket's send buffer is empty: the short answer fits without blocking.
+    let _ = stream.try_write(busy);
+    if let Ok(permit) = Arc::clone(refusing).try_acquire_owned() {
+        tokio::spawn(async move {
+            linger(stream, REFUSAL_LINGER).await;
+            drop(permit);
+        });
+    }
+    // Else the socket is dropped (closed) here: the client may see a reset.
+}
+
+/// Closes a connection politely: ends the sending side, then reads and drops what the client
+/// still sends, for at most `wait` and [`LINGER_BYTES`], so that input left unread does not
+/// turn the close into a reset that would destroy the answer before the client reads it.
+async fn linger(mut stream: TcpStream, wait: Duration) {
+    if stream.shutdown().await.is_err() {
+        return;
+    }
+    let drain = async {
+        let mut buf = [0u8; 8 * 1024];
+        let mut total = 0;
+        while total < LINGER_BYTES {
+            match stream.read(&mut buf).await {
+                Ok(0) | Err(_) => break,
+                Ok(n) => total += n,
+            }
+        }
+    };
+    let _ = tokio::time::timeout(wait, drain).await;
+}
+
+fn is_connection_error(e: &io::Error) -> bool {
+    matches!(
+        e.kind(),
+        io::ErrorKind::ConnectionRefused
+            | io::ErrorKind::ConnectionAborted
+            | io::ErrorKind::ConnectionReset
+    )
+}
+
+/// Serves one connection, closing it when a timeout of `limits` expires.
+async fn connection(
+    stream: TcpStream,
+    router: Router,
+    limits: Limits,
+    mut stop: watch::Receiver<bool>,
+    permit: OwnedSemaphorePermit,
+) {
+    let _ = stream.set_nodelay(true);
+    let track = Arc::new(Track::new());
+    let io = TokioIo::new(Watched {
+        inner: stream,
+        track: Arc::clone(&track),
+    });
+    let service = ConnService {
+        router,
+        track: Arc::clone(&track),
+        body_timeout: limits.body_timeout,
+    };
+    let mut conn = hyper::server::conn::http1::Builder::new()
+        .keep_alive(true)
+        .header_read_timeout(None)
+        .serve_connection(io, service);
+    let mut stopping = false;
+    let timed_out = loop {
+        if stopping && !track.busy() {
+            // Stopping: a connection with no request being answered (idle, or still
+            // sending headers) is closed now rather than at its timeout.
+            break true;
+        }
+        let deadline = track.deadline(&limits);
+        tokio::select! {
+            // An error (a malformed request, answered `400` by hyper, or a broken socket)
+            // ends the connection like a completed exchange.
+            _ = std::future::poll_fn(|cx| conn.poll_without_shutdown(cx)) => break false,
+            () = sleep_until(deadline) => {
+                if track.expired(&limits, Instant::now()) {
+                    break true;
+                }
+            }
+            () = track.changed.notified() => {}
+            _ = stop.wait_for(|stop| *stop), if !stopping => {
+                stopping = true;
+                Pin::new(&mut conn).graceful_shutdown();
+            }
+        }
+    };
+    if !timed_out {
+        // The exchange ended (the client closed, or an answer said `Connection: close`).
+        linger(conn.into_parts().io.into_inner().inner, LINGER).await;
+    }
+    // Else a timeout expired (or the service stops): the socket is dropped, closing it at once.
+    drop(permit);
+}
+
+async fn sleep_until(deadline: Option<Instant>) {
+    match deadline {
+        Some(at) => tokio::time::sleep_until(at).await,
+        None => std::future::pending().await,
+    }
+}
+
+/// What a connection is doing, for its timeouts.
+#[derive(Clone, Copy, Debug)]
+enum Phase {
+    /// No request in progress since this instant.
+    Idle(Instant),
+    /// A request's first byte arrived at this instant; its headers are not complete.
+    Head(Instant),
+    /// This many requests are being answered (headers read, answer not yet handed over
+    /// whole).
+    Busy(usize),
+}
+
+/// A connection's phase and writes, shared by its socket, its service and its watchdog.
+#[derive(Debug)]
+struct Track {
+    state: Mutex<TrackState>,
+    /// Woken when a deadline may have moved.
+    changed: Notify,
+}
+
+#[derive(Debug)]
+struct TrackState {
+    phase: Phase,
+    /// When the last write proceeded.
+    wrote: Option<Instant>,
+    /// Since when writes cannot proceed (the client is not reading), if they cannot.
+    blocked: Option<Instant>,
+}
+
+impl Track {
+    fn new() -> Self {
+        Track {
+            state: Mutex::new(TrackState {
+                phase: Phase::Idle(Instant::now()),
+                wrote: None,
+                blocked: None,
+            }),
+            changed: Notify::new(),
+        }
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, TrackState> {
+        self.state.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Bytes arrived.
+    fn read(&self) {
+        let mut state = self.lock();
+        if let Phase::Idle(_) = state.phase {
+            state.phase = Phase::Head(Instant::now());
+            drop(state);
+            self.changed.notify_one();
+        }
+    }
+
+    /// A write could not proceed (the client is not reading).
+    fn write_blocked(&self) {
+        let mut state = self.lock();
+        if state.blocked.is_none() {
+            state.blocked = Some(Instant::now());
+            drop(state);
+            self.changed.notify_one();
+        }
+    }
+
+    /// A write proceeded.
+    fn wrote(&self) {
+        let mut state = self.lock();
+        state.wrote = Some(Instant::now());
+        state.blocked = None;
+    }
+
+    /// A request's headers are complete: it is being answered.
+    fn begin(&self) {
+        let mut state = self.lock();
+        state.phase = match state.phase {
+            Phase::Busy(n) => Phase::Busy(n + 1),
+            Phase::Idle(_) | Phase::Head(_) => Phase::Busy(1),
+        };
+    }
+
+    /// A request's answer has been handed over whole to the connection (or abandoned).
+    fn end(&self) {
+        let mut state = self.lock();
+        state.phase = match state.phase {
+            Phase::Busy(n) if n > 1 => Phase::Busy(n - 1),
+            _ => Phase::Idle(Instant::now()),
+        };
+        drop(state);
+        self.changed.notify_one();
+    }
+
+    /// Whether a request is being answered.
+    fn busy(&self) -> bool {
+        matches!(self.lock().phase, Phase::Busy(_))
+    }
+
+    /// When the current phase times out, if it can. Idle counts from the end of the last
+    /// answer or from its last write, whichever is later (a long answer still being written
+    /// to a client that reads it is not idle); an answer in progress times out only when
+    /// its writes have not proceeded for the idle timeout.
+    fn deadline(&self, limits: &Limits) -> Option<Instant> {
+        let state = self.lock();
+        match state.phase {
+            Phase::Idle(since) => {
+                Some(since.max(state.wrote.unwrap_or(since)) + limits.idle_timeout)
+            }
+            Phase::Head(since) => Some(since + limits.header_timeout),
+            Phase::Busy(_) => state.blocked.map(|since| since + limits.idle_timeout),
+        }
+    }
+
+    fn expired(&self, limits: &Limits, now: Instant) -> bool {
+        self.deadline(limits).is_some_and(|at| at <= now)
+    }
+}
+
+/// The socket, reporting reads and stalled writes to its [`Track`].
+struct Watched {
+    inner: TcpStream,
+    track: Arc<Track>,
+}
+
+impl AsyncRead for Watched {
+    fn poll_read(
+        mut self: Pin<&mut Self>,
+        cx: &mut Context<'_>,
+        buf: &mut ReadBuf<'_>,
+    ) -> Poll<io::Result<()>> {
+        let before = buf.filled().len();
+        let result = Pin::new(&mut self.inner).poll_read(cx, buf);
+        if matches!(result, Poll::Ready(Ok(()))) && buf.filled().len() > before {
+            self.track.read();
+        }
+        result
+    }
+}
+
+impl Watched {
+    fn note_write(&self, result: &Poll<io::Result<usize>>) {
+        match result {
+            Poll::Pending => self.track.write_blocked(),
+            Poll::Ready(_) => self.track.wrote(),
+        }
+    }
+}
+
+impl AsyncWrite for Watched {
+    fn poll_write(
+        mut self: Pin<&mut Self>,
+        cx: &mut Context<'_>,
+        buf: &[u8],
+    ) -> Poll<io::Result<usize>> {
+        let result = Pin::new(&mut self.inner).poll_write(cx, buf);
+        self.note_write(&result);
+        result
+    }
+
+    fn poll_write_vectored(
+        mut self: Pin<&mut Self>,
+        cx: &mut Context<'_>,
+        bufs: &[io::IoSlice<'_>],
+    ) -> Poll<io::Result<usize>> {
+        let result = Pin::new(&mut self.inner).poll_write_vectored(cx, bufs);
+        self.note_write(&result);
+        result
+    }
+
+    fn is_write_vectored(&self) -> bool {
+        self.inner.is_write_vectored()
+    }
+
+    fn poll_flush(mut self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<io::Result<()>> {
+        Pin::new(&mut self.inner).poll_flush(cx)
+    }
+
+    fn poll_shutdown(mut self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<io::Result<()>> {
+        Pin::new(&mut self.inner).poll_shutdown(cx)
+    }
+}
+
+/// The router as one connection's hyper service: marks requests busy until their answer is
+/// sent, and gives each its body deadline.
+struct ConnService {
+    router: Router,
+    track: Arc<Track>,
+    body_timeout: Duration,
+}
+
+impl hyper::service::Service<Request<Incoming>> for ConnService {
+    type Response = Response<Answer>;
+    type Error = Infallible;
+    type Future = Pin<Box<dyn Future<Output = Result<Response<Answer>, Infallible>> + Send>>;
+
+    fn call(&self, mut request: Request<Incoming>) -> Self::Future {
+        self.track.begin();
+        let busy = Busy(Arc::clone(&self.track));
+        request.extensions_mut().insert(BodyDeadline {
+            at: Instant::now() + self.body_timeout,
+            after: self.body_timeout,
+        });
+        let mut router = self.router.clone();
+        Box::pin(async move {
+            let response = match router.call(request).await {
+                Ok(response) => response,
+                Err(never) => match never {},
+            };
+            Ok(response.map(|body| Answer { body, _busy: busy }))
+        })
+    }
+}
+
+/// Marks its connection busy while it lives.
+struct Busy(Arc<Track>);
+
+impl Drop for Busy {
+    fn drop(&mut self) {
+        self.0.end();
+    }
+}
+
+/// An answer's body: the connection is busy until hyper has sent (or dropped) it.
+struct Answer {
+    body: Body,
+    _busy: Busy,
+}
+
+impl http_body::Body for Answer {
+    type Data = Bytes;
+    type Error = axum::Error;
+
+    fn poll_frame(
+        mut self: Pin<&mut Self>,
+        cx: &mut Context<'_>,
+    ) -> Poll<Option<Result<Frame<Bytes>, axum::Error>>> {
+        Pin::new(&mut self.body).poll_frame(cx)
+    }
+
+    fn is_end_stream(&self) -> bool {
+        self.body.is_end_stream()
+    }
+
+    fn size_hint(&self) -> SizeHint {
+        self.body.size_hint()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn timeouts_parse_and_are_bounded() {
+        assert_eq!(parse_timeout("10"), Ok(Duration::from_secs(10)));
+        assert_eq!(parse_timeout("2.5"), Ok(Duration::from_millis(2_500)));
+        for bad in ["0", "-1", "NaN", "inf", "", "ten", "0.01", "1e9"] {
+            let e = parse_timeout(bad).unwrap_err();
+            assert!(e.contains("seconds from 0.1 to 86400"), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn limits_are_checked() {
+        assert_eq!(Limits::default().check(), Ok(()));
+        let zero = Limits {
+            idle_timeout: Duration::ZERO,
+            ..Limits::default()
+        };
+        assert!(zero.check().unwrap_err().starts_with("idle_timeout "));
+        let none = Limits {
+            max_connections: 0,
+            ..Limits::default()
+        };
+        assert!(none.check().unwrap_err().starts_with("max_connections "));
+    }
+
+    #[test]
+    fn the_cap_leaves_room_for_files() {
+        let files = open_file_limit();
+        let cap = connection_cap(usize::MAX);
+        match files {
+            Some(f) => assert_eq!(cap as u64, f.saturating_sub(FILE_RESERVE).max(1)),
+            None => assert_eq!(cap, usize::MAX),
+        }
+        assert_eq!(connection_cap(3), 3.min(cap));
+    }
+
+    #[test]
+    fn the_busy_answer_is_complete() {
+        let text = String::from_utf8(busy_answer()).unwrap();
+        let (head, body) = text.split_once("\r\n\r\n").unwrap();
+        assert!(head.starts_with("HTTP/1.1 503 "));
+        assert!(head.contains("\r\nretry-after: 1\r\n"));
+        assert!(head.contains(&format!("content-length: {}", body.len())));
+        let v: serde_json::Value = serde_json::from_str(body).unwrap();
+        assert_eq!(v["error"]["status"], 503);
+    }
+}
