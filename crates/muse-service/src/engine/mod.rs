@@ -322,6 +322,7 @@ impl Engine<'_> {
         match outcome {
             Ok(()) => {
                 self.update_gauges();
+                self.store.tidy();
                 Ok(())
             }
             Err(Fatal(e)) => {

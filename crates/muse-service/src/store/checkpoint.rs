@@ -10,7 +10,7 @@ use std::time::Duration;
 use super::StoreError;
 
 /// How often the WAL is checkpointed.
-const EVERY: Duration = Duration::from_millis(500);
+const EVERY: Duration = Duration::from_millis(100);
 
 /// The running checkpointer; stops when dropped.
 #[derive(Debug)]

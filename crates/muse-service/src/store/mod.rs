@@ -61,6 +61,9 @@ use rows::{EventRow, FlightRow, ZoneRow, meta_sum};
 
 /// The database's file name inside the data folder.
 pub const DB_FILE: &str = "muse.db";
+/// How often the writer lets the WAL start again (see [`Store::tidy`]).
+pub const WAL_RESTART: std::time::Duration = std::time::Duration::from_secs(1);
+
 /// The lock file's name inside the data folder.
 pub const LOCK_FILE: &str = "LOCK";
 
@@ -242,6 +245,7 @@ impl Opening {
                 _lock: self.lock,
                 in_transaction: false,
                 written: 0,
+                last_wal_restart: std::time::Instant::now(),
                 _checkpoints: checkpoints,
             },
             report,
@@ -263,7 +267,7 @@ fn connect(path: &Path, write: bool) -> Result<Connection, StoreError> {
     })?;
     let settings = if write {
         "PRAGMA journal_mode = WAL; PRAGMA synchronous = FULL; PRAGMA wal_autocheckpoint = 0; \
-         PRAGMA journal_size_limit = 67108864; PRAGMA cache_size = -65536; \
+         PRAGMA journal_size_limit = 16777216; PRAGMA cache_size = -65536; \
          PRAGMA busy_timeout = 10000;"
     } else {
         "PRAGMA busy_timeout = 10000; PRAGMA query_only = 1;"
@@ -302,8 +306,12 @@ fn create(path: &Path, world: &WorldMeta) -> Result<(), StoreError> {
 
 /// Creates the tables of a new store in `conn` and records `world` in `meta`.
 pub(crate) fn write_schema(conn: &Connection, world: &WorldMeta) -> Result<(), StoreError> {
-    conn.execute_batch(&format!("BEGIN; {}", schema::CREATE))
-        .map_err(sql("creating the tables"))?;
+    conn.execute_batch(&format!(
+        "PRAGMA page_size = {}; BEGIN; {}",
+        schema::PAGE_SIZE,
+        schema::CREATE
+    ))
+    .map_err(sql("creating the tables"))?;
     let mut rows = vec![("format".to_owned(), schema::FORMAT.to_owned())];
     rows.extend(world.iter().cloned());
     for (key, value) in rows {
@@ -402,6 +410,8 @@ pub struct Store {
     in_transaction: bool,
     /// Rows written in the open transaction.
     written: usize,
+    /// When the writer last finished a checkpoint itself (see [`Store::tidy`]).
+    last_wal_restart: std::time::Instant,
     _checkpoints: checkpoint::Checkpointer,
 }
 
@@ -484,6 +494,22 @@ impl Store {
             .map_err(sql("committing"))?;
         self.in_transaction = false;
         Ok(std::mem::take(&mut self.written))
+    }
+
+    /// Lets the WAL start again from its beginning, at most every [`WAL_RESTART`]: call it
+    /// between groups, once their answers are sent. The checkpoint thread copies committed
+    /// pages into the database all the time, but under steady writes it never catches up
+    /// with the last commit, and SQLite restarts the WAL only when a write begins with every
+    /// frame copied: so now and then the writer finishes the copy itself (the frames since
+    /// the thread's last pass, and one sync of the database file), and the next write starts
+    /// the WAL afresh. Without this the WAL grows for as long as writes keep coming.
+    pub fn tidy(&mut self) {
+        if self.in_transaction || self.last_wal_restart.elapsed() < WAL_RESTART {
+            return;
+        }
+        // A failed checkpoint loses nothing (the WAL keeps the pages); the next one tries.
+        let _ = self.conn.execute_batch("PRAGMA wal_checkpoint(PASSIVE);");
+        self.last_wal_restart = std::time::Instant::now();
     }
 
     /// The flight with client id `id`, including those written in the open transaction.

@@ -7,6 +7,11 @@
 /// The value of the `format` meta entry this version writes and reads.
 pub const FORMAT: &str = "muse-store 1";
 
+/// The database's page size, bytes. Every commit writes each page it changed to the WAL in
+/// full; a commit changes a few pages per table and index (the rows it appends, the index
+/// entries it adds), so small pages keep the bytes written per answer small.
+pub const PAGE_SIZE: u32 = 1024;
+
 /// Creates every table, index and view of a new store.
 pub const CREATE: &str = "
 CREATE TABLE meta (
