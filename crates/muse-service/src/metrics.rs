@@ -200,20 +200,18 @@ impl Metrics {
         self.flights_stored.load(Ordering::Relaxed)
     }
 
-    /// Sets the gauges of the schedule and the store.
-    pub fn set_sizes(
-        &self,
-        reservations: usize,
-        reservation_bytes: usize,
-        flights: usize,
-        store_bytes: u64,
-    ) {
+    /// Sets the size of the store on disk.
+    pub fn set_store_bytes(&self, bytes: u64) {
+        self.store_bytes.store(bytes, Ordering::Relaxed);
+    }
+
+    /// Sets the gauges of the schedule and the flights held.
+    pub fn set_sizes(&self, reservations: usize, reservation_bytes: usize, flights: usize) {
         self.reservations
             .store(reservations as u64, Ordering::Relaxed);
         self.reservation_bytes
             .store(reservation_bytes as u64, Ordering::Relaxed);
         self.flights.store(flights as u64, Ordering::Relaxed);
-        self.store_bytes.store(store_bytes, Ordering::Relaxed);
     }
 
     /// The Prometheus text exposition.

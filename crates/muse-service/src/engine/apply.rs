@@ -37,7 +37,7 @@ pub(super) enum Change {
 
 impl Engine<'_> {
     /// Applies `change` to the live schedule at once (the group's later decisions see it) and
-    /// stages it for reads, which see it once the group is durable ([`Engine::publish`]).
+    /// stages it for reads, which see it once the group is durable (the writer publishes it).
     pub(super) fn apply(&mut self, change: Change) {
         match change {
             Change::Flights(flights) => {
@@ -46,8 +46,12 @@ impl Engine<'_> {
                     .map(|e| (e.seq, &e.request, e.holding()))
                     .collect();
                 self.live.hold_all(&holdings);
+                // The number the group being decided will be sent under.
+                let number = self.pipe.as_ref().map_or(0, |p| p.sent + 1);
                 for e in flights {
-                    self.staged.insert(e.request.id.clone(), e);
+                    self.staged
+                        .insert(e.request.id.clone(), (number, Arc::clone(&e)));
+                    self.group.entries.push(e);
                 }
             }
             Change::Zone { zone, closures } => {
@@ -55,11 +59,11 @@ impl Engine<'_> {
                     // An id the book refused is never decided, and a stored one is unique.
                     let _ = self.live.add_announced(&zone.id, closures);
                 }
-                self.zone_changes.push(ZoneChange::Announced(zone));
+                self.group.zone_changes.push(ZoneChange::Announced(zone));
             }
             Change::Withdrawal { id, at } => {
                 let _ = self.live.withdraw(&id);
-                self.zone_changes.push(ZoneChange::Withdrawn(id, at));
+                self.group.zone_changes.push(ZoneChange::Withdrawn(id, at));
             }
         }
     }

@@ -11,22 +11,22 @@ use std::sync::Arc;
 
 use super::apply::Change;
 use super::{Engine, Restored};
-use crate::store::StoreError;
+use crate::store::{Store, StoreError};
 use crate::zones::{AnnouncedZone, read_stored};
 
 impl Engine<'_> {
     /// Loads the store into the schedule, the index and the zones; returns what it found.
-    pub(super) fn load(&mut self) -> Result<Restored, StoreError> {
+    pub(super) fn load(&mut self, store: &Store) -> Result<Restored, StoreError> {
         let state = self.state;
         let world = &state.world;
         let now = self.live.now();
-        let label = self.store.path().display().to_string();
+        let label = store.path().display().to_string();
         let damaged = |what: String| StoreError::Damaged {
             path: label.clone(),
             what,
         };
         let mut restored = Restored::default();
-        for z in self.store.zones()? {
+        for z in store.zones()? {
             let zones = read_stored(&z.feature, z.announced)
                 .map_err(|e| damaged(format!("zones row {:?}: {e}", z.id)))?;
             let closures = match z.withdrawn {
@@ -50,20 +50,19 @@ impl Engine<'_> {
                 closures,
             });
         }
-        state.phase.set_to_load(self.store.count_holding(now)?);
+        state.phase.set_to_load(store.count_holding(now)?);
         let phase = &state.phase;
-        let held = self
-            .store
-            .holding(&world.airspace, now, &mut |n| phase.set_loaded(n))?;
+        let held = store.holding(&world.airspace, now, &mut |n| phase.set_loaded(n))?;
         restored.held = held.len();
         self.apply(Change::Flights(held.into_iter().map(Arc::new).collect()));
-        let (last_seq, last_event) = self.store.last_keys()?;
+        let (last_seq, last_event) = store.last_keys()?;
         self.next_seq = last_seq + 1;
         self.next_event = last_event + 1;
         restored.flights = last_seq;
         restored.events = last_event;
         state.events.restore(last_event);
-        self.publish();
+        self.send(&mut Vec::new())
+            .unwrap_or_else(|_| unreachable!("loading sends nothing to a writer"));
         Ok(restored)
     }
 }

@@ -24,6 +24,7 @@
 
 mod apply;
 mod load;
+mod writer;
 mod zones;
 
 use std::collections::HashMap;
@@ -41,7 +42,7 @@ use crate::events::{Event, EventKind};
 use crate::flights::{FlightEntry, Status};
 use crate::metrics::PlanOutcome;
 use crate::state::State;
-use crate::store::{ImportReport, Opening, Store, StoreError};
+use crate::store::{ImportReport, Opening, StoreError};
 use crate::zones::{AnnouncedZone, NewZone};
 
 pub use zones::{AnnounceReply, Announcement, WithdrawReply};
@@ -200,15 +201,14 @@ fn run(
     let mut engine = Engine {
         state,
         live,
-        store,
         next_seq: 1,
         next_event: 1,
-        events: Vec::new(),
+        group: writer::Batch::default(),
         staged: Staged::default(),
-        zone_changes: Vec::new(),
+        pipe: None,
         last_evict: state.clock.now(),
     };
-    match engine.load() {
+    match engine.load(&store) {
         Ok(mut restored) => {
             restored.import = import;
             state.phase.set_ready();
@@ -219,19 +219,61 @@ fn run(
             return Ok(());
         }
     }
+    state.metrics.set_store_bytes(store.bytes());
     engine.update_gauges();
-    let mut group = Vec::with_capacity(MAX_GROUP);
-    while let Some(first) = rx.blocking_recv() {
-        group.push(first);
-        while group.len() < MAX_GROUP {
-            match rx.try_recv() {
-                Ok(c) => group.push(c),
-                Err(_) => break,
+    std::thread::scope(|scope| {
+        let (batches, received) = std::sync::mpsc::sync_channel(PIPELINE);
+        let published = Arc::new(writer::Published::default());
+        let progress = Arc::clone(&published);
+        let writing = std::thread::Builder::new()
+            .name("muse-store".into())
+            .spawn_scoped(scope, move || {
+                writer::run(state, store, &received, &progress)
+            })
+            .map_err(|source| StoreError::Io {
+                what: "starting the store's writer thread".into(),
+                source,
+            })?;
+        engine.pipe = Some(Pipe {
+            batches,
+            published,
+            sent: 0,
+        });
+        let mut group = Vec::with_capacity(MAX_GROUP);
+        while let Some(first) = rx.blocking_recv() {
+            group.push(first);
+            while group.len() < MAX_GROUP {
+                match rx.try_recv() {
+                    Ok(c) => group.push(c),
+                    Err(_) => break,
+                }
+            }
+            if engine.decide_and_send(&mut group).is_err() {
+                break;
             }
         }
-        engine.decide_and_commit(&mut group)?;
-    }
-    engine.store.close()
+        // Lets the writer finish what it was sent, then stop.
+        engine.pipe = None;
+        match writing.join() {
+            Ok(Ok(store)) => store.close(),
+            Ok(Err(e)) => Err(e),
+            Err(_) => Err(StoreError::Io {
+                what: "writing the store".into(),
+                source: std::io::Error::other("the writer thread panicked"),
+            }),
+        }
+    })
+}
+
+/// Groups the planner task may have sent ahead of the writer.
+const PIPELINE: usize = 8;
+
+/// The way to the writer thread.
+struct Pipe {
+    batches: std::sync::mpsc::SyncSender<writer::Batch>,
+    published: Arc<writer::Published>,
+    /// The number of the last batch sent.
+    sent: u64,
 }
 
 /// An answer waiting for its group to be durable.
@@ -265,9 +307,9 @@ impl Pending {
     }
 }
 
-/// Flights changed by the current group, by id: visible to its later commands, published to
-/// reads once the group is durable.
-type Staged = HashMap<String, Arc<FlightEntry>>;
+/// Flights changed by groups not yet published, by id, with the number of the last group
+/// that changed each: what later decisions must see before the index and the store do.
+type Staged = HashMap<String, (u64, Arc<FlightEntry>)>;
 
 /// A change of the zones known, published with its group.
 enum ZoneChange {
@@ -278,31 +320,25 @@ enum ZoneChange {
 struct Engine<'s> {
     state: &'s State,
     live: Live<'s>,
-    store: Store,
     next_seq: u64,
     /// The id of the next event.
     next_event: u64,
-    /// Events of the current group, published after its commit.
-    events: Vec<Arc<Event>>,
+    /// What the group being decided writes and changes.
+    group: writer::Batch,
     staged: Staged,
-    zone_changes: Vec<ZoneChange>,
+    /// The writer thread (`None` while loading: nothing is written then).
+    pipe: Option<Pipe>,
     /// When flights were last evicted from the index.
     last_evict: Instant,
 }
 
-/// A failure of the store while deciding: the group is answered with it and the task stops.
-struct Fatal(StoreError);
-
-impl From<StoreError> for Fatal {
-    fn from(e: StoreError) -> Self {
-        Fatal(e)
-    }
-}
+/// The writer failed: the planner task stops.
+struct Fatal;
 
 impl Engine<'_> {
-    /// Decides every command of `group`, commits the group, then publishes and answers. A
-    /// failure of the store answers the group with it and ends the task.
-    fn decide_and_commit(&mut self, group: &mut Vec<Command>) -> Ended {
+    /// Decides every command of `group` and sends it to the writer, which answers once it
+    /// is durable. `Err` once the writer has failed (the task stops).
+    fn decide_and_send(&mut self, group: &mut Vec<Command>) -> Result<(), Fatal> {
         self.live.advance(self.state.clock.now());
         let now = self.live.now();
         if now - self.last_evict >= EVICT_EVERY {
@@ -313,28 +349,35 @@ impl Engine<'_> {
                 .evict_ended_before(now);
             self.last_evict = now;
         }
+        self.forget_published();
         let mut answers = Vec::with_capacity(group.len());
         let mut commands = group.drain(..);
         let outcome = commands
             .by_ref()
             .try_for_each(|command| self.decide(command, &mut answers))
-            .and_then(|()| self.commit(&mut answers));
-        match outcome {
-            Ok(()) => {
-                self.update_gauges();
-                self.store.tidy();
-                Ok(())
+            .and_then(|()| self.send(&mut answers));
+        if outcome.is_err() {
+            let message =
+                "the store failed; the service stops (a restart recovers what is durable)";
+            for a in answers.drain(..) {
+                a.fail(message);
             }
-            Err(Fatal(e)) => {
-                // Nothing of the group is durable: every one of its commands is answered so.
-                let message = format!("the store failed ({e}); the service stops");
-                for a in answers.drain(..) {
-                    a.fail(&message);
-                }
-                for command in commands {
-                    command.refuse(&message);
-                }
-                Err(e)
+            for command in commands {
+                command.refuse(message);
+            }
+            return Err(Fatal);
+        }
+        self.update_gauges();
+        Ok(())
+    }
+
+    /// Drops from the staged flights those the writer has published (the index and the store
+    /// hold them now).
+    fn forget_published(&mut self) {
+        if let Some(pipe) = &self.pipe {
+            let done = pipe.published.done();
+            if self.staged.values().any(|(n, _)| *n <= done) {
+                self.staged.retain(|_, (n, _)| *n > done);
             }
         }
     }
@@ -346,25 +389,26 @@ impl Engine<'_> {
                 request,
                 reply,
             } => {
-                let answer = self.plan(&caller, request)?;
+                let answer = self.plan(&caller, request);
                 answers.push(Pending::Plan(reply, answer));
             }
             Command::Cancel { caller, id, reply } => {
-                let answer = self.cancel(&caller, &id)?;
+                let answer = self.cancel(&caller, &id);
                 answers.push(Pending::Cancel(reply, answer));
             }
-            // Zone changes are groups of their own.
+            // Zone changes are groups of their own, decided once everything before them is
+            // published (they read the index and the zones).
             Command::Announce { zone, reply } => {
-                self.commit(answers)?;
-                let answer = self.announce(zone)?;
+                self.barrier(answers)?;
+                let answer = self.announce(zone);
                 answers.push(Pending::Announce(reply, answer));
-                self.commit(answers)?;
+                self.send(answers)?;
             }
             Command::Withdraw { id, reply } => {
-                self.commit(answers)?;
-                let answer = self.withdraw(&id)?;
+                self.barrier(answers)?;
+                let answer = self.withdraw(&id);
                 answers.push(Pending::Withdraw(reply, answer));
-                self.commit(answers)?;
+                self.send(answers)?;
             }
         }
         Ok(())
@@ -372,7 +416,7 @@ impl Engine<'_> {
 
     /// The flight with client id `id`: as changed by this group, as held, or as stored.
     fn lookup(&self, id: &str) -> Result<Option<Arc<FlightEntry>>, StoreError> {
-        if let Some(e) = self.staged.get(id) {
+        if let Some((_, e)) = self.staged.get(id) {
             return Ok(Some(Arc::clone(e)));
         }
         let held = self
@@ -386,33 +430,40 @@ impl Engine<'_> {
             return Ok(held);
         }
         Ok(self
-            .store
+            .state
+            .reader
             .flight(&self.state.world.airspace, id)?
             .map(Arc::new))
     }
 
-    fn plan(&mut self, caller: &Caller, request: Request) -> Result<PlanReply, Fatal> {
+    fn plan(&mut self, caller: &Caller, request: Request) -> PlanReply {
         let metrics = &self.state.metrics;
         // Ids are forever: a stored id, at any age, is a retry or a conflict.
-        if let Some(known) = self.lookup(&request.id)? {
-            return Ok(
-                if known.operator == caller.operator && known.same_request(&request) {
+        match self.lookup(&request.id) {
+            Ok(Some(known)) => {
+                return if known.operator == caller.operator && known.same_request(&request) {
                     metrics.count_plan(PlanOutcome::Repeated);
                     PlanReply::Repeat(known)
                 } else {
                     metrics.count_plan(PlanOutcome::Conflict);
                     PlanReply::Conflict
-                },
-            );
+                };
+            }
+            Ok(None) => {}
+            Err(e) => {
+                return PlanReply::Failed(format!(
+                    "reading the store failed ({e}); nothing was booked"
+                ));
+            }
         }
         let seq = self.next_seq;
         let started = WallInstant::now();
         let live = &mut self.live;
         let Ok(outcome) = catch_unwind(AssertUnwindSafe(|| live.plan(&request))) else {
-            return Ok(PlanReply::Failed(format!(
+            return PlanReply::Failed(format!(
                 "internal error while planning `{}`; nothing was booked",
                 request.id
-            )));
+            ));
         };
         metrics.plan_latency.observe(started.elapsed());
         self.next_seq += 1;
@@ -432,31 +483,36 @@ impl Engine<'_> {
             changes: Vec::new(),
             fates: Vec::new(),
         });
-        self.store
-            .put_flight(&self.state.world.airspace, &entry, true)?;
+        self.group
+            .writes
+            .push(writer::Write::Flight(Arc::clone(&entry), true));
         if entry.result.is_ok() {
-            self.emit(EventKind::Planned, entry.answered, None, &entry)?;
+            self.emit(EventKind::Planned, entry.answered, None, &entry);
         }
         self.apply(Change::Flights(vec![Arc::clone(&entry)]));
-        Ok(PlanReply::New(entry))
+        PlanReply::New(entry)
     }
 
-    fn cancel(&mut self, caller: &Caller, id: &str) -> Result<CancelReply, Fatal> {
+    fn cancel(&mut self, caller: &Caller, id: &str) -> CancelReply {
         let metrics = &self.state.metrics;
         // Only the owner may cancel (SPEC §10); to anyone else the flight does not exist.
-        let Some(known) = self.lookup(id)?.filter(|e| e.operator == caller.operator) else {
-            return Ok(CancelReply::NotFound);
+        let known = match self.lookup(id) {
+            Ok(known) => known,
+            Err(e) => return CancelReply::Failed(format!("reading the store failed ({e})")),
+        };
+        let Some(known) = known.filter(|e| e.operator == caller.operator) else {
+            return CancelReply::NotFound;
         };
         match known.status() {
-            Status::Cancelled => return Ok(CancelReply::Already(known)),
+            Status::Cancelled => return CancelReply::Already(known),
             Status::Rejected => {
                 metrics.count_cancel(false);
-                return Ok(CancelReply::NotPlanned(known));
+                return CancelReply::NotPlanned(known);
             }
             // Airborne when a zone was announced: it took off.
             Status::Contingency => {
                 metrics.count_cancel(false);
-                return Ok(CancelReply::TookOff(known));
+                return CancelReply::TookOff(known);
             }
             Status::Planned | Status::Replanned | Status::Diverted => {}
         }
@@ -473,12 +529,12 @@ impl Engine<'_> {
             Ok(()) => {}
             Err(CancelError::TookOff) => {
                 metrics.count_cancel(false);
-                return Ok(CancelReply::TookOff(known));
+                return CancelReply::TookOff(known);
             }
             Err(CancelError::NotHeld) => {
-                return Ok(CancelReply::Failed(format!(
+                return CancelReply::Failed(format!(
                     "internal error: the schedule does not hold flight `{id}`"
-                )));
+                ));
             }
         }
         metrics.count_cancel(true);
@@ -486,21 +542,16 @@ impl Engine<'_> {
         let mut entry = (*known).clone();
         entry.cancelled_at = Some(at);
         let entry = Arc::new(entry);
-        self.store
-            .put_flight(&self.state.world.airspace, &entry, false)?;
-        self.emit(EventKind::Cancelled, at, None, &entry)?;
+        self.group
+            .writes
+            .push(writer::Write::Flight(Arc::clone(&entry), false));
+        self.emit(EventKind::Cancelled, at, None, &entry);
         self.apply(Change::Flights(vec![Arc::clone(&entry)]));
-        Ok(CancelReply::Done(entry))
+        CancelReply::Done(entry)
     }
 
-    /// Numbers a change of a flight and stores it; it is published with the group.
-    fn emit(
-        &mut self,
-        kind: EventKind,
-        at: Instant,
-        zone: Option<&str>,
-        entry: &Arc<FlightEntry>,
-    ) -> Result<(), StoreError> {
+    /// Numbers a change of a flight and writes it with the group, which publishes it.
+    fn emit(&mut self, kind: EventKind, at: Instant, zone: Option<&str>, entry: &Arc<FlightEntry>) {
         let event = Arc::new(Event {
             id: self.next_event,
             kind,
@@ -508,62 +559,50 @@ impl Engine<'_> {
             zone: zone.map(str::to_owned),
             entry: Arc::clone(entry),
         });
-        self.store.put_event(&event)?;
-        self.events.push(event);
+        self.group
+            .writes
+            .push(writer::Write::Event(Arc::clone(&event)));
+        self.group.events.push(event);
         self.next_event += 1;
-        Ok(())
     }
 
-    /// Makes the group durable, then publishes what it changed and sends its answers.
-    fn commit(&mut self, answers: &mut Vec<Pending>) -> Result<(), Fatal> {
-        let started = WallInstant::now();
-        let rows = self.store.commit()?;
-        if rows > 0 {
-            self.state.metrics.store_latency.observe(started.elapsed());
-            self.state
-                .metrics
-                .group_size
-                .observe_value(answers.len() as f64);
+    /// Sends the group decided so far, with `answers`, to the writer (while loading, when
+    /// nothing is written, publishes it at once). `Err` if the writer has failed.
+    fn send(&mut self, answers: &mut Vec<Pending>) -> Result<(), Fatal> {
+        let mut batch = std::mem::take(&mut self.group);
+        batch.answers = std::mem::take(answers);
+        let Some(pipe) = &mut self.pipe else {
+            debug_assert!(batch.writes.is_empty(), "nothing is written while loading");
+            writer::publish(self.state, batch);
+            return Ok(());
+        };
+        if batch.writes.is_empty() && batch.answers.is_empty() {
+            return Ok(());
         }
-        self.publish();
-        for a in answers.drain(..) {
-            a.send();
+        pipe.sent += 1;
+        batch.number = pipe.sent;
+        if pipe.published.failed() {
+            // The writer stopped: this batch is answered, as it would have been.
+            writer::Batch::fail_all(batch);
+            return Err(Fatal);
         }
-        Ok(())
+        pipe.batches.send(batch).map_err(|e| {
+            writer::Batch::fail_all(e.0);
+            Fatal
+        })
     }
 
-    /// Makes what the committed group changed visible: the flights to reads, the zones to
-    /// `GET /v1/zones`, the events to their listeners.
-    fn publish(&mut self) {
-        let now = self.live.now();
-        if !self.staged.is_empty() {
-            let mut index = self
-                .state
-                .index
-                .write()
-                .unwrap_or_else(std::sync::PoisonError::into_inner);
-            for (_, entry) in self.staged.drain() {
-                index.put(entry, now);
-            }
+    /// Sends what is decided so far and waits until the writer has published everything
+    /// sent: the index, the zones and the store then hold every earlier change.
+    fn barrier(&mut self, answers: &mut Vec<Pending>) -> Result<(), Fatal> {
+        self.send(answers)?;
+        if let Some(pipe) = &self.pipe
+            && !pipe.published.wait_for(pipe.sent)
+        {
+            return Err(Fatal);
         }
-        if !self.zone_changes.is_empty() {
-            let mut book = self
-                .state
-                .zones
-                .write()
-                .unwrap_or_else(std::sync::PoisonError::into_inner);
-            for change in self.zone_changes.drain(..) {
-                match change {
-                    ZoneChange::Announced(zone) => book.announce(zone),
-                    ZoneChange::Withdrawn(id, at) => {
-                        book.withdraw(&id, at);
-                    }
-                }
-            }
-        }
-        if !self.events.is_empty() {
-            self.state.events.publish(self.events.drain(..));
-        }
+        self.forget_published();
+        Ok(())
     }
 
     fn update_gauges(&self) {
@@ -581,7 +620,6 @@ impl Engine<'_> {
             schedule.reservations(),
             schedule.reservation_bytes(),
             flights,
-            self.store.bytes(),
         );
     }
 }

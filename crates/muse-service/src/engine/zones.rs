@@ -6,8 +6,9 @@ use std::sync::Arc;
 use muse_airspace::closures::ClosureError;
 use muse_model::Instant;
 
+use super::Engine;
 use super::apply::Change;
-use super::{Engine, Fatal};
+use super::writer::Write;
 use crate::events::EventKind;
 use crate::flights::FlightEntry;
 use crate::store::StoredZone;
@@ -61,7 +62,7 @@ pub enum WithdrawReply {
 impl Engine<'_> {
     /// Announces `zone` now: decides what it does to the flights it hits (on a copy of the
     /// schedule), stores the zone, every changed flight and its event, then applies it all.
-    pub(super) fn announce(&mut self, zone: NewZone) -> Result<AnnounceReply, Fatal> {
+    pub(super) fn announce(&mut self, zone: NewZone) -> AnnounceReply {
         let taken = self
             .state
             .zones
@@ -69,7 +70,7 @@ impl Engine<'_> {
             .unwrap_or_else(std::sync::PoisonError::into_inner)
             .taken(&zone);
         if taken {
-            return Ok(AnnounceReply::Taken);
+            return AnnounceReply::Taken;
         }
         let n = self.live.now();
         let closures = match self.state.world.announced_closures(&zone.zones, n) {
@@ -83,7 +84,7 @@ impl Engine<'_> {
                     _ => None,
                 };
                 let message = format!("the zone does not fit this airspace: {e}");
-                return Ok(AnnounceReply::Invalid { field, message });
+                return AnnounceReply::Invalid { field, message };
             }
         };
         let live = &mut self.live;
@@ -92,13 +93,13 @@ impl Engine<'_> {
         }));
         let affected = match decided {
             Ok(Ok(affected)) => affected,
-            Ok(Err(_)) => return Ok(AnnounceReply::Taken),
+            Ok(Err(_)) => return AnnounceReply::Taken,
             // Deciding works on a copy: nothing changed.
             Err(_) => {
-                return Ok(AnnounceReply::Failed(format!(
+                return AnnounceReply::Failed(format!(
                     "internal error while replanning for zone `{}`; nothing was changed",
                     zone.id
-                )));
+                ));
             }
         };
         let mut changed = Vec::with_capacity(affected.len());
@@ -112,11 +113,11 @@ impl Engine<'_> {
                 .get_seq(a.flight)
                 .cloned();
             let Some(known) = known else {
-                return Ok(AnnounceReply::Failed(format!(
+                return AnnounceReply::Failed(format!(
                     "internal error: the schedule holds flight #{} the index does not know; \
                      nothing was changed",
                     a.flight
-                )));
+                ));
             };
             let kind = EventKind::of_fate(a.fate.kind());
             changed.push((
@@ -131,11 +132,12 @@ impl Engine<'_> {
             withdrawn: None,
             affected: changed.len(),
         };
-        self.store.put_zone(&stored)?;
-        let airspace = &self.state.world.airspace;
+        self.group.writes.push(Write::Zone(stored));
         for (kind, entry) in &changed {
-            self.store.put_flight(airspace, entry, false)?;
-            self.emit(*kind, n, Some(&zone.id), entry)?;
+            self.group
+                .writes
+                .push(Write::Flight(Arc::clone(entry), false));
+            self.emit(*kind, n, Some(&zone.id), entry);
         }
         let mut zones = zone.zones;
         for z in &mut zones {
@@ -154,15 +156,15 @@ impl Engine<'_> {
         });
         self.apply(Change::Flights(affected.clone()));
         self.state.metrics.count_zone(true);
-        Ok(AnnounceReply::Done(Announcement {
+        AnnounceReply::Done(Announcement {
             zone: zone.id,
             announced: n,
             affected,
-        }))
+        })
     }
 
     /// Withdraws the announced zone `id` now (nothing is replanned): stores it, applies it.
-    pub(super) fn withdraw(&mut self, id: &str) -> Result<WithdrawReply, Fatal> {
+    pub(super) fn withdraw(&mut self, id: &str) -> WithdrawReply {
         let zone = {
             let book = self
                 .state
@@ -170,12 +172,12 @@ impl Engine<'_> {
                 .read()
                 .unwrap_or_else(std::sync::PoisonError::into_inner);
             if book.is_base(id) {
-                return Ok(WithdrawReply::Base);
+                return WithdrawReply::Base;
             }
             match book.get(id) {
-                None => return Ok(WithdrawReply::Unknown),
+                None => return WithdrawReply::Unknown,
                 Some(z) if z.withdrawn.is_some() => {
-                    return Ok(WithdrawReply::Already(z.clone()));
+                    return WithdrawReply::Already(z.clone());
                 }
                 Some(z) => z.clone(),
             }
@@ -183,12 +185,12 @@ impl Engine<'_> {
         let at = self.live.now();
         let mut zone = zone;
         zone.withdrawn = Some(at);
-        self.store.put_zone_withdrawn(id, at)?;
+        self.group.writes.push(Write::Withdrawal(id.to_owned(), at));
         self.apply(Change::Withdrawal {
             id: id.to_owned(),
             at,
         });
         self.state.metrics.count_zone(false);
-        Ok(WithdrawReply::Done(zone))
+        WithdrawReply::Done(zone)
     }
 }

@@ -62,7 +62,7 @@ use rows::{EventRow, FlightRow, ZoneRow, meta_sum};
 /// The database's file name inside the data folder.
 pub const DB_FILE: &str = "muse.db";
 /// How often the writer lets the WAL start again (see [`Store::tidy`]).
-pub const WAL_RESTART: std::time::Duration = std::time::Duration::from_secs(1);
+pub const WAL_RESTART: std::time::Duration = std::time::Duration::from_millis(250);
 
 /// The lock file's name inside the data folder.
 pub const LOCK_FILE: &str = "LOCK";
