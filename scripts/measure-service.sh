@@ -5,7 +5,8 @@
 #   - restart: a service is filled with N stored flights (0.1 M, 1 M, 2 M by default, closed
 #     loop, Singapore uniform demand departing within a day), killed with SIGKILL and started
 #     again on the same folder; the time from the start to "listening on" (every route
-#     answers) and the peak resident memory of the restarted process (VmHWM) are recorded.
+#     answers) and the peak resident memory of the restarted process (VmHWM) are recorded,
+#     then again with the service clock two days later (every stored flight has ended).
 #
 # Usage: scripts/measure-service.sh OUT_DIR LABEL=BINARY [LABEL=BINARY ...]
 #   e.g. scripts/measure-service.sh out/service new=target/release/muse old=/tmp/old/muse
@@ -30,11 +31,13 @@ pid=""
 cleanup() { [[ -n "$pid" ]] && kill -KILL "$pid" 2>/dev/null || true; }
 trap cleanup EXIT
 
-# start BIN DATA LOG: starts `muse serve` on a free port; sets pid, url, start_s.
+# start BIN DATA LOG [ARGS...]: starts `muse serve` on a free port; sets pid, url, start_s,
+# ready_s.
 start() {
   local bin=$1 data=$2 log=$3
+  shift 3
   start_s=$(date +%s.%N)
-  "$bin" serve --listen 127.0.0.1:0 --data "$data" --rate-limit 0 >"$log" 2>&1 &
+  "$bin" serve --listen 127.0.0.1:0 --data "$data" --rate-limit 0 "$@" >"$log" 2>&1 &
   pid=$!
   url=""
   for _ in $(seq 1 36000); do
@@ -87,6 +90,14 @@ for spec in "$@"; do
     record "$label" "restart at $n stored: seconds to listening" "$secs"
     record "$label" "restart at $n stored: peak resident memory" "$hwm"
     record "$label" "store size at $n" "$(du -sh "$data" | cut -f1)"
+    kill9
+    start "$bin" "$data" "$out/$label-restart-later-$n.log" --clock "$(date -d '+2 days' --iso-8601=seconds)"
+    secs=$(echo "$ready_s - $start_s" | bc)
+    hwm=$(awk '/VmHWM/ {print $2, $3}' "/proc/$pid/status")
+    record "$label" "restart at $n stored, clock 2 days later: seconds to listening" "$secs"
+    record "$label" "restart at $n stored, clock 2 days later: peak resident memory" "$hwm"
+    kill9
+    start "$bin" "$data" "$out/$label-fill.log"
   done
   kill9
   rm -rf "$data"
