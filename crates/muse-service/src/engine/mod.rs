@@ -7,7 +7,7 @@
 //!    repeated, conflicting, cancelled, refused; a zone's outcomes are decided on a copy;
 //! 2. what it changes is **stored** as rows in the group's transaction (the flight as it now
 //!    stands, its event, the zone);
-//! 3. the change is **applied** to the schedule by [`Engine::apply`] — the one function that
+//! 3. the change is **applied** to the schedule by `Engine::apply` — the one function that
 //!    changes it, used alike when the service restarts and puts back what its store holds —
 //!    so that the group's later commands are decided against it;
 //! 4. once the whole group is **committed** (durable), the changed flights and zones become

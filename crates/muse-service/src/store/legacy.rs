@@ -6,7 +6,7 @@
 //!
 //! The file starts with the 16-byte magic `MUSE-LOG-V1\n\0\0\0\0`, then records, each
 //! `len: u32 LE | crc: u32 LE | payload`, `payload` being `len` bytes of JSON (one
-//! [`Record`]) and `crc` its CRC-32. The first record is a header naming the airspace and
+//! record) and `crc` its CRC-32. The first record is a header naming the airspace and
 //! parameters the log was written for. The log is read as a stream, one record at a time.
 //!
 //! # What the conversion keeps and what it says
