@@ -547,24 +547,20 @@ mod tests {
         .unwrap()
     }
 
-    #[test]
-    fn stored_outcomes_rebuild_the_schedule_an_announcement_left_without_replanning() {
-        let a = ring();
-        let params = FlightParams::default();
-        let closures = Closures::none(&a);
-        let requests = [
+    /// Flights on the ring around B, whom a zone closing B announced at 60 s treats each its
+    /// own way.
+    fn around_b() -> [Request; 5] {
+        [
             request("via-b", 0, 2, 600_000), // not taken off: replanned by D
             request("to-b", 0, 1, 900_000),  // not taken off, B closed: cancelled
             request("in-a-b", 0, 2, 0),      // in A-B at the announcement: contingency
             request("d-a-b", 3, 1, 0),       // in D-A: lands at A instead (diverted)
             request("c-d", 2, 3, 1_200_000), // never near B: unaffected
-        ];
-        let mut live = Live::new(Planner::new(&a, params), &closures, Instant(0));
-        let mut first = Vec::new();
-        for (k, r) in requests.iter().enumerate() {
-            first.push(live.book(k as FlightId, r).result.unwrap());
-        }
-        live.advance(Instant(60_000));
+        ]
+    }
+
+    /// The closures of a zone `Z` that closes node B for the first day.
+    fn closing_b(a: &Airspace) -> Closures {
         let zone = muse_model::Zone {
             id: "Z".into(),
             name: String::new(),
@@ -575,15 +571,22 @@ mod tests {
             announced: None,
             periods: vec![],
         };
-        let resolve = || {
-            muse_airspace::closures::resolve(
-                &a,
-                std::slice::from_ref(&zone),
-                Instant(0),
-                Instant(86_400_000),
-            )
-            .unwrap()
-        };
+        muse_airspace::closures::resolve(a, &[zone], Instant(0), Instant(86_400_000)).unwrap()
+    }
+
+    #[test]
+    fn stored_outcomes_rebuild_the_schedule_an_announcement_left_without_replanning() {
+        let a = ring();
+        let params = FlightParams::default();
+        let closures = Closures::none(&a);
+        let requests = around_b();
+        let mut live = Live::new(Planner::new(&a, params), &closures, Instant(0));
+        let mut first = Vec::new();
+        for (k, r) in requests.iter().enumerate() {
+            first.push(live.book(k as FlightId, r).result.unwrap());
+        }
+        live.advance(Instant(60_000));
+        let resolve = || closing_b(&a);
         let hit = live.announce("Z", resolve()).unwrap();
         let mut kinds: Vec<(FlightId, &str)> = hit
             .iter()
@@ -651,32 +654,8 @@ mod tests {
         let a = ring();
         let params = FlightParams::default();
         let closures = Closures::none(&a);
-        let requests = [
-            request("via-b", 0, 2, 600_000),
-            request("to-b", 0, 1, 900_000),
-            request("in-a-b", 0, 2, 0),
-            request("d-a-b", 3, 1, 0),
-            request("c-d", 2, 3, 1_200_000),
-        ];
-        let zone = muse_model::Zone {
-            id: "Z".into(),
-            name: String::new(),
-            restriction: String::new(),
-            area: None,
-            node_ids: vec!["B".into()],
-            edge_ids: vec![],
-            announced: None,
-            periods: vec![],
-        };
-        let resolve = || {
-            muse_airspace::closures::resolve(
-                &a,
-                std::slice::from_ref(&zone),
-                Instant(0),
-                Instant(86_400_000),
-            )
-            .unwrap()
-        };
+        let requests = around_b();
+        let resolve = || closing_b(&a);
         let mut one = Live::new(Planner::new(&a, params), &closures, Instant(0));
         let mut two = Live::new(Planner::new(&a, params), &closures, Instant(0));
         for (k, r) in requests.iter().enumerate() {

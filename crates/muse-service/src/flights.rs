@@ -7,7 +7,7 @@ use std::sync::Arc;
 
 use muse_formats::plans::{ChangeNote, PlanLine, PlanRecord, plan_line};
 use muse_model::plan::{Fate, FateKind};
-use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Request, Stay, UtcOffset};
+use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Request, UtcOffset};
 use muse_planner::online::Holding;
 use serde::Serialize;
 
@@ -262,34 +262,6 @@ impl FlightEntry {
     }
 }
 
-/// A plan's stays as stored: `(node id, arrive, depart)`, ms since the epoch.
-pub fn stays_to_record(airspace: &Airspace, plan: &Plan) -> Vec<(String, i64, i64)> {
-    plan.path
-        .iter()
-        .map(|s| (airspace.node(s.node).id.clone(), s.arrive.0, s.depart.0))
-        .collect()
-}
-
-/// The plan of stored stays (see [`stays_to_record`]); `flight` names the flight in errors.
-pub fn stays_from_record(
-    airspace: &Airspace,
-    flight: &str,
-    stays: &[(String, i64, i64)],
-) -> Result<Plan, String> {
-    let mut path = Vec::with_capacity(stays.len());
-    for (n, a, d) in stays {
-        let node = airspace
-            .node_id(n)
-            .ok_or_else(|| format!("flight `{flight}`: unknown node `{n}`"))?;
-        path.push(Stay {
-            node,
-            arrive: Instant(*a),
-            depart: Instant(*d),
-        });
-    }
-    Ok(Plan { path })
-}
-
 /// The flights the live schedule holds (a booked plan or a contingency's committed part that
 /// has not ended), by id and by sequence number: what cancellations, zone announcements and
 /// most reads need at once. Every other flight is read from the store, so memory is bounded by
@@ -368,7 +340,7 @@ impl FlightIndex {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use muse_model::NodeId;
+    use muse_model::{NodeId, Stay};
 
     fn entry(seq: u64, departure: i64, planned: bool) -> Arc<FlightEntry> {
         let result = if planned {

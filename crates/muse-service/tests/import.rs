@@ -31,6 +31,20 @@ fn airspace() -> Airspace {
     .unwrap()
 }
 
+/// The world of these tests, its zone calendar resolved around `now`.
+fn world(now: Instant) -> ServiceWorld {
+    ServiceWorld::new(
+        "import test".into(),
+        airspace(),
+        Vec::new(),
+        FlightParams::default(),
+        UtcOffset::SINGAPORE,
+        Millis::from_secs(30 * 86_400),
+        now,
+    )
+    .unwrap()
+}
+
 /// One record of the earlier version's log: `len | crc | JSON`.
 fn record(out: &mut Vec<u8>, value: &Value) {
     let payload = value.to_string().into_bytes();
@@ -125,20 +139,8 @@ async fn a_log_of_the_earlier_version_is_converted_once_with_everything_kept() {
             * 1_000,
     );
     let clock = Clock::starting_at(now);
-    let world = || {
-        ServiceWorld::new(
-            "import test".into(),
-            airspace(),
-            Vec::new(),
-            FlightParams::default(),
-            UtcOffset::SINGAPORE,
-            Millis::from_secs(30 * 86_400),
-            now,
-        )
-        .unwrap()
-    };
     let t = |s: i64| now.0 + s * 1_000;
-    let log = legacy_log(&world().legacy_fingerprint(), now);
+    let log = legacy_log(&world(now).legacy_fingerprint(), now);
     std::fs::File::create(data.join("muse.log"))
         .unwrap()
         .write_all(&log)
@@ -147,7 +149,7 @@ async fn a_log_of_the_earlier_version_is_converted_once_with_everything_kept() {
     let mut options = Options::new(data.clone());
     options.clock = clock;
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-    let running = start(world(), options, listener).await.unwrap();
+    let running = start(world(now), options, listener).await.unwrap();
     let report = running
         .restored
         .import
@@ -262,22 +264,10 @@ async fn the_service_says_it_is_starting_while_it_converts() {
     let _ = std::fs::remove_dir_all(&data);
     std::fs::create_dir_all(&data).unwrap();
     let now = Instant(1_767_571_200_000);
-    let world = || {
-        ServiceWorld::new(
-            "import test".into(),
-            airspace(),
-            Vec::new(),
-            FlightParams::default(),
-            UtcOffset::SINGAPORE,
-            Millis::from_secs(30 * 86_400),
-            now,
-        )
-        .unwrap()
-    };
     let mut log = b"MUSE-LOG-V1\n\0\0\0\0".to_vec();
     record(
         &mut log,
-        &json!({"kind": "header", "world": world().legacy_fingerprint()}),
+        &json!({"kind": "header", "world": world(now).legacy_fingerprint()}),
     );
     for seq in 1..=FLIGHTS {
         let at = now.0 - 86_400_000 + seq as i64;
@@ -296,7 +286,7 @@ async fn the_service_says_it_is_starting_while_it_converts() {
     let mut options = Options::new(data.clone());
     options.clock = Clock::starting_at(now);
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-    let launched = muse_service::launch(world(), options, listener)
+    let launched = muse_service::launch(world(now), options, listener)
         .await
         .unwrap();
     let base = format!("http://{}", launched.addr);

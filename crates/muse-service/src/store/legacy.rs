@@ -35,7 +35,7 @@ use std::sync::Arc;
 
 use muse_formats::plans::ChangeNote;
 use muse_model::plan::{Fate, FateKind};
-use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Request, Stay};
+use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Request};
 use rusqlite::Connection;
 use serde::Deserialize;
 
@@ -479,19 +479,7 @@ impl Import<'_> {
     }
 
     fn plan(&self, flight: &str, stays: &[(String, i64, i64)]) -> Result<Plan, String> {
-        let mut path = Vec::with_capacity(stays.len());
-        for (n, a, d) in stays {
-            let node = self
-                .airspace
-                .node_id(n)
-                .ok_or_else(|| format!("flight `{flight}`: unknown node `{n}`"))?;
-            path.push(Stay {
-                node,
-                arrive: Instant(*a),
-                depart: Instant(*d),
-            });
-        }
-        Ok(Plan { path })
+        super::rows::plan_of(self.airspace, stays).map_err(|e| format!("flight `{flight}`: {e}"))
     }
 
     fn flight(&self, r: &FlightRecord) -> Result<FlightEntry, String> {

@@ -40,24 +40,28 @@
 mod checkpoint;
 mod file;
 pub mod legacy;
+mod open;
 mod queries;
 mod reader;
 mod rows;
 pub mod schema;
+mod writes;
 
-use std::fs::{File, OpenOptions};
+use std::fs::File;
 use std::path::{Path, PathBuf};
 
 use muse_model::{Airspace, Instant};
-use rusqlite::{Connection, OpenFlags, OptionalExtension as _, params};
+use rusqlite::Connection;
 
 pub use legacy::ImportReport;
+pub use open::Opening;
+pub(crate) use open::{connect, sync_dir, write_schema};
 pub use queries::Checked;
 pub use reader::Reader;
+use writes::{write_event, write_flight, write_zone};
 
 use crate::events::Event;
 use crate::flights::FlightEntry;
-use rows::{EventRow, FlightRow, ZoneRow, meta_sum};
 
 /// The database's file name inside the data folder.
 pub const DB_FILE: &str = "muse.db";
@@ -157,247 +161,6 @@ pub struct StoredZone {
     pub withdrawn: Option<Instant>,
     /// How many flights it changed.
     pub affected: usize,
-}
-
-/// A data folder opened and locked, its store checked, not yet loaded.
-#[derive(Debug)]
-pub struct Opening {
-    dir: PathBuf,
-    lock: File,
-    /// A log of an earlier version to convert first.
-    import: Option<PathBuf>,
-}
-
-impl Opening {
-    /// Locks `dir` (creating it if missing) and checks what it holds against `world`: a store
-    /// written for the same world, a log of an earlier version written for it (to convert
-    /// with [`Opening::finish`]), or nothing yet. Quick: reads no flight.
-    pub fn open(dir: &Path, world: &WorldMeta, legacy_world: &str) -> Result<Opening, StoreError> {
-        std::fs::create_dir_all(dir).map_err(io(format!("creating {}", dir.display())))?;
-        let lock_path = dir.join(LOCK_FILE);
-        let lock = OpenOptions::new()
-            .create(true)
-            .truncate(false)
-            .write(true)
-            .open(&lock_path)
-            .map_err(io(format!("opening {}", lock_path.display())))?;
-        match lock.try_lock() {
-            Ok(()) => {}
-            Err(std::fs::TryLockError::WouldBlock) => {
-                return Err(StoreError::Locked(dir.to_path_buf()));
-            }
-            Err(std::fs::TryLockError::Error(e)) => {
-                return Err(io(format!("locking {}", lock_path.display()))(e));
-            }
-        }
-        let db = dir.join(DB_FILE);
-        let log = dir.join(legacy::LOG_FILE);
-        let import = if db.exists() {
-            file::check(&db)?;
-            let conn = connect(&db, false)?;
-            check_meta(&conn, &db, world)?;
-            if log.exists() {
-                // Converted, and the process stopped before the log was renamed.
-                legacy::retire(&log)?;
-            }
-            None
-        } else if log.exists() {
-            legacy::check_header(&log, legacy_world)?;
-            Some(log)
-        } else {
-            None
-        };
-        Ok(Opening {
-            dir: dir.to_path_buf(),
-            lock,
-            import,
-        })
-    }
-
-    /// Whether a log of an earlier version will be converted.
-    pub fn imports(&self) -> Option<&Path> {
-        self.import.as_deref()
-    }
-
-    /// Converts a log of an earlier version if there is one (calling `progress` with the
-    /// records read so far), creates the store if there is none, and opens it for writing.
-    pub fn finish(
-        self,
-        airspace: &Airspace,
-        world: &WorldMeta,
-        progress: &mut dyn FnMut(u64),
-    ) -> Result<(Store, Option<ImportReport>), StoreError> {
-        let db = self.dir.join(DB_FILE);
-        let report = if let Some(log) = &self.import {
-            Some(legacy::import(log, &db, airspace, world, progress)?)
-        } else {
-            if !db.exists() {
-                create(&db, world)?;
-            }
-            None
-        };
-        let conn = connect(&db, true)?;
-        let checkpoints = checkpoint::Checkpointer::start(&db)?;
-        Ok((
-            Store {
-                path: db,
-                conn,
-                _lock: self.lock,
-                in_transaction: false,
-                written: 0,
-                last_wal_restart: std::time::Instant::now(),
-                _checkpoints: checkpoints,
-            },
-            report,
-        ))
-    }
-}
-
-/// Opens a connection to the database at `path` with the store's settings (`write`: the
-/// planner task's, which syncs every commit; else a read-only one).
-fn connect(path: &Path, write: bool) -> Result<Connection, StoreError> {
-    let flags = if write {
-        OpenFlags::SQLITE_OPEN_READ_WRITE | OpenFlags::SQLITE_OPEN_NO_MUTEX
-    } else {
-        OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX
-    };
-    let conn = Connection::open_with_flags(path, flags).map_err(|source| StoreError::Sql {
-        what: format!("opening {}", path.display()),
-        source,
-    })?;
-    let settings = if write {
-        "PRAGMA journal_mode = WAL; PRAGMA synchronous = FULL; PRAGMA wal_autocheckpoint = 0; \
-         PRAGMA journal_size_limit = 16777216; PRAGMA cache_size = -65536; \
-         PRAGMA busy_timeout = 10000;"
-    } else {
-        "PRAGMA busy_timeout = 10000; PRAGMA query_only = 1;"
-    };
-    conn.execute_batch(settings)
-        .map_err(|source| StoreError::Sql {
-            what: format!("setting up {}", path.display()),
-            source,
-        })?;
-    Ok(conn)
-}
-
-/// Creates a new store at `path` for `world`, atomically: written beside it, then renamed.
-fn create(path: &Path, world: &WorldMeta) -> Result<(), StoreError> {
-    let tmp = path.with_extension("db.creating");
-    let _ = std::fs::remove_file(&tmp);
-    {
-        let conn = Connection::open(&tmp).map_err(|source| StoreError::Sql {
-            what: format!("creating {}", tmp.display()),
-            source,
-        })?;
-        write_schema(&conn, world)?;
-        conn.execute_batch("PRAGMA journal_mode = WAL;")
-            .map_err(sql("setting WAL mode"))?;
-        conn.close().map_err(|(_, e)| StoreError::Sql {
-            what: format!("closing {}", tmp.display()),
-            source: e,
-        })?;
-    }
-    File::open(&tmp)
-        .and_then(|f| f.sync_all())
-        .map_err(io(format!("syncing {}", tmp.display())))?;
-    std::fs::rename(&tmp, path).map_err(io(format!("renaming {}", tmp.display())))?;
-    sync_dir(path.parent().unwrap_or(Path::new(".")))
-}
-
-/// Creates the tables of a new store in `conn` and records `world` in `meta`.
-pub(crate) fn write_schema(conn: &Connection, world: &WorldMeta) -> Result<(), StoreError> {
-    conn.execute_batch(&format!(
-        "PRAGMA page_size = {}; BEGIN; {}",
-        schema::PAGE_SIZE,
-        schema::CREATE
-    ))
-    .map_err(sql("creating the tables"))?;
-    let mut rows = vec![("format".to_owned(), schema::FORMAT.to_owned())];
-    rows.extend(world.iter().cloned());
-    for (key, value) in rows {
-        conn.execute(
-            "INSERT INTO meta (key, value, crc) VALUES (?1, ?2, ?3)",
-            params![key, value, meta_sum(&key, &value)],
-        )
-        .map_err(sql("writing the meta table"))?;
-    }
-    conn.execute_batch("COMMIT")
-        .map_err(sql("creating the tables"))
-}
-
-/// Checks the `meta` rows of an existing store: its format, then the world it was written for.
-fn check_meta(conn: &Connection, path: &Path, world: &WorldMeta) -> Result<(), StoreError> {
-    let not = |why: String| StoreError::NotAStore {
-        path: path.to_path_buf(),
-        why,
-    };
-    let mut stmt = conn
-        .prepare("SELECT key, value, crc FROM meta")
-        .map_err(|e| not(format!("it has no readable meta table ({e})")))?;
-    let rows = stmt
-        .query_map([], |r| {
-            Ok((
-                r.get::<_, String>(0)?,
-                r.get::<_, String>(1)?,
-                r.get::<_, i64>(2)?,
-            ))
-        })
-        .map_err(|e| not(format!("its meta table cannot be read ({e})")))?;
-    let mut stored = std::collections::BTreeMap::new();
-    for row in rows {
-        let (key, value, crc) = row.map_err(sql("reading the meta table"))?;
-        if meta_sum(&key, &value) != crc {
-            return Err(StoreError::Damaged {
-                path: path.display().to_string(),
-                what: format!(
-                    "meta row {key:?}: its checksum does not match its content (a byte of it \
-                     changed on disk)"
-                ),
-            });
-        }
-        stored.insert(key, value);
-    }
-    match stored.remove("format") {
-        Some(f) if f == schema::FORMAT => {}
-        Some(f) => {
-            return Err(not(format!(
-                "it is of format {f:?}, this version reads {:?}",
-                schema::FORMAT
-            )));
-        }
-        None => return Err(not("it has no format entry".into())),
-    }
-    let (mut was, mut now) = (Vec::new(), Vec::new());
-    for (key, value) in world {
-        let old = stored.remove(key);
-        if old.as_deref() != Some(value.as_str()) {
-            was.push(format!(
-                "{key} {}",
-                old.as_deref().unwrap_or("(not recorded)")
-            ));
-            now.push(format!("{key} {value}"));
-        }
-    }
-    for (key, value) in stored {
-        was.push(format!("{key} {value}"));
-        now.push(format!("{key} (none)"));
-    }
-    if was.is_empty() {
-        Ok(())
-    } else {
-        Err(StoreError::Mismatch {
-            path: path.to_path_buf(),
-            stored: was.join(", "),
-            wanted: now.join(", "),
-        })
-    }
-}
-
-/// Makes a new file's directory entry durable.
-pub(crate) fn sync_dir(dir: &Path) -> Result<(), StoreError> {
-    File::open(dir)
-        .and_then(|d| d.sync_all())
-        .map_err(io(format!("syncing the folder {}", dir.display())))
 }
 
 /// The open store, written by the planner task only (see the module docs).
@@ -586,108 +349,4 @@ impl Store {
             source: e,
         })
     }
-}
-
-/// Writes a flight as it now stands: a new row (`new`) or the new state of a stored one.
-fn write_flight(
-    conn: &Connection,
-    label: &str,
-    airspace: &Airspace,
-    entry: &FlightEntry,
-    new: bool,
-) -> Result<(), StoreError> {
-    let r = FlightRow::of(airspace, entry);
-    let sql_text = if new {
-        "INSERT INTO flights (seq, id, operator, origin, destination, departure_ms, \
-         answered_ms, plan, reason, free_flow_ms, expanded, status, takeoff_ms, landing_ms, \
-         holds_until_ms, cancelled_ms, changes, crc) \
-         VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18)"
-    } else {
-        "UPDATE flights SET id = ?2, operator = ?3, origin = ?4, destination = ?5, \
-         departure_ms = ?6, answered_ms = ?7, plan = ?8, reason = ?9, free_flow_ms = ?10, \
-         expanded = ?11, status = ?12, takeoff_ms = ?13, landing_ms = ?14, \
-         holds_until_ms = ?15, cancelled_ms = ?16, changes = ?17, crc = ?18 WHERE seq = ?1"
-    };
-    let changed = conn
-        .prepare_cached(sql_text)
-        .and_then(|mut s| {
-            s.execute(params![
-                r.seq,
-                r.id,
-                r.operator,
-                r.origin,
-                r.destination,
-                r.departure_ms,
-                r.answered_ms,
-                r.plan,
-                r.reason,
-                r.free_flow_ms,
-                r.expanded,
-                r.status,
-                r.takeoff_ms,
-                r.landing_ms,
-                r.holds_until_ms,
-                r.cancelled_ms,
-                r.changes,
-                r.crc
-            ])
-        })
-        .map_err(sql("writing a flight"))?;
-    if changed != 1 {
-        return Err(StoreError::Damaged {
-            path: label.to_owned(),
-            what: format!("flights row seq {} is missing", r.seq),
-        });
-    }
-    Ok(())
-}
-
-/// Writes an event row.
-fn write_event(conn: &Connection, event: &Event) -> Result<(), StoreError> {
-    let r = EventRow::of(event);
-    conn.prepare_cached(
-        "INSERT INTO events (id, at_ms, kind, flight_seq, zone, changes, crc) \
-         VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)",
-    )
-    .and_then(|mut s| {
-        s.execute(params![
-            r.id,
-            r.at_ms,
-            r.kind,
-            r.flight_seq,
-            r.zone,
-            r.changes,
-            r.crc
-        ])
-    })
-    .map_err(sql("writing an event"))?;
-    Ok(())
-}
-
-/// Writes a zone row: a new zone (numbered after the last), or a stored one's new state.
-fn write_zone(conn: &Connection, zone: &StoredZone) -> Result<(), StoreError> {
-    let seq: Option<i64> = conn
-        .prepare_cached("SELECT seq FROM zones WHERE id = ?1")
-        .and_then(|mut s| s.query_row([&zone.id], |r| r.get(0)).optional())
-        .map_err(sql("reading a zone"))?;
-    let seq = match seq {
-        Some(s) => s,
-        None => queries::max_key(conn, "zones", "seq")? as i64 + 1,
-    };
-    let r = ZoneRow::new(seq, zone);
-    conn.execute(
-        "INSERT OR REPLACE INTO zones (seq, id, feature, announced_ms, withdrawn_ms, \
-         affected, crc) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)",
-        params![
-            r.seq,
-            r.id,
-            r.feature,
-            r.announced_ms,
-            r.withdrawn_ms,
-            r.affected,
-            r.crc
-        ],
-    )
-    .map_err(sql("writing a zone"))?;
-    Ok(())
 }

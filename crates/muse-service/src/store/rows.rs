@@ -89,7 +89,8 @@ fn stays(airspace: &Airspace, plan: &Plan) -> StoredStays {
         .collect()
 }
 
-fn plan_of(airspace: &Airspace, stays: &[(String, i64, i64)]) -> Result<Plan, String> {
+/// The plan of stored stays (as [`stays`] writes them).
+pub(super) fn plan_of(airspace: &Airspace, stays: &[(String, i64, i64)]) -> Result<Plan, String> {
     let mut path = Vec::with_capacity(stays.len());
     for (n, a, d) in stays {
         let node = airspace
@@ -102,6 +103,17 @@ fn plan_of(airspace: &Airspace, stays: &[(String, i64, i64)]) -> Result<Plan, St
         });
     }
     Ok(Plan { path })
+}
+
+/// What a row whose checksum does not match its content is.
+const MISMATCH: &str = "its checksum does not match its content (a byte of it changed on disk)";
+
+/// The damage of the row `row` (e.g. `flights row seq 12 (id "r1")`) of the store at `path`.
+fn damaged(path: &str, row: &str, what: &str) -> StoreError {
+    StoreError::Damaged {
+        path: path.to_owned(),
+        what: format!("{row}: {what}"),
+    }
 }
 
 /// JSON of plain strings and numbers: serialising cannot fail.
@@ -235,16 +247,12 @@ impl FlightRow {
     /// The flight this row describes, once its checksum is checked; `path` names the store in
     /// errors.
     pub(super) fn entry(&self, airspace: &Airspace, path: &str) -> Result<FlightEntry, StoreError> {
-        let damaged = |what: String| StoreError::Damaged {
-            path: path.to_owned(),
-            what: format!("flights row seq {} (id {:?}): {what}", self.seq, self.id),
-        };
+        let row = format!("flights row seq {} (id {:?})", self.seq, self.id);
         if self.sum() != self.crc {
-            return Err(damaged(
-                "its checksum does not match its content (a byte of it changed on disk)".into(),
-            ));
+            return Err(damaged(path, &row, MISMATCH));
         }
-        self.decode(airspace).map_err(damaged)
+        self.decode(airspace)
+            .map_err(|what| damaged(path, &row, &what))
     }
 
     fn decode(&self, airspace: &Airspace) -> Result<FlightEntry, String> {
@@ -368,50 +376,39 @@ impl EventRow {
     /// Checks the row's checksum and that it names a stored flight (`changes`: how many zone
     /// changes that flight has, `None` if there is no such flight).
     pub(super) fn check(&self, path: &str, changes: Option<usize>) -> Result<(), StoreError> {
-        let damaged = |what: String| StoreError::Damaged {
-            path: path.to_owned(),
-            what: format!("events row id {}: {what}", self.id),
-        };
+        let row = format!("events row id {}", self.id);
         if self.sum() != self.crc {
-            return Err(damaged(
-                "its checksum does not match its content (a byte of it changed on disk)".into(),
-            ));
+            return Err(damaged(path, &row, MISMATCH));
         }
         match changes {
-            None => Err(damaged(format!(
-                "it names flight seq {}, which is not stored",
-                self.flight_seq
-            ))),
+            None => Err(damaged(
+                path,
+                &row,
+                &format!(
+                    "it names flight seq {}, which is not stored",
+                    self.flight_seq
+                ),
+            )),
             Some(c) if usize::try_from(self.changes).is_ok_and(|k| k <= c) => Ok(()),
-            Some(_) => Err(damaged(format!(
-                "{} changes of a flight that has fewer",
-                self.changes
-            ))),
+            Some(_) => Err(damaged(
+                path,
+                &row,
+                &format!("{} changes of a flight that has fewer", self.changes),
+            )),
         }
     }
 
     /// The event, with `flight` the current state of its flight (checked by the caller).
     pub(super) fn event(&self, flight: &FlightEntry, path: &str) -> Result<Event, StoreError> {
-        let damaged = |what: String| StoreError::Damaged {
-            path: path.to_owned(),
-            what: format!("events row id {}: {what}", self.id),
-        };
-        if self.sum() != self.crc {
-            return Err(damaged(
-                "its checksum does not match its content (a byte of it changed on disk)".into(),
-            ));
-        }
-        let kind = EventKind::parse(&self.kind)
-            .ok_or_else(|| damaged(format!("unknown kind `{}`", self.kind)))?;
-        let changes = usize::try_from(self.changes)
-            .ok()
-            .filter(|&c| c <= flight.changes.len())
-            .ok_or_else(|| {
-                damaged(format!(
-                    "{} changes of a flight that has fewer",
-                    self.changes
-                ))
-            })?;
+        self.check(path, Some(flight.changes.len()))?;
+        let kind = EventKind::parse(&self.kind).ok_or_else(|| {
+            damaged(
+                path,
+                &format!("events row id {}", self.id),
+                &format!("unknown kind `{}`", self.kind),
+            )
+        })?;
+        let changes = usize::try_from(self.changes).unwrap_or(0);
         // An operator's cancellation is a flight's last change: only its own event shows it.
         let cancelled = kind == EventKind::Cancelled && self.zone.is_none();
         Ok(Event {
@@ -479,14 +476,8 @@ impl ZoneRow {
 
     pub(super) fn zone(&self, path: &str) -> Result<super::StoredZone, StoreError> {
         if self.sum() != self.crc {
-            return Err(StoreError::Damaged {
-                path: path.to_owned(),
-                what: format!(
-                    "zones row seq {} (id {:?}): its checksum does not match its content (a \
-                     byte of it changed on disk)",
-                    self.seq, self.id
-                ),
-            });
+            let row = format!("zones row seq {} (id {:?})", self.seq, self.id);
+            return Err(damaged(path, &row, MISMATCH));
         }
         Ok(super::StoredZone {
             id: self.id.clone(),
