@@ -121,7 +121,7 @@ pub(crate) fn connect(path: &Path, write: bool) -> Result<Connection, StoreError
     })?;
     let settings = if write {
         "PRAGMA journal_mode = WAL; PRAGMA synchronous = FULL; PRAGMA wal_autocheckpoint = 0; \
-         PRAGMA journal_size_limit = 16777216; PRAGMA cache_size = -65536; \
+         PRAGMA journal_size_limit = 67108864; PRAGMA cache_size = -65536; \
          PRAGMA busy_timeout = 10000;"
     } else {
         "PRAGMA busy_timeout = 10000; PRAGMA query_only = 1;"
