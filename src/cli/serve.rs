@@ -81,7 +81,7 @@ pub struct ServeArgs {
     import_log: bool,
     /// Check the whole store and exit, without serving: SQLite's check of the database's
     /// structure, then every row's checksum (the start checks only what it loads). Exit 0 if
-    /// it is whole, 1 naming the first damage.
+    /// it is whole, 2 naming the first damage.
     #[arg(long, conflicts_with = "import_log")]
     check_store: bool,
     /// Largest request body, KiB (larger: 413).

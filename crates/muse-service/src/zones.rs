@@ -174,10 +174,11 @@ fn zone_offset(zone: &Zone) -> UtcOffset {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    const ZONE: &str = r#"{"type": "FeatureCollection", "features": [{"type": "Feature",
+    /// One ED-318 feature of two circles, `EVT` (read as `EVT#1` and `EVT#2`).
+    pub(crate) const ZONE: &str = r#"{"type": "FeatureCollection", "features": [{"type": "Feature",
         "properties": {"identifier": "EVT", "name": "Event"},
         "geometry": {"type": "GeometryCollection", "geometries": [
             {"type": "Point", "coordinates": [103.80, 1.30], "extent": {"subType": "Circle", "radius": 100}},

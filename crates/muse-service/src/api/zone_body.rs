@@ -117,12 +117,7 @@ pub fn parse_feature(body: &[u8]) -> Result<NewZone, BodyError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    const ZONE: &str = r#"{"type": "FeatureCollection", "features": [{"type": "Feature",
-        "properties": {"identifier": "EVT", "name": "Event"},
-        "geometry": {"type": "GeometryCollection", "geometries": [
-            {"type": "Point", "coordinates": [103.80, 1.30], "extent": {"subType": "Circle", "radius": 100}},
-            {"type": "Point", "coordinates": [103.82, 1.30], "extent": {"subType": "Circle", "radius": 100}}]}}]}"#;
+    use crate::zones::tests::ZONE;
 
     #[test]
     fn bodies_are_read_or_refused_with_the_field_at_fault() {

@@ -198,11 +198,6 @@ impl Store {
         Ok(())
     }
 
-    /// Rows written since the last commit.
-    pub fn pending(&self) -> usize {
-        self.written
-    }
-
     /// Writes a flight as it now stands: a new one (`new`) or a change of a stored one.
     pub fn put_flight(
         &mut self,
@@ -273,20 +268,6 @@ impl Store {
         // A failed checkpoint loses nothing (the WAL keeps the pages); the next one tries.
         let _ = self.conn.execute_batch("PRAGMA wal_checkpoint(PASSIVE);");
         self.last_wal_restart = std::time::Instant::now();
-    }
-
-    /// The flight with client id `id`, including those written in the open transaction.
-    pub fn flight(&self, airspace: &Airspace, id: &str) -> Result<Option<FlightEntry>, StoreError> {
-        queries::flight_by_id(&self.conn, airspace, &self.label(), id)
-    }
-
-    /// The flight with sequence number `seq`.
-    pub fn flight_by_seq(
-        &self,
-        airspace: &Airspace,
-        seq: u64,
-    ) -> Result<Option<FlightEntry>, StoreError> {
-        queries::flight_by_seq(&self.conn, airspace, &self.label(), seq)
     }
 
     /// Every announced zone, in announcement order.
