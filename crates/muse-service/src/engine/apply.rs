@@ -46,13 +46,15 @@ impl Engine<'_> {
                     .map(|e| (e.seq, &e.request, e.holding()))
                     .collect();
                 self.live.hold_all(&holdings);
-                // The number the group being decided will be sent under.
-                let number = self.pipe.as_ref().map_or(0, |p| p.sent + 1);
-                for e in flights {
-                    self.staged
-                        .insert(e.request.id.clone(), (number, Arc::clone(&e)));
-                    self.group.entries.push(e);
+                // Staged under the number the group being decided will be sent under, until
+                // the writer has published it (while loading, the group is published at once).
+                if let Some(pipe) = &self.pipe {
+                    for e in &flights {
+                        self.staged
+                            .insert(e.request.id.clone(), (pipe.sent + 1, Arc::clone(e)));
+                    }
                 }
+                self.group.entries.extend(flights);
             }
             Change::Zone { zone, closures } => {
                 if let Some(closures) = closures {

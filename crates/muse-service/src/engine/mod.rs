@@ -252,9 +252,7 @@ impl Engine<'_> {
     fn forget_published(&mut self) {
         if let Some(pipe) = &self.pipe {
             let done = pipe.published.done();
-            if self.staged.values().any(|(n, _)| *n <= done) {
-                self.staged.retain(|_, (n, _)| *n > done);
-            }
+            self.staged.retain(|_, (n, _)| *n > done);
         }
     }
 
