@@ -31,8 +31,8 @@ pub enum AirspaceCommand {
         #[command(flatten)]
         range: RangeArgs,
     },
-    /// Write the airspace as a SPEC §2 GeoJSON file (any scenario, e.g. `singapore-all`, for
-    /// use by other tools), and optionally its zones as ED-318 GeoJSON.
+    /// Write the airspace as a GeoJSON file (docs/reference.md#airspace; any scenario, e.g.
+    /// `singapore-all`, for use by other tools), and optionally its zones as ED-318 GeoJSON.
     Export {
         #[command(flatten)]
         world: WorldArgs,

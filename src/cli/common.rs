@@ -19,7 +19,7 @@ pub struct WorldArgs {
         conflicts_with_all = ["airspace", "synthetic"]
     )]
     pub scenario: Option<String>,
-    /// Airspace GeoJSON (SPEC §2) instead of a built-in scenario.
+    /// Airspace GeoJSON (docs/reference.md#airspace) instead of a built-in scenario.
     #[arg(long, value_name = "FILE", conflicts_with = "synthetic")]
     pub airspace: Option<PathBuf>,
     /// A synthetic airspace instead of a built-in scenario: a `grid` (4-neighbour corridors)
@@ -219,9 +219,9 @@ pub struct FlightArgs {
     /// Maximum ground delay `G_max`, seconds.
     #[arg(long, default_value_t = 0.0, value_name = "S")]
     pub max_ground_delay_s: f64,
-    /// Battery swaps at stations (SPEC §12): a trip may land at intermediate stations, stay
-    /// on the ground at least this many seconds, and take off again with a full battery.
-    /// Off by default (the paper: single legs).
+    /// Battery swaps at stations (docs/reference.md#multi-leg-trips): a trip may land at
+    /// intermediate stations, stay on the ground at least this many seconds, and take off
+    /// again with a full battery. Off by default (the paper: single legs).
     #[arg(long, value_name = "S")]
     pub battery_swap_s: Option<f64>,
     /// With `--battery-swap-s`: at most this many legs per trip (default: no bound).

@@ -49,8 +49,8 @@ enum Command {
     Load(load::LoadArgs),
     /// Plan a requests file: exact earliest-landing plans, first come first served.
     Plan(plan::PlanArgs),
-    /// The planning service: a live schedule behind a JSON API (SPEC §10), durable across
-    /// crashes.
+    /// The planning service: a live schedule behind a JSON API, durable across crashes
+    /// (docs/reference.md#the-planning-service).
     Serve(serve::ServeArgs),
     /// Simulate a day: generate demand, plan it, verify it, write files and a summary.
     Simulate(simulate::SimulateArgs),

@@ -36,7 +36,7 @@ Routes (JSON; the full description at GET /v1/openapi.json):
                                (planned, rejected, cancelled, replanned, diverted, contingency)
   GET    /v1/flights/{id}      one flight;  DELETE: cancel it before take-off
   GET    /v1/zones             every zone (ED-318), announced ones with `announced`/`withdrawn`
-  POST   /v1/zones             authority: announce an ED-318 zone now (SPEC §11); answers with
+  POST   /v1/zones             authority: announce an ED-318 zone now; answers with
                                every flight it replanned, diverted, cancelled or left in contingency
   DELETE /v1/zones/{id}        authority: withdraw an announced zone (replans nothing)
   GET    /v1/events            server-sent events of the caller's flights' changes; resume with

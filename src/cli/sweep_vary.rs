@@ -15,11 +15,13 @@ pub enum Vary {
     EdgeRule,
     /// No ground delay versus up to 10 minutes.
     GroundDelay,
-    /// Single legs versus battery swaps at stations (SPEC §12) of each `--swap-min` time.
+    /// Single legs versus battery swaps at stations of each `--swap-min` time
+    /// (docs/reference.md#multi-leg-trips).
     BatterySwap,
     /// How much warning before a zone's first active window it is announced (`--leads`,
-    /// `--announce-zones`); replays each day (SPEC §11) with bookings made 0–120 min ahead
-    /// unless `--booking-lead-min` says otherwise. Not combinable with other `--vary` values.
+    /// `--announce-zones`); replays each day (docs/reference.md#zones-announced-during-the-day)
+    /// with bookings made 0–120 min ahead unless `--booking-lead-min` says otherwise. Not
+    /// combinable with other `--vary` values.
     AnnounceLead,
 }
 

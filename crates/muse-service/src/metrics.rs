@@ -275,7 +275,7 @@ impl Metrics {
             "muse_refused_requests_total{{reason=\"unauthorized\"}} {}",
             get(&self.unauthorized)
         );
-        out.push_str("# HELP muse_zones_total Zones announced and withdrawn during the day (SPEC §11).\n# TYPE muse_zones_total counter\n");
+        out.push_str("# HELP muse_zones_total Zones announced and withdrawn during the day (docs/reference.md#zones-announced-during-the-day).\n# TYPE muse_zones_total counter\n");
         let _ = writeln!(
             out,
             "muse_zones_total{{change=\"announced\"}} {}\nmuse_zones_total{{change=\"withdrawn\"}} {}",
