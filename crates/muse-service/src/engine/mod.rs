@@ -118,6 +118,10 @@ fn run(
     match engine.load(&store) {
         Ok(mut restored) => {
             restored.import = import;
+            // The gauges (`/healthz`, `/metrics`) count what was loaded before anyone is
+            // told the service is ready.
+            state.metrics.set_store_bytes(store.bytes());
+            engine.update_gauges();
             state.phase.set_ready();
             let _ = ready.send(Ok(restored));
         }
@@ -126,8 +130,6 @@ fn run(
             return Ok(());
         }
     }
-    state.metrics.set_store_bytes(store.bytes());
-    engine.update_gauges();
     std::thread::scope(|scope| {
         let (batches, received) = std::sync::mpsc::sync_channel(PIPELINE);
         let published = Arc::new(writer::Published::default());

@@ -28,6 +28,9 @@ use crate::store::{Store, StoreError, StoredZone};
 /// Most batches written in one transaction.
 const MAX_BATCHES: usize = 64;
 
+/// How often the store's size on disk is measured for `/metrics` while writes go on.
+const SIZE_EVERY: std::time::Duration = std::time::Duration::from_millis(100);
+
 /// One row to write.
 pub(super) enum Write {
     /// A flight as it now stands: a new one (`true`) or a change of a stored one.
@@ -121,6 +124,7 @@ pub(super) fn run(
 ) -> Result<Store, StoreError> {
     let airspace = &state.world.airspace;
     let mut taken = Vec::with_capacity(MAX_BATCHES);
+    let mut sized = WallInstant::now();
     while let Ok(first) = batches.recv() {
         taken.push(first);
         while taken.len() < MAX_BATCHES {
@@ -152,7 +156,10 @@ pub(super) fn run(
                     publish(state, batch);
                 }
                 published.set(last);
-                state.metrics.set_store_bytes(store.bytes());
+                if sized.elapsed() >= SIZE_EVERY {
+                    state.metrics.set_store_bytes(store.bytes());
+                    sized = WallInstant::now();
+                }
                 store.tidy();
             }
             Err(e) => {

@@ -212,21 +212,33 @@ async fn connection(
         .header_read_timeout(None)
         .serve_connection(io, service);
     let mut stopping = false;
+    // One timer for the connection's life, moved only when its deadline comes sooner: a
+    // deadline that moves later (every answer moves the idle one) is found when the timer
+    // fires early and is armed again, so a request costs no timer registration.
+    let timer = tokio::time::sleep_until(Instant::now());
+    tokio::pin!(timer);
+    let mut armed: Option<Instant> = None;
     let timed_out = loop {
         if stopping && !track.busy() {
             // Stopping: a connection with no request being answered (idle, or still
             // sending headers) is closed now rather than at its timeout.
             break true;
         }
-        let deadline = track.deadline(&limits);
+        if let Some(at) = track.deadline(&limits) {
+            if armed.is_none_or(|armed| at < armed) {
+                timer.as_mut().reset(at);
+                armed = Some(at);
+            }
+        }
         tokio::select! {
             // An error (a malformed request, answered `400` by hyper, or a broken socket)
             // ends the connection like a completed exchange.
             _ = std::future::poll_fn(|cx| conn.poll_without_shutdown(cx)) => break false,
-            () = sleep_until(deadline) => {
+            () = &mut timer, if armed.is_some() => {
                 if track.expired(&limits, Instant::now()) {
                     break true;
                 }
+                armed = None;
             }
             () = track.changed.notified() => {}
             _ = stop.wait_for(|stop| *stop), if !stopping => {
@@ -241,13 +253,6 @@ async fn connection(
     }
     // Else a timeout expired (or the service stops): the socket is dropped, closing it at once.
     drop(permit);
-}
-
-async fn sleep_until(deadline: Option<Instant>) {
-    match deadline {
-        Some(at) => tokio::time::sleep_until(at).await,
-        None => std::future::pending().await,
-    }
 }
 
 /// What a connection is doing, for its timeouts.

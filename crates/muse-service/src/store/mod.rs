@@ -65,8 +65,9 @@ use crate::flights::FlightEntry;
 
 /// The database's file name inside the data folder.
 pub const DB_FILE: &str = "muse.db";
-/// How often the writer lets the WAL start again (see [`Store::tidy`]).
-pub const WAL_RESTART: std::time::Duration = std::time::Duration::from_millis(250);
+/// How often the writer lets the WAL start again (see [`Store::tidy`]): as often as the
+/// checkpointer passes, so that the writer's own copy is of the frames since its last pass.
+pub const WAL_RESTART: std::time::Duration = std::time::Duration::from_millis(500);
 
 /// The lock file's name inside the data folder.
 pub const LOCK_FILE: &str = "LOCK";
@@ -191,7 +192,8 @@ impl Store {
     fn begin(&mut self) -> Result<(), StoreError> {
         if !self.in_transaction {
             self.conn
-                .execute_batch("BEGIN IMMEDIATE")
+                .prepare_cached("BEGIN IMMEDIATE")
+                .and_then(|mut s| s.execute([]))
                 .map_err(sql("starting a transaction"))?;
             self.in_transaction = true;
         }
@@ -248,7 +250,8 @@ impl Store {
             return Ok(0);
         }
         self.conn
-            .execute_batch("COMMIT")
+            .prepare_cached("COMMIT")
+            .and_then(|mut s| s.execute([]))
             .map_err(sql("committing"))?;
         self.in_transaction = false;
         Ok(std::mem::take(&mut self.written))
