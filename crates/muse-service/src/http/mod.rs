@@ -224,11 +224,11 @@ async fn connection(
             // sending headers) is closed now rather than at its timeout.
             break true;
         }
-        if let Some(at) = track.deadline(&limits) {
-            if armed.is_none_or(|armed| at < armed) {
-                timer.as_mut().reset(at);
-                armed = Some(at);
-            }
+        if let Some(at) = track.deadline(&limits)
+            && armed.is_none_or(|armed| at < armed)
+        {
+            timer.as_mut().reset(at);
+            armed = Some(at);
         }
         tokio::select! {
             // An error (a malformed request, answered `400` by hyper, or a broken socket)
