@@ -254,6 +254,18 @@ async fn an_id_names_its_first_flight_forever() {
     assert_eq!(rows, 1);
 }
 
+/// Runs `muse serve --check-store` on `data`; returns its exit code and what it printed.
+fn check_store(data: &Path) -> (Option<i32>, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_muse"))
+        .args(["serve", "--check-store", "--data"])
+        .arg(data)
+        .output()
+        .expect("muse serve --check-store runs");
+    let text =
+        String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
+    (out.status.code(), text)
+}
+
 /// Copies a data folder (the store only; the lock is per process).
 fn copy(from: &Path, to: &Path) {
     let _ = std::fs::remove_dir_all(to);
@@ -372,6 +384,18 @@ async fn damage_is_refused_or_named_never_served() {
         assert_eq!((code, &got), (200, want), "{id}");
     }
     s.kill();
+
+    // `muse serve --check-store` reads every row: it finds the damage a start does not read,
+    // and passes the intact store.
+    let (code, said) = check_store(&d);
+    assert_eq!(code, Some(2), "{said}");
+    assert!(
+        said.contains("is damaged") && said.contains("id \"ended\"") && said.contains("checksum"),
+        "{said}"
+    );
+    let (code, said) = check_store(&data);
+    assert_eq!(code, Some(0), "{said}");
+    assert!(said.contains("whole — 202 flights"), "{said}");
 
     // The database cut short after a checkpoint (the clean stop checkpointed it).
     let d = scratch_dir("serve-damage-cut");
