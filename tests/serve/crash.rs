@@ -16,9 +16,7 @@ use rand::{RngExt as _, SeedableRng as _};
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 
-/// Kill cycles (the issue asks for at least 10).
-mod support;
-use support::{scratch_dir, start};
+use crate::support::{scratch_dir, start};
 
 const CYCLES: usize = 12;
 /// Concurrent clients during each cycle.

@@ -23,8 +23,7 @@ use rand::{RngExt as _, SeedableRng as _};
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 
-mod support;
-use support::{scratch_dir, start};
+use crate::support::{scratch_dir, start};
 
 const SEED: u64 = 0x2011_0e09;
 /// The service clock at the first start: inside the stadium zone's window.

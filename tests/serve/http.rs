@@ -12,9 +12,7 @@ use std::process::{Child, Command, Stdio};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-#[allow(dead_code)]
-mod support;
-use support::scratch_dir;
+use crate::support::scratch_dir;
 
 /// A `muse serve` started here, with its stdout and stderr lines.
 struct Served {

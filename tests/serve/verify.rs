@@ -16,8 +16,7 @@ use std::time::{Duration, Instant as WallInstant};
 use muse_model::{Instant, Millis, UtcOffset};
 use serde_json::{Value, json};
 
-mod support;
-use support::{scratch_dir, start};
+use crate::support::{scratch_dir, start};
 
 fn testdata(name: &str) -> String {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

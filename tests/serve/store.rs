@@ -10,10 +10,7 @@ use std::time::Duration;
 use muse_model::{Instant, UtcOffset};
 use serde_json::{Value, json};
 
-// Only `scratch_dir` is used here.
-#[allow(dead_code)]
-mod support;
-use support::scratch_dir;
+use crate::support::scratch_dir;
 
 /// Tokens of two operators (16 characters or more).
 const TOKENS: &str = r#"

@@ -1,0 +1,12 @@
+//! The tests that run the real `muse serve` binary: its store's promises across SIGKILL and
+//! damage (`store`), concurrent clients through repeated SIGKILLs (`crash`, `zones_crash`),
+//! its HTTP limits on the binary (`http`) and `muse verify` of what it planned (`verify`).
+
+#[path = "../support/mod.rs"]
+mod support;
+
+mod crash;
+mod http;
+mod store;
+mod verify;
+mod zones_crash;
