@@ -1,15 +1,13 @@
 //! Cancelling a flight (`Schedule::remove`) gives the same planning results as never having
 //! inserted it.
 
-#[allow(dead_code)]
-mod oracle;
-#[allow(dead_code)]
-mod scenario;
+use crate::oracle;
+use crate::scenario;
 
+use crate::scenario::{Instance, Shape, ZoneSpec};
 use muse_model::Plan;
 use muse_planner::{Outcome, Planner, Schedule, Scratch, plan_day};
 use proptest::test_runner::TestCaseError;
-use scenario::{Instance, Shape, ZoneSpec};
 
 fn results(outcomes: &[Outcome]) -> Vec<Result<Plan, muse_model::RejectReason>> {
     outcomes.iter().map(|o| o.result.clone()).collect()

@@ -10,19 +10,17 @@
 //! answer within `scenario::multileg::HANG` cannot be shrunk: the watchdog prints the
 //! instance and ends the test process (`scenario::multileg::watched`).
 
-#[allow(dead_code)] // The single-leg replanning helpers are not used here.
-mod oracle;
-#[allow(dead_code)]
-mod scenario;
+use crate::oracle;
+use crate::scenario;
 
+use crate::oracle::Goal;
+use crate::oracle::multileg::{self, Resume, Trip};
+use crate::scenario::multileg::{SwapSpec, check_rules, check_trip, multileg_instances, watched};
+use crate::scenario::{Instance, Shape, Tally, ZoneSpec, runner};
 use muse_model::{Instant, NodeId, Plan, RejectReason, Stay};
 use muse_planner::{Planner, Schedule, Scratch};
-use oracle::Goal;
-use oracle::multileg::{self, Resume, Trip};
 use proptest::prelude::{Strategy, prop_assert_eq};
 use proptest::test_runner::TestCaseError;
-use scenario::multileg::{SwapSpec, check_rules, check_trip, multileg_instances, watched};
-use scenario::{Instance, Shape, Tally, ZoneSpec, runner};
 
 /// Runs `cases` random instances of `shape` (half of them with swaps) through `run`; panics
 /// with the seed and the minimal failing instance.

@@ -6,9 +6,10 @@
 //! (see `scenario::runner` for soak runs). On a failure proptest shrinks the instance and the
 //! panic message shows the seed and the minimal instance.
 
-mod oracle;
-mod scenario;
+use crate::oracle;
+use crate::scenario;
 
+use crate::scenario::{Instance, Shape, Tally, ZoneSpec, runner};
 use muse_airspace::closures::Closures;
 use muse_model::{
     Airspace, Edge, EdgeRule, FlightParams, Instant, LonLat, Millis, Node, NodeId, NodeKind, Plan,
@@ -16,7 +17,6 @@ use muse_model::{
 };
 use muse_planner::{Planner, Schedule, Scratch};
 use proptest::prelude::{Strategy, prop_assert_eq};
-use scenario::{Instance, Shape, Tally, ZoneSpec, runner};
 
 /// Runs `cases` random instances of `shape` through the batch path; panics with the minimal
 /// failing instance.
