@@ -1,17 +1,17 @@
 //! The MUSE planner: exact, optimal, collision-free routing of one request at a time
 //! against everything already planned.
 //!
-//! - [`schedule`]: the reservation table (the paper's *CurrentSchedule*): accepted stays and
-//!   traversals plus zone closures, with safe-interval queries;
-//! - [`heuristic`]: exact free-flow times to each destination, computed once and shared;
-//! - [`sipp`]: the safe-interval A* search (hovering, battery, ground delay);
-//! - [`planner`]: [`Planner`], prepared once per airspace and parameters, and [`plan_day`],
-//!   which plans a list of requests first come, first served;
-//! - [`online`]: [`Live`], the same planner and schedule driven by a clock, for requests that
-//!   arrive one at a time in any order of departure, with cancellation (SPEC §10) and zones
-//!   announced while it runs (SPEC §11);
-//! - [`replan`](mod@replan): what a newly announced zone does to the flights it hits (SPEC §11):
-//!   replanned, diverted, cancelled or contingency.
+//! Its public surface is small: [`Planner`] (prepared once per airspace and parameters, then
+//! queried: [`Planner::plan`] one request against a [`Schedule`], with a reusable
+//! [`Scratch`]), [`plan_day`] (a list of requests first come, first served), [`Schedule`] (the
+//! reservation table, the paper's *CurrentSchedule*), [`Live`] (the same planner and schedule
+//! driven by a clock, for requests that arrive one at a time, with cancellation and zones
+//! announced while it runs), and the outcome and error types. Inside, one module per concept:
+//! `schedule` (stays, traversals and zone closures, with safe-interval queries), `heuristic`
+//! (exact free-flow times to each destination, computed once and shared), `sipp` (the
+//! safe-interval A* search: hovering, battery, ground delay), `planner`, `online` and
+//! `replan` (what a newly announced zone does to the flights it hits: replanned, diverted,
+//! cancelled or contingency).
 //!
 //! ```
 //! use muse_airspace::closures::Closures;
@@ -42,14 +42,15 @@
 //! assert_eq!(second.takeoff(), Instant(120_000));
 //! ```
 
-pub mod heuristic;
-pub mod online;
-pub mod planner;
-pub mod replan;
-pub mod schedule;
-pub mod sipp;
+mod heuristic;
+mod online;
+mod planner;
+mod replan;
+mod schedule;
+mod sipp;
 
-pub use online::Live;
+pub use online::{CancelError, FORGET_EVERY, Holding, Live, ZoneError};
 pub use planner::{Landing, Outcome, Planner, Resume, plan_and_book, plan_day};
+pub use replan::{Affected, Booking, Commitment, Fate, FateKind, breaks, committed_part};
 pub use schedule::{FlightId, Schedule};
 pub use sipp::Scratch;

@@ -27,7 +27,7 @@
 //! use muse_airspace::closures::Closures;
 //! use muse_model::{Airspace, Edge, FlightParams, Instant, LonLat, Node, NodeId, NodeKind, RejectReason, Request};
 //! use muse_planner::{Live, Planner};
-//! use muse_planner::online::CancelError;
+//! use muse_planner::CancelError;
 //!
 //! let node = |id: &str, lon| Node {
 //!     id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.3),
@@ -340,8 +340,8 @@ impl<'a> Live<'a> {
     }
 
     /// Announces a zone now (SPEC §11): its closures bind everything from now on, and the
-    /// flights it hits are replanned ([`replan()`]). Returns the
-    /// affected flights in the order they were replanned.
+    /// flights it hits are replanned, diverted, cancelled or left as contingencies (see
+    /// [`Fate`](crate::Fate)). Returns the affected flights in the order they were replanned.
     pub fn announce(&mut self, id: &str, zone: Closures) -> Result<Vec<Affected>, ZoneError> {
         if self.announced.iter().any(|(z, _)| z == id) {
             return Err(ZoneError::Taken(id.to_owned()));

@@ -73,7 +73,7 @@ pub struct Affected {
 /// ```
 /// use muse_airspace::closures::resolve;
 /// use muse_model::{Airspace, Instant, NodeId, Period, Plan, Stay, Zone};
-/// use muse_planner::replan::breaks;
+/// use muse_planner::breaks;
 /// let airspace = Airspace::line(&[1_000.0]);
 /// let zone = Zone { id: "Z".into(), name: String::new(), restriction: String::new(), area: None,
 ///     node_ids: vec!["B".into()], edge_ids: vec![], announced: None,
@@ -107,7 +107,7 @@ pub fn breaks(airspace: &Airspace, zone: &Closures, plan: &Plan, at: Instant) ->
 ///
 /// ```
 /// use muse_model::{Instant, NodeId, Plan, Stay};
-/// use muse_planner::replan::committed_part;
+/// use muse_planner::committed_part;
 /// let stay = |n, a, d| Stay { node: NodeId(n), arrive: Instant(a), depart: Instant(d) };
 /// let plan = Plan { path: vec![stay(0, 0, 10), stay(1, 50, 70), stay(2, 90, 90)] };
 /// // At 60 it hovers at node 1 (arrived at 50): it is committed to flying on to node 2.
@@ -140,7 +140,7 @@ impl Commitment {
     ///
     /// ```
     /// use muse_model::{Instant, NodeId, Plan, Stay};
-    /// use muse_planner::replan::Commitment;
+    /// use muse_planner::Commitment;
     /// let stay = |n, a, d| Stay { node: NodeId(n), arrive: Instant(a), depart: Instant(d) };
     /// // Lands at node 1 at 50, swaps, takes off again at 80.
     /// let plan = Plan { path: vec![stay(0, 0, 0), stay(1, 50, 50), stay(1, 80, 80), stay(2, 120, 120)] };

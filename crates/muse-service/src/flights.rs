@@ -8,7 +8,7 @@ use std::sync::Arc;
 use muse_formats::plans::{ChangeNote, PlanLine, PlanRecord, plan_line};
 use muse_model::plan::{Fate, FateKind};
 use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Request, UtcOffset};
-use muse_planner::online::Holding;
+use muse_planner::Holding;
 use serde::Serialize;
 
 /// Longest client id (or announced zone id) accepted.

@@ -8,7 +8,7 @@ use muse_airspace::closures::{ClosureError, Closures};
 use muse_model::plan::Fate;
 use muse_model::request::sort_for_planning;
 use muse_model::{Airspace, FlightParams, Instant, Millis, Plan, Request, Zone};
-use muse_planner::online::ZoneError;
+use muse_planner::ZoneError;
 use muse_planner::{Outcome, Planner, Schedule, Scratch, plan_day};
 
 use crate::replay::{Announcement, Change, replay};

@@ -14,7 +14,7 @@ use std::time::{Duration, Instant as WallInstant};
 use muse_airspace::announced::KnownZones;
 use muse_model::plan::Fate;
 use muse_model::{Instant, Plan, Request};
-use muse_planner::online::ZoneError;
+use muse_planner::ZoneError;
 use muse_planner::{FlightId, Live, Outcome, Planner};
 
 /// What one announcement did to one flight.
@@ -189,8 +189,8 @@ pub(crate) mod example {
 mod tests {
     use muse_airspace::announced::KnownZones;
     use muse_model::Instant;
+    use muse_planner::Fate;
     use muse_planner::Planner;
-    use muse_planner::replan::Fate;
 
     use super::example::{airspace, min, params, requests, zone};
     use super::{Announcement, replay};

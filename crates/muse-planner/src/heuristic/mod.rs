@@ -95,11 +95,6 @@ impl Heuristics {
             search.raw_times().into()
         })
     }
-
-    /// Number of destination tables computed so far.
-    pub fn computed(&self) -> usize {
-        self.tables.iter().filter(|t| t.get().is_some()).count()
-    }
 }
 
 /// One empty, lazily filled slot per node.

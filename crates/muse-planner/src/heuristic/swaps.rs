@@ -154,7 +154,7 @@ impl SwapTable {
     /// `G(v)`: the free-flow trip from the ground at station `v`, swaps included
     /// (`UNREACHABLE` if none).
     #[inline]
-    pub fn from_ground(&self, v: NodeId) -> i64 {
+    pub fn trip_from_ground(&self, v: NodeId) -> i64 {
         self.ground[v.index()]
     }
 
@@ -262,11 +262,11 @@ mod tests {
     fn remaining_time_counts_the_swaps_the_battery_forces() {
         // Each edge takes 120 s; the battery lasts 250 s: two edges per leg at most.
         let t = tables(250_000, 60_000, u32::MAX);
-        assert_eq!(t.from_ground(NodeId(3)), 0);
-        assert_eq!(t.from_ground(NodeId(2)), 120_000);
-        assert_eq!(t.from_ground(NodeId(1)), 240_000);
+        assert_eq!(t.trip_from_ground(NodeId(3)), 0);
+        assert_eq!(t.trip_from_ground(NodeId(2)), 120_000);
+        assert_eq!(t.trip_from_ground(NodeId(1)), 240_000);
         // From 0: three edges need one swap.
-        assert_eq!(t.from_ground(NodeId(0)), 360_000 + 60_000);
+        assert_eq!(t.trip_from_ground(NodeId(0)), 360_000 + 60_000);
         // In the air at 1 with 100 s flown: only station 1 or 2 is reachable (≤ 150 s).
         assert_eq!(t.remaining(NodeId(1), 100_000), 120_000 + 60_000 + 120_000);
         assert_eq!(t.remaining(NodeId(1), 0), 240_000);

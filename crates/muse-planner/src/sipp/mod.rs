@@ -111,7 +111,7 @@ impl Remaining<'_> {
     fn on_ground(self, v: NodeId) -> i64 {
         match self {
             Remaining::Single(_) => UNREACHABLE,
-            Remaining::Swaps(t) => t.from_ground(v),
+            Remaining::Swaps(t) => t.trip_from_ground(v),
         }
     }
 }

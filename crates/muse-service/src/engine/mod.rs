@@ -34,7 +34,7 @@ use std::sync::Arc;
 use std::time::Instant as WallInstant;
 
 use muse_model::{Instant, Request};
-use muse_planner::online::CancelError;
+use muse_planner::CancelError;
 use muse_planner::{Live, Planner};
 use tokio::sync::{mpsc, oneshot};
 

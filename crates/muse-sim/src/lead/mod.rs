@@ -22,7 +22,7 @@ mod world;
 
 use muse_airspace::closures::ClosureError;
 use muse_model::{Airspace, FlightParams, Instant, Millis, Zone};
-use muse_planner::online::ZoneError;
+use muse_planner::ZoneError;
 use rayon::prelude::*;
 
 pub use record::LeadRecord;

@@ -6,7 +6,7 @@ use muse_airspace::announced::{Announced, KnownZones};
 use muse_airspace::closures::{ClosureError, Closures, resolve, zone_windows};
 use muse_model::{Airspace, FlightParams, Instant, Millis, Request, UtcOffset, Zone};
 use muse_planner::Planner;
-use muse_planner::online::ZoneError;
+use muse_planner::ZoneError;
 
 use super::{LeadCase, LeadError};
 use crate::day::{DayRun, plan_sorted};

@@ -15,7 +15,7 @@ use std::collections::HashMap;
 
 use muse_airspace::announced::{Announced, KnownZones};
 use muse_model::{Airspace, FlightParams, Instant, Millis, Plan, Request};
-use muse_planner::replan::{Affected, Fate};
+use muse_planner::{Affected, Fate};
 use muse_planner::{FlightId, Live, Planner};
 use muse_verify::{Ending, Flight, verify_known};
 

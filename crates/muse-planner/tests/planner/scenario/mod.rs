@@ -12,7 +12,7 @@ use muse_model::{
     Airspace, BatterySwap, Edge, EdgeRule, FlightParams, Instant, LonLat, Millis, Node, NodeId,
     NodeKind, Period, Plan, RejectReason, Request, Speed, Zone,
 };
-use muse_planner::online::CancelError;
+use muse_planner::CancelError;
 use muse_planner::{Live, Outcome, Planner, Schedule, Scratch};
 use muse_verify::{Flight, verify};
 use proptest::prelude::*;
