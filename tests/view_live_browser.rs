@@ -181,7 +181,7 @@ fn announce_zone_and_see_it(page: &Page<'_>, base: &str) {
         .expect("the default scenario")
         .airspace;
     let zone = muse_scenario::stadium_zone().expect("the stadium zone");
-    let (_, edges) =
+    let (nodes, edges) =
         muse_airspace::closures::closed_elements(airspace, &zone).expect("its closures");
     let expected: BTreeSet<(String, String)> = edges
         .iter()
@@ -197,6 +197,18 @@ fn announce_zone_and_see_it(page: &Page<'_>, base: &str) {
     )
     .expect("the announced zone's corridors are drawn closed");
     assert_eq!(closed_corridors(page), expected, "drawn closed at 15:30");
+    let closed_nodes = page
+        .eval("museView.closedNodes().map((i) => museView.scene.nodes[i].id)")
+        .expect("closed nodes");
+    let expected_nodes: Vec<&str> = nodes
+        .iter()
+        .map(|&n| airspace.node(n).id.as_str())
+        .collect();
+    assert_eq!(
+        closed_nodes,
+        serde_json::json!(expected_nodes),
+        "nodes drawn closed"
+    );
     // The zones' windows within the day shown, dated: the CBD's of this day only.
     let zones = page
         .eval("document.getElementById('zones').textContent")

@@ -70,8 +70,10 @@ function strokeSegment(i) {
   ctx.stroke();
 }
 
+/** Draws the zones at `t`; returns the corridors and the nodes the active ones close. */
 function drawZones(t) {
   const closed = new Set();
+  const closedNodes = new Set();
   for (const z of scene.zones) {
     const s = zoneState(z, t);
     if (s === 'unannounced' || s === 'withdrawn') continue;
@@ -81,6 +83,7 @@ function drawZones(t) {
       ctx.fillStyle = zoneHatching();
       ctx.fill('evenodd');
       for (const e of z.edges) closed.add(e);
+      for (const n of z.nodes) closedNodes.add(n);
     }
     ctx.setLineDash(s === 'active' ? [] : [6, 4]);
     ctx.strokeStyle = COLOURS.zone;
@@ -88,7 +91,7 @@ function drawZones(t) {
     ctx.stroke();
     ctx.setLineDash([]);
   }
-  return closed;
+  return [closed, closedNodes];
 }
 
 function drawCorridors(load, closed) {
@@ -121,7 +124,7 @@ function drawCorridors(load, closed) {
   }
 }
 
-function drawStations() {
+function drawStations(closedNodes) {
   ctx.fillStyle = COLOURS.station;
   ctx.beginPath();
   for (const n of scene.nodes) {
@@ -130,6 +133,19 @@ function drawStations() {
     else ctx.rect(x - 1, y - 1, 2, 2);
   }
   ctx.fill();
+  // Nodes closed by an active zone: a ring of black dashes on white, as closed corridors.
+  for (const [colour, width, dash] of [[COLOURS.closedUnder, 4.5, []], [COLOURS.closed, 2, [3, 2]]]) {
+    ctx.strokeStyle = colour;
+    ctx.lineWidth = width;
+    ctx.setLineDash(dash);
+    for (const i of closedNodes) {
+      const [x, y] = toScreen(scene.nodes[i].lon, scene.nodes[i].lat);
+      ctx.beginPath();
+      ctx.arc(x, y, 7, 0, 2 * Math.PI);
+      ctx.stroke();
+    }
+  }
+  ctx.setLineDash([]);
 }
 
 /** The selected flight's path: cyan in a black casing. */
@@ -206,16 +222,17 @@ function draw() {
   for (const poly of scene.land) pathRings(poly);
   ctx.fill('evenodd');
 
-  const closed = drawZones(t);
+  const [closed, closedNodes] = drawZones(t);
   const load = loadNow();
   drawCorridors(load, closed);
-  drawStations();
+  drawStations(closedNodes);
   const sel = state.selected ? scene.byId.get(state.selected) : null;
   if (sel) drawSelectedPath(sel);
   const drawn = [];
   state.airborne = drawDrones(t, drawn);
   state.drawn = drawn;
   state.closed = closed;
+  state.closedNodes = closedNodes;
   state.dirty = false;
 
   $('clock').textContent = clock(scene, t);

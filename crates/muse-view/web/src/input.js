@@ -61,7 +61,13 @@ function tooltipAt(x, y) {
   const hit = pick(x, y, PICK_PX);
   if (hit) return `${hit.id}${hit.hovering ? ' (hovering)' : ''}`;
   const station = pickStation(x, y);
-  if (station) return `${station.id}${station.station ? '' : ' (waypoint)'}`;
+  if (station) {
+    const i = scene.nodes.indexOf(station);
+    const closing = state.closedNodes.has(i)
+      ? `; closed now by ${scene.zones.filter((z) => zoneState(z, state.t) === 'active' && z.nodes.includes(i)).map((z) => z.id).join(', ')}`
+      : '';
+    return `${station.id}${station.station ? '' : ' (waypoint)'}${closing}`;
+  }
   const corridor = pickCorridor(x, y);
   return corridor === null ? null : corridorText(corridor);
 }

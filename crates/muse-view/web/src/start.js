@@ -30,6 +30,8 @@ const museView = {
   },
   /** The corridors closed by an active zone at the last frame (indices, sorted). */
   closedCorridors: () => [...state.closed].sort((a, b) => a - b),
+  /** The nodes closed by an active zone at the last frame (indices, sorted). */
+  closedNodes: () => [...state.closedNodes].sort((a, b) => a - b),
   /** The view's scale, CSS px per world unit (it grows as one zooms in). */
   scale: () => state.view.scale,
   selected: () => state.selected,

@@ -37,6 +37,7 @@ const state = {
   hourLoad: { at: NaN, load: null },
   shownLoad: null, // { mode, values, max } of the last frame
   closed: new Set(), // corridors closed by an active zone at the last frame
+  closedNodes: new Set(), // nodes closed by an active zone at the last frame
   width: 0,
   height: 0,
   following: false, // the live page follows the service's clock (the address gives no time)
