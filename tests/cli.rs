@@ -247,6 +247,76 @@ fn verify_reads_every_line_of_a_service_listing() {
     }
 }
 
+/// `muse view` of a service listing: the flights drawn, and every request that did not fly
+/// (rejected, cancelled by a zone or by its operator) listed in the page with its reason.
+#[test]
+fn view_lists_every_request_that_did_not_fly_with_its_reason() {
+    let dir = scratch_dir("view_service_listing");
+    let out = dir.join("view.html").display().to_string();
+    let listing = service_testdata("flights.jsonl");
+    let o = muse(&[
+        "view",
+        "--plans",
+        &listing,
+        "--airspace",
+        &service_testdata("line.geojson"),
+        "--zones",
+        &service_testdata("zones.geojson"),
+        "--out",
+        &out,
+    ]);
+    assert!(o.status.success(), "{}{}", stdout(&o), stderr(&o));
+    assert!(
+        stdout(&o).contains(": 4 flights of 10 requests"),
+        "{}",
+        stdout(&o)
+    );
+    let html = std::fs::read_to_string(&out).unwrap();
+    let json = html
+        .split_once(r#"<script type="application/json" id="muse-scene">"#)
+        .and_then(|(_, rest)| rest.split_once("</script>"))
+        .expect("the scene in the page")
+        .0;
+    let scene: serde_json::Value = serde_json::from_str(json).unwrap();
+    let reasons = scene["reasons"].as_array().unwrap();
+    let mut shown: Vec<(String, String, String, Option<String>)> = scene["unflown"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|u| {
+            let why = &reasons[usize::try_from(u[4].as_u64().unwrap()).unwrap()];
+            (
+                u[0].as_str().unwrap().to_owned(),
+                why["status"].as_str().unwrap().to_owned(),
+                why["reason"].as_str().unwrap().to_owned(),
+                why["zone"].as_str().map(str::to_owned),
+            )
+        })
+        .collect();
+    shown.sort();
+    let mut expected = Vec::new();
+    for l in std::fs::read_to_string(&listing).unwrap().lines() {
+        let v: serde_json::Value = serde_json::from_str(l).unwrap();
+        let status = v["status"].as_str().unwrap();
+        if status == "rejected" || status == "cancelled" {
+            let reason = v["reason"].as_str().unwrap().to_owned();
+            let zone = (reason == "zone_announced")
+                .then(|| v["changes"].as_array().unwrap().last().unwrap()["zone"].clone())
+                .map(|z| z.as_str().unwrap().to_owned());
+            expected.push((
+                v["request"].as_str().unwrap().to_owned(),
+                status.to_owned(),
+                reason,
+                zone,
+            ));
+        }
+    }
+    expected.sort();
+    assert_eq!(expected.len(), 6);
+    assert_eq!(shown, expected);
+    assert_eq!(scene["flights"].as_array().unwrap().len(), 4);
+}
+
 #[test]
 fn times_are_read_exactly_and_leap_seconds_refused() {
     let dir = scratch_dir("times_exact");

@@ -34,7 +34,7 @@
 //! | `shard` | json | `muse_sim::shard::ShardFile::read` |
 //! | `sweep-runs`, `sweep-summary`, `lead-runs`, `lead-summary` | csv | the header `muse sweep` writes, and as many cells in every row |
 //! | `flight-request`, `zone-announcement` | json | posted to a real `muse serve`: `201` |
-//! | `flight`, `flight-list`, `healthz`, `error`, `zone-announced`, `zone-withdrawn` | json | the members of the real service's answers in that session |
+//! | `flight`, `flight-list`, `healthz`, `error`, `zone-announced`, `zone-withdrawn`, `closures` | json | the members of the real service's answers in that session |
 //!
 //! "The members" of a JSON document are the paths of all its object keys (`features[].properties.request`),
 //! array elements taken together: an example must have exactly those of the real output, so
@@ -83,10 +83,11 @@ enum Kind {
     Error,
     ZoneAnnounced,
     ZoneWithdrawn,
+    Closures,
 }
 
 impl Kind {
-    const ALL: [Kind; 21] = [
+    const ALL: [Kind; 22] = [
         Kind::Airspace,
         Kind::Zones,
         Kind::Requests,
@@ -108,6 +109,7 @@ impl Kind {
         Kind::Error,
         Kind::ZoneAnnounced,
         Kind::ZoneWithdrawn,
+        Kind::Closures,
     ];
 
     /// The kind's name in an info string, and the languages its examples may be written in.
@@ -136,6 +138,7 @@ impl Kind {
             Kind::Error => ("error", JSON),
             Kind::ZoneAnnounced => ("zone-announced", JSON),
             Kind::ZoneWithdrawn => ("zone-withdrawn", JSON),
+            Kind::Closures => ("closures", JSON),
         }
     }
 
@@ -159,6 +162,7 @@ impl Kind {
                 | Kind::Error
                 | Kind::ZoneAnnounced
                 | Kind::ZoneWithdrawn
+                | Kind::Closures
         )
     }
 
@@ -683,6 +687,10 @@ async fn the_service_takes_the_requests_and_answers_as_the_examples_show() {
             session.expect(e, 200, withdrawn, Kind::ZoneWithdrawn);
         }
     }
+    // What the zones close, the one known from the start and those announced above.
+    let (code, answer) = send(&http, reqwest::Method::GET, url("/v1/closures"), None).await;
+    assert_eq!(code, 200, "/v1/closures: {answer}");
+    session.real.entry(Kind::Closures).or_default().push(answer);
     for e in examples.iter().filter(|e| e.kind.served()) {
         if !matches!(e.kind, Kind::FlightRequest | Kind::ZoneAnnouncement) {
             let real = session.real.get(&e.kind).map_or(&[][..], Vec::as_slice);

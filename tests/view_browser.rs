@@ -5,111 +5,17 @@
 //! shows its plan. Skipped with a notice when Chromium is not installed, unless `CI` is set.
 
 use std::collections::BTreeSet;
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 use std::time::Duration;
-
-use serde_json::Value;
 
 // The `muse serve` helpers are not used here.
 #[allow(dead_code)]
 mod support;
-use support::cdp::{Page, browser_or_skip, file_url};
-
-/// One line of `plans.jsonl`, as far as the viewer shows it.
-struct Plan {
-    /// The request id.
-    request: String,
-    /// Take-off and landing as written (RFC 3339), if planned.
-    takeoff: Option<String>,
-    /// See `takeoff`.
-    landing: Option<String>,
-    /// The airborne intervals `[takeoff, landing)` in epoch milliseconds: one per leg.
-    airborne: Vec<(i64, i64)>,
-}
-
-impl Plan {
-    /// Whether the flight is in the air at `t` (epoch milliseconds).
-    fn airborne_at(&self, t: i64) -> bool {
-        self.airborne.iter().any(|&(from, to)| from <= t && t < to)
-    }
-}
-
-/// An RFC 3339 instant in epoch milliseconds.
-fn epoch_ms(text: &str) -> i64 {
-    text.parse::<jiff::Timestamp>()
-        .unwrap_or_else(|e| panic!("`{text}` is not RFC 3339: {e}"))
-        .as_millisecond()
-}
-
-/// A field that must be an RFC 3339 string.
-fn instant(value: &Value, what: &str) -> i64 {
-    epoch_ms(
-        value
-            .as_str()
-            .unwrap_or_else(|| panic!("{what} is not a string: {value}")),
-    )
-}
-
-/// Reads `plans.jsonl` (SPEC §7).
-fn read_plans(path: &Path) -> Vec<Plan> {
-    let text = std::fs::read_to_string(path).expect("plans.jsonl is readable");
-    text.lines()
-        .filter(|line| !line.trim().is_empty())
-        .map(|line| {
-            let v: Value = serde_json::from_str(line).expect("each line of plans.jsonl is JSON");
-            let request = v["request"].as_str().expect("a request id").to_owned();
-            let takeoff = v["takeoff"].as_str().map(str::to_owned);
-            let landing = v["landing"].as_str().map(str::to_owned);
-            let airborne = match v["legs"].as_array() {
-                Some(legs) if !legs.is_empty() => legs
-                    .iter()
-                    .map(|leg| {
-                        (
-                            instant(&leg["takeoff"], "a leg's takeoff"),
-                            instant(&leg["landing"], "a leg's landing"),
-                        )
-                    })
-                    .collect(),
-                _ => match (&takeoff, &landing) {
-                    (Some(up), Some(down)) => vec![(epoch_ms(up), epoch_ms(down))],
-                    _ => Vec::new(),
-                },
-            };
-            Plan {
-                request,
-                takeoff,
-                landing,
-                airborne,
-            }
-        })
-        .collect()
-}
-
-/// The `HH:MM:SS` of an RFC 3339 string (truncated to the second), as the page shows it.
-fn clock(rfc3339: &str) -> &str {
-    rfc3339
-        .get(11..19)
-        .unwrap_or_else(|| panic!("`{rfc3339}` is too short for RFC 3339"))
-}
-
-/// The local instant `HH:MM` on the day and at the offset of `sample` (an RFC 3339 string).
-fn local(sample: &str, hh_mm: &str) -> i64 {
-    let date = sample.get(..10).expect("an RFC 3339 date");
-    let offset = sample
-        .get(19..)
-        .expect("an RFC 3339 time")
-        .trim_start_matches(|c: char| c == '.' || c.is_ascii_digit());
-    epoch_ms(&format!("{date}T{hh_mm}:00{offset}"))
-}
-
-/// Evaluates `expr`, which must give a whole number.
-fn eval_count(page: &Page<'_>, expr: &str) -> u64 {
-    let value = page.eval(expr).unwrap_or_else(|e| panic!("{e}"));
-    value
-        .as_u64()
-        .unwrap_or_else(|| panic!("`{expr}` gave {value}, not a count"))
-}
+use support::cdp::{Page, browser_or_skip};
+use support::viewer::{
+    Plan, assert_no_console_errors, clock, eval_count, eval_i64, local, open_offline, screenshots,
+    simulate,
+};
 
 /// A drone the page has drawn.
 struct Drawn {
@@ -170,64 +76,6 @@ fn easiest_to_click(drones: &[Drawn], width: f64, height: f64) -> &Drawn {
         .expect("a drawn drone inside the viewport")
 }
 
-/// Runs `muse simulate --out OUT` (the default scenario and demand) and returns the plans it
-/// wrote and its `view.html`.
-fn simulate(out: &Path) -> (Vec<Plan>, PathBuf) {
-    let run = Command::new(env!("CARGO_BIN_EXE_muse"))
-        .args(["simulate", "--out"])
-        .arg(out)
-        .output()
-        .expect("muse simulate runs");
-    assert!(
-        run.status.success(),
-        "muse simulate failed ({}):\n{}{}",
-        run.status,
-        String::from_utf8_lossy(&run.stdout),
-        String::from_utf8_lossy(&run.stderr)
-    );
-    let view = out.join("view.html");
-    assert!(view.is_file(), "muse simulate wrote no {}", view.display());
-    (read_plans(&out.join("plans.jsonl")), view)
-}
-
-/// Asserts that the page has logged no error so far.
-fn assert_no_console_errors(page: &Page<'_>) {
-    let errors = page.console_errors().expect("console errors");
-    assert!(
-        errors.is_empty(),
-        "the viewer logged errors:\n{}",
-        errors.join("\n")
-    );
-}
-
-/// Opens `view` offline, waits for `museView.ready`, and asserts a clean load: no console
-/// errors, no request for anything but `file://` and `data:` URLs. Returns the request count.
-fn open_offline(page: &Page<'_>, view: &Path) -> usize {
-    page.offline().expect("offline emulation");
-    let url = file_url(view).expect("an absolute UTF-8 path");
-    page.goto(&url).expect("view.html loads");
-    page.wait_for(
-        "window.museView && window.museView.ready === true",
-        Duration::from_secs(60),
-    )
-    .expect("the viewer gets ready");
-    assert_no_console_errors(page);
-    let requests = page.requests().expect("requests");
-    let foreign: Vec<_> = requests
-        .iter()
-        .filter(|u| !u.starts_with("file://") && !u.starts_with("data:"))
-        .collect();
-    assert!(
-        foreign.is_empty(),
-        "the viewer asked the network for {foreign:?}"
-    );
-    assert!(
-        requests.contains(&url),
-        "the page's own request is missing: {requests:?}"
-    );
-    requests.len()
-}
-
 /// Sets the clock to `t` and asserts that the page draws exactly the flights airborne then
 /// (by `setTime`'s count, `drawnCount()` and `flightsDrawn()`); returns how many.
 fn assert_draws_the_airborne(page: &Page<'_>, plans: &[Plan], t: i64, label: &str) -> usize {
@@ -238,6 +86,10 @@ fn assert_draws_the_airborne(page: &Page<'_>, plans: &[Plan], t: i64, label: &st
         .collect();
     let set = eval_count(page, &format!("museView.setTime({t})"));
     let count = eval_count(page, "museView.drawnCount()");
+    let airborne = eval_count(page, "museView.airborneCount()");
+    let shown = page
+        .eval("document.getElementById('airborne').textContent")
+        .expect("#airborne");
     let clock_ms = page.eval("museView.time()").expect("museView.time()");
     let ids: BTreeSet<String> = drawn(page).into_iter().map(|d| d.id).collect();
     println!(
@@ -253,6 +105,17 @@ fn assert_draws_the_airborne(page: &Page<'_>, plans: &[Plan], t: i64, label: &st
     );
     assert_eq!(set as usize, expected.len(), "setTime's count at {label}");
     assert_eq!(count as usize, expected.len(), "drawnCount at {label}");
+    assert_eq!(
+        airborne as usize,
+        expected.len(),
+        "airborneCount at {label}"
+    );
+    let n = expected.len();
+    assert_eq!(
+        shown,
+        format!("{n} in the air, {n} in view"),
+        "the count shown at {label}, the whole airspace in view"
+    );
     let ids: BTreeSet<&str> = ids.iter().map(String::as_str).collect();
     assert_eq!(ids, expected, "the flights drawn at {label}");
     expected.len()
@@ -279,7 +142,7 @@ fn assert_click_selects(page: &Page<'_>, plans: &[Plan], t: i64, screenshots: &P
         clock(plan.takeoff.as_deref().expect("a planned take-off")),
         clock(plan.landing.as_deref().expect("a planned landing")),
     );
-    page.screenshot(&screenshots.join("view-simulate.png"))
+    page.screenshot(&screenshots.join("view-simulate-before-click.png"))
         .expect("the screenshot before the click");
     page.click(target.x, target.y).expect("the click");
     let id = serde_json::to_string(&target.id).expect("a JSON string");
@@ -295,7 +158,7 @@ fn assert_click_selects(page: &Page<'_>, plans: &[Plan], t: i64, screenshots: &P
     let details = page
         .eval("document.querySelector('#details').textContent")
         .expect("#details");
-    page.screenshot(&screenshots.join("view-simulate-selected.png"))
+    page.screenshot(&screenshots.join("view-simulate.png"))
         .expect("the screenshot after the click");
     let details = details
         .as_str()
@@ -324,7 +187,7 @@ fn the_simulated_day_plays_offline_and_a_click_shows_a_plan() {
     };
     let (plans, view) = simulate(&support::scratch_dir("view_browser"));
     let page = browser.new_page().expect("a new page");
-    let requests = open_offline(&page, &view);
+    let requests = open_offline(&page, &view, "");
 
     // The scenario's day and offset, from the first planned take-off.
     let first = plans
@@ -347,8 +210,7 @@ fn the_simulated_day_plays_offline_and_a_click_shows_a_plan() {
         }
     }
     let (t, _) = busiest.expect("a flight airborne at one of the instants checked");
-    let screenshots = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/screenshots");
-    assert_click_selects(&page, &plans, t, &screenshots);
+    assert_click_selects(&page, &plans, t, &screenshots());
     assert_plays(&page, &plans);
     assert_no_console_errors(&page);
 }
@@ -381,10 +243,4 @@ fn assert_plays(page: &Page<'_>, plans: &[Plan]) {
         "play: the clock ran from {before} to {paused} (epoch ms); {drawn} drones drawn, \
          {airborne} airborne"
     );
-}
-
-fn eval_i64(page: &Page<'_>, expr: &str) -> i64 {
-    let v = page.eval(expr).expect(expr);
-    v.as_f64()
-        .map_or_else(|| panic!("{expr} is not a number: {v}"), |v| v as i64)
 }

@@ -1,10 +1,14 @@
 //! The live viewer of `muse serve`, driven in headless Chromium against the real binary on an
 //! ephemeral loopback port: the page at `/` loads with no console error, follows the events
 //! stream, and a flight planned over plain HTTP (as with `curl`) appears on it — in the list
-//! of events, and drawn on the map while it is airborne, where a click shows its plan. With
-//! tokens, an operator's page shows its own flights only and the authority's every flight.
-//! Skipped with a notice when Chromium is not installed, unless `CI` is set.
+//! of events, and drawn on the map while it is airborne, where a click shows its plan; a zone
+//! announced live appears with its windows dated and draws, while active, exactly the
+//! corridors the planner closes for it; a request rejected over HTTP is found by its id with
+//! its reason. With tokens, an operator's page shows its own flights only and the
+//! authority's every flight. Skipped with a notice when Chromium is not installed, unless
+//! `CI` is set.
 
+use std::collections::BTreeSet;
 use std::io::{Read as _, Write as _};
 use std::net::TcpStream;
 use std::path::Path;
@@ -166,7 +170,114 @@ fn announce_zone_and_see_it(page: &Page<'_>, base: &str) {
     };
     assert_eq!(state("08:30"), "unannounced", "before its announcement");
     assert_eq!(state("14:30"), "idle", "announced, not active yet");
+    assert_eq!(
+        closed_corridors(page),
+        BTreeSet::new(),
+        "nothing closed at 14:30"
+    );
     assert_eq!(state("15:30"), "active");
+    // The corridors the planner closes for it, worked out here from the zone file.
+    let airspace = &muse_scenario::by_name("singapore-77")
+        .expect("the default scenario")
+        .airspace;
+    let zone = muse_scenario::stadium_zone().expect("the stadium zone");
+    let (nodes, edges) =
+        muse_airspace::closures::closed_elements(airspace, &zone).expect("its closures");
+    let expected: BTreeSet<(String, String)> = edges
+        .iter()
+        .map(|&e| {
+            let edge = airspace.edge(e);
+            ordered(&airspace.node(edge.from).id, &airspace.node(edge.to).id)
+        })
+        .collect();
+    assert!(!expected.is_empty(), "the stadium zone closes corridors");
+    page.wait_for(
+        &format!("museView.closedCorridors().length === {}", expected.len()),
+        Duration::from_secs(10),
+    )
+    .expect("the announced zone's corridors are drawn closed");
+    assert_eq!(closed_corridors(page), expected, "drawn closed at 15:30");
+    let closed_nodes = page
+        .eval("museView.closedNodes().map((i) => museView.scene.nodes[i].id)")
+        .expect("closed nodes");
+    let expected_nodes: Vec<&str> = nodes
+        .iter()
+        .map(|&n| airspace.node(n).id.as_str())
+        .collect();
+    assert_eq!(
+        closed_nodes,
+        serde_json::json!(expected_nodes),
+        "nodes drawn closed"
+    );
+    // The zones' windows within the day shown, dated: the CBD's of this day only.
+    let zones = page
+        .eval("document.getElementById('zones').textContent")
+        .expect("zones");
+    let zones = zones.as_str().expect("text");
+    assert!(
+        zones.contains("active Mon 5 Jan 10:00–12:00"),
+        "the CBD's window of this day, dated: {zones}"
+    );
+    assert_eq!(
+        zones.matches("Jan 10:00").count(),
+        1,
+        "one CBD window: {zones}"
+    );
+    assert!(
+        zones.contains("active Mon 5 Jan 15:00–18:00; announced Mon 5 Jan 09:0"),
+        "the stadium's window, dated, and its announcement: {zones}"
+    );
+}
+
+/// `(a, b)` in order.
+fn ordered(a: &str, b: &str) -> (String, String) {
+    if a < b {
+        (a.to_owned(), b.to_owned())
+    } else {
+        (b.to_owned(), a.to_owned())
+    }
+}
+
+/// The corridors the page draws closed, by their end nodes' ids.
+fn closed_corridors(page: &Page<'_>) -> BTreeSet<(String, String)> {
+    let pairs = page
+        .eval(
+            "museView.closedCorridors().map((i) => museView.scene.edges[i]\
+             .map((n) => museView.scene.nodes[n].id))",
+        )
+        .expect("closed corridors");
+    pairs
+        .as_array()
+        .expect("an array")
+        .iter()
+        .map(|p| ordered(p[0].as_str().expect("id"), p[1].as_str().expect("id")))
+        .collect()
+}
+
+/// A request the service rejects (out of range), posted over HTTP, is found on the page by
+/// its id typed in capitals, with its reason (it makes no event: the page asks the service).
+fn find_a_rejected_request(page: &Page<'_>, base: &str) {
+    let body = r#"{"id": "far1", "origin": "S001", "destination": "S077", "departure": "2026-01-05T10:00:00+08:00"}"#;
+    let (status, answer) = post(base, "/v1/flights", None, body);
+    assert_eq!(
+        (status, answer["reason"].as_str()),
+        (200, Some("out_of_range")),
+        "{answer}"
+    );
+    page.eval(
+        "(() => { const f = document.getElementById('find'); f.value = 'FAR1'; \
+         f.closest('form').requestSubmit(); })()",
+    )
+    .expect("a search");
+    page.wait_for("museView.selected() === 'far1'", Duration::from_secs(10))
+        .expect("the rejected request is found");
+    let details = page
+        .eval("document.getElementById('details').textContent")
+        .expect("details");
+    let details = details.as_str().expect("text");
+    for want in ["far1", "rejected", "out_of_range", "battery"] {
+        assert!(details.contains(want), "#details lacks {want}: {details}");
+    }
 }
 
 fn no_console_errors(page: &Page<'_>) {
@@ -187,6 +298,17 @@ fn live_page_shows_a_flight_planned_over_http() {
     wait_for_flight(&page, "live1");
     assert_eq!(click_flight(&page, &p), 1, "only live1 is in the air then");
     announce_zone_and_see_it(&page, &server.base);
+    find_a_rejected_request(&page, &server.base);
+    // A flight across the stadium zone while it is active goes round it.
+    let p2 = plan(
+        &server.base,
+        None,
+        "live2",
+        ("S070", "S071"),
+        6 * 3600 + 20 * 60,
+    );
+    wait_for_flight(&page, "live2");
+    click_flight(&page, &p2);
     no_console_errors(&page);
     let shots = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/screenshots");
     page.screenshot(&shots.join("view-live.png"))

@@ -159,7 +159,13 @@ fn write_maps(
     write_atomically(&out.join("map.svg"), &svg)?;
     let summary_json =
         serde_json::from_str(&summary.to_json()).context("re-reading the summary")?;
-    write_view(world, records, Some(summary_json), &out.join("view.html"))?;
+    write_view(
+        world,
+        records,
+        &[],
+        Some(summary_json),
+        &out.join("view.html"),
+    )?;
     Ok(())
 }
 

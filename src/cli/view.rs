@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::Context as _;
 use clap::Args;
-use muse_formats::plans::{PlanRecord, read_plans_file};
+use muse_formats::plans::{OperatorCancellation, PlanItem, PlanRecord, read_plan_entries_file};
 use muse_model::{Instant, Millis};
 
 use super::common::{World, WorldArgs, write_atomically};
@@ -31,7 +31,14 @@ pub struct ViewArgs {
 /// Runs `muse view`.
 pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
     let world = args.world.load()?;
-    let records = read_plans_file(&args.plans, &world.airspace)?;
+    let mut records = Vec::new();
+    let mut cancelled = Vec::new();
+    for entry in read_plan_entries_file(&args.plans, &world.airspace)? {
+        match entry.item {
+            PlanItem::Record(r) => records.push(r),
+            PlanItem::CancelledByOperator(c) => cancelled.push(c),
+        }
+    }
     let summary_path = args.summary.clone().or_else(|| {
         let beside = args.plans.with_file_name("summary.json");
         beside.is_file().then_some(beside)
@@ -47,29 +54,32 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
         }
         None => None,
     };
-    let bytes = write_view(&world, &records, summary, &args.out)?;
-    let drawn = records.iter().filter(|r| r.final_plan().is_some()).count();
+    let (bytes, drawn) = write_view(&world, &records, &cancelled, summary, &args.out)?;
     println!(
         "wrote {} ({:.1} MB): {drawn} flights of {} requests{}; open it in a browser, no network needed",
         args.out.display(),
         bytes as f64 / 1e6,
-        records.len(),
+        records.len() + cancelled.len(),
         summary_path.map_or(String::new(), |p| format!(", summary from {}", p.display()))
     );
     Ok(ExitCode::SUCCESS)
 }
 
-/// Writes the page of `records` over `world` to `path`; returns its size in bytes.
+/// Writes the page of `records` and the operators' `cancelled` flights over `world` to
+/// `path`; returns its size in bytes and the number of flights it draws (contingencies'
+/// committed parts included).
 pub fn write_view(
     world: &World,
     records: &[PlanRecord],
+    cancelled: &[OperatorCancellation],
     summary: Option<serde_json::Value>,
     path: &Path,
-) -> anyhow::Result<usize> {
-    let scene = scene_of(world, records, summary, day_range(world, records))?;
+) -> anyhow::Result<(usize, usize)> {
+    let range = day_range(world, records, cancelled);
+    let scene = scene_of(world, records, cancelled, summary, range)?;
     let html = muse_view::page(&scene);
     write_atomically(path, &html)?;
-    Ok(html.len())
+    Ok((html.len(), scene.flights.len()))
 }
 
 /// The live page of `muse serve` over `world`, its clock starting around `now`.
@@ -78,7 +88,7 @@ pub fn live_page(world: &World, now: Instant) -> anyhow::Result<String> {
         now - Millis::from_mins(60),
         now + Millis::from_mins(23 * 60),
     );
-    let scene = scene_of(world, &[], None, range)?;
+    let scene = scene_of(world, &[], &[], None, range)?;
     Ok(muse_view::live_page(&scene))
 }
 
@@ -86,6 +96,7 @@ pub fn live_page(world: &World, now: Instant) -> anyhow::Result<String> {
 fn scene_of(
     world: &World,
     records: &[PlanRecord],
+    cancelled: &[OperatorCancellation],
     summary: Option<serde_json::Value>,
     range: (Instant, Instant),
 ) -> anyhow::Result<muse_view::Scene> {
@@ -102,22 +113,30 @@ fn scene_of(
     input.land = &land;
     input.zones = &world.zones;
     input.flights = records;
+    input.cancelled = cancelled;
     input.summary = summary;
     muse_view::scene(&input).context("building the viewer's scene")
 }
 
 /// The stretch of time the page shows at least: the requests' departures and the flights,
 /// or the scenario's whole day when there are none.
-fn day_range(world: &World, records: &[PlanRecord]) -> (Instant, Instant) {
-    let times = records.iter().flat_map(|r| {
-        let plan = r.final_plan();
-        [
-            Some(r.requested_departure),
-            plan.map(muse_model::Plan::landing),
-        ]
-        .into_iter()
-        .flatten()
-    });
+fn day_range(
+    world: &World,
+    records: &[PlanRecord],
+    cancelled: &[OperatorCancellation],
+) -> (Instant, Instant) {
+    let times = records
+        .iter()
+        .flat_map(|r| {
+            let plan = r.final_plan();
+            [
+                Some(r.requested_departure),
+                plan.map(muse_model::Plan::landing),
+            ]
+            .into_iter()
+            .flatten()
+        })
+        .chain(cancelled.iter().map(|c| c.requested_departure));
     let (lo, hi) = times.fold(
         (None, None),
         |(lo, hi): (Option<Instant>, Option<Instant>), t| {

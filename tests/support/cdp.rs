@@ -584,9 +584,88 @@ impl Page<'_> {
         Ok(())
     }
 
+    /// Moves the mouse to `(x, y)` (CSS pixels from the viewport's top left), no button down.
+    pub fn mouse_move(&self, x: f64, y: f64) -> Result<(), String> {
+        self.command(
+            "Input.dispatchMouseEvent",
+            json!({"type": "mouseMoved", "x": x, "y": y, "button": "none"}),
+        )
+        .map(drop)
+    }
+
+    /// Turns the mouse wheel at `(x, y)` by `delta_y` CSS pixels (negative: away from the
+    /// user, which zooms a map in).
+    pub fn wheel(&self, x: f64, y: f64, delta_y: f64) -> Result<(), String> {
+        self.command(
+            "Input.dispatchMouseEvent",
+            json!({"type": "mouseWheel", "x": x, "y": y, "deltaX": 0, "deltaY": delta_y}),
+        )
+        .map(drop)
+    }
+
+    /// Types `text` into the focused element, as an input method would.
+    pub fn insert_text(&self, text: &str) -> Result<(), String> {
+        self.command("Input.insertText", json!({"text": text}))
+            .map(drop)
+    }
+
+    /// Emulates a viewport of `width` × `height` CSS pixels (at one device pixel per CSS
+    /// pixel) and, with `touch`, a touch screen; reload the page for media queries to apply
+    /// to its first layout.
+    pub fn set_viewport(&self, width: u32, height: u32, touch: bool) -> Result<(), String> {
+        self.command(
+            "Emulation.setDeviceMetricsOverride",
+            json!({"width": width, "height": height, "deviceScaleFactor": 1, "mobile": false}),
+        )?;
+        self.command(
+            "Emulation.setTouchEmulationEnabled",
+            json!({"enabled": touch, "maxTouchPoints": 5}),
+        )
+        .map(drop)
+    }
+
+    /// Sends one touch event (`touchStart`, `touchMove`, `touchEnd`) with the fingers at
+    /// `points` (CSS pixels; the n-th point is finger n). `touchEnd` lifts every finger.
+    pub fn touch(&self, kind: &str, points: &[(f64, f64)]) -> Result<(), String> {
+        let points: Vec<Value> = points
+            .iter()
+            .enumerate()
+            .map(|(id, &(x, y))| json!({"x": x, "y": y, "id": id}))
+            .collect();
+        self.command(
+            "Input.dispatchTouchEvent",
+            json!({"type": kind, "touchPoints": points}),
+        )
+        .map(drop)
+    }
+
+    /// Saves a PNG screenshot of the whole page, beyond the viewport when it scrolls (the
+    /// page is laid out as tall as its content then, so with no vertical scroll bar: the
+    /// viewport's whole width is taken).
+    pub fn screenshot_full_page(&self, path: &Path) -> Result<(), String> {
+        let metrics = self.command("Page.getLayoutMetrics", json!({}))?;
+        let height = metrics["cssContentSize"]["height"]
+            .as_f64()
+            .ok_or("no content height")?;
+        let width = self
+            .eval("window.innerWidth")?
+            .as_f64()
+            .ok_or("no viewport width")?;
+        self.capture(
+            path,
+            json!({"format": "png", "captureBeyondViewport": true,
+                   "clip": {"x": 0, "y": 0, "width": width, "height": height, "scale": 1}}),
+        )
+    }
+
     /// Saves a PNG screenshot of the viewport to `path`, creating its folder.
     pub fn screenshot(&self, path: &Path) -> Result<(), String> {
-        let shot = self.command("Page.captureScreenshot", json!({"format": "png"}))?;
+        self.capture(path, json!({"format": "png"}))
+    }
+
+    /// `Page.captureScreenshot` with `params`, written to `path`.
+    fn capture(&self, path: &Path, params: Value) -> Result<(), String> {
+        let shot = self.command("Page.captureScreenshot", params)?;
         let data = shot["data"]
             .as_str()
             .ok_or("Page.captureScreenshot replied without data")?;

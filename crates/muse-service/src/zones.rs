@@ -102,6 +102,14 @@ impl ZoneBook {
         &self.announced
     }
 
+    /// Every zone as `GET /v1/zones` lists it: those known from the start, then the parts of
+    /// the announced ones (withdrawn ones included), in announcement order.
+    pub fn all(&self) -> impl Iterator<Item = &Zone> {
+        self.base
+            .iter()
+            .chain(self.announced.iter().flat_map(|a| a.zones.iter()))
+    }
+
     /// Records an announcement (its id must not be [taken](ZoneBook::taken)).
     pub fn announce(&mut self, zone: AnnouncedZone) {
         self.taken.insert(zone.id.clone());

@@ -887,6 +887,34 @@ fn outcomes(answer: &Value) -> Vec<(String, String, bool)> {
         .collect()
 }
 
+/// `GET /v1/closures` lists what each zone closes, as the planner works it out: a zone known
+/// from the start by its node ids, then one announced with an area over the corridor `A-B`
+/// (neither end inside); a withdrawn zone stays listed.
+#[tokio::test]
+async fn closures_list_what_each_zone_closes() {
+    let s = Service::start_with("closures", vec![base_zone()], |_| {}).await;
+    let ring = json!([[
+        [103.804, 1.299],
+        [103.806, 1.299],
+        [103.806, 1.301],
+        [103.804, 1.301],
+        [103.804, 1.299]
+    ]]);
+    let mut zone = zone_feature("ZAB", &[], &in_secs(-60), &in_secs(600));
+    zone["properties"].as_object_mut().unwrap().remove("nodes");
+    zone["geometry"] = json!({"type": "Polygon", "coordinates": ring});
+    let (code, v) = s.post_zone(None, &zone).await;
+    assert_eq!(code, 201, "{v}");
+    let expected = json!({"zones": [
+        {"zone": "BASE", "nodes": ["F"], "corridors": []},
+        {"zone": "ZAB", "nodes": [], "corridors": [{"id": "A-B", "from": "A", "to": "B"}]},
+    ]});
+    assert_eq!(s.get("/v1/closures", None).await, (200, expected.clone()));
+    let (code, v) = s.delete("/v1/zones/ZAB", None).await;
+    assert_eq!(code, 200, "{v}");
+    assert_eq!(s.get("/v1/closures", None).await, (200, expected));
+}
+
 #[tokio::test]
 #[allow(clippy::too_many_lines, clippy::many_single_char_names)] // One story, told in order.
 async fn an_announced_zone_replans_what_it_hits_and_everything_still_verifies() {

@@ -9,8 +9,18 @@ const STYLE: &str = include_str!("../web/style.css");
 const MODEL: &str = include_str!("../web/src/model.js");
 /// Decoding the live feed (no DOM either).
 const FEED: &str = include_str!("../web/src/feed.js");
-/// Drawing and controls.
+/// The map's colours and the load key's values (no DOM either).
+const PALETTE: &str = include_str!("../web/src/palette.js");
+/// The page's core: state, view, clock, selection, address.
 const VIEWER: &str = include_str!("../web/src/viewer.js");
+/// Drawing the map.
+const DRAW: &str = include_str!("../web/src/draw.js");
+/// The side panel: the day, the zones, the search, the flight.
+const PANELS: &str = include_str!("../web/src/panels.js");
+/// Mouse, touch, wheel and keys.
+const INPUT: &str = include_str!("../web/src/input.js");
+/// `window.museView` and the start.
+const START: &str = include_str!("../web/src/start.js");
 /// The live feed (`muse serve`).
 const LIVE: &str = include_str!("../web/src/live.js");
 
@@ -33,6 +43,8 @@ pub fn page(scene: &Scene) -> String {
 pub fn live_page(scene: &Scene) -> String {
     let live = Scene {
         flights: Vec::new(),
+        unflown: Vec::new(),
+        reasons: Vec::new(),
         live: true,
         ..scene.clone()
     };
@@ -46,9 +58,10 @@ fn render(scene: &Scene) -> String {
         .expect("a scene always serializes")
         .replace('<', "\\u003c");
     let script = format!(
-        "(() => {{\n'use strict';\n{}\n{}\n{VIEWER}\n{LIVE}\n}})();\n",
-        without_exports(MODEL),
-        without_exports(FEED)
+        "(() => {{\n'use strict';\n{}\n{}\n{}\n{VIEWER}\n{DRAW}\n{PANELS}\n{INPUT}\n{START}\n{LIVE}\n}})();\n",
+        plain_script(MODEL),
+        plain_script(FEED),
+        plain_script(PALETTE)
     );
     let mut out = String::with_capacity(TEMPLATE.len() + STYLE.len() + script.len() + json.len());
     let mut rest = TEMPLATE;
@@ -68,11 +81,13 @@ fn render(scene: &Scene) -> String {
     out
 }
 
-/// `model.js` as plain script: its `export` keywords (at the start of a line) dropped, since
-/// the page inlines every file into one script.
-fn without_exports(module: &str) -> String {
+/// A module (`model.js`, `feed.js`, `palette.js`) as plain script: its `import` lines and
+/// `export` keywords (at the start of a line) dropped, since the page inlines every file into
+/// one script, one scope.
+fn plain_script(module: &str) -> String {
     module
         .lines()
+        .filter(|l| !l.starts_with("import "))
         .map(|l| l.strip_prefix("export ").unwrap_or(l))
         .collect::<Vec<_>>()
         .join("\n")
@@ -98,6 +113,7 @@ mod tests {
         assert!(!html.contains("</script><b>"));
         assert!(html.contains("\\u003c/script>\\u003cb>"));
         assert!(!html.contains("\nexport "), "exports dropped");
+        assert!(!html.contains("\nimport "), "imports dropped");
         assert_eq!(
             html.matches("<script").count(),
             2,

@@ -2,9 +2,10 @@
 //!
 //! A [`Scene`] is everything the page draws — the land outline, corridors and stations, the
 //! no-fly zones with their active windows and announcement instants, every flight's stays,
-//! and the day's summary — as compact JSON. [`page`] embeds it, with the page's own script
-//! and style (the front-end in this crate's `web/` folder, built into the binary), into one
-//! HTML file that needs no network at all: no tiles, no CDN, no fonts.
+//! the requests that did not fly with their reasons, and the day's summary — as compact
+//! JSON. [`page`] embeds it, with the page's own script and style (the front-end in this
+//! crate's `web/` folder, built into the binary), into one HTML file that needs no network
+//! at all: no tiles, no CDN, no fonts.
 //!
 //! The same page serves `muse serve`'s live view: [`live_page`] embeds the map layers only,
 //! and the script fills in the flights from the service's API and its events stream.
@@ -22,7 +23,9 @@ mod html;
 mod scene;
 
 pub use html::{live_page, page};
-pub use scene::{Scene, SceneFlight, SceneInput, SceneNode, SceneZone, scene};
+pub use scene::{
+    Scene, SceneFlight, SceneInput, SceneNode, SceneReason, SceneUnflown, SceneZone, scene,
+};
 
 /// Why a scene could not be built.
 #[derive(Debug, thiserror::Error)]

@@ -5,8 +5,8 @@
 use geo::Simplify;
 use geo_types::{LineString, Polygon};
 use muse_airspace::closures::{closed_elements, zone_windows};
-use muse_formats::plans::PlanRecord;
-use muse_model::plan::Fate;
+use muse_formats::plans::{OperatorCancellation, PlanRecord};
+use muse_model::plan::{CANCELLED_BY_OPERATOR, Fate, ZONE_ANNOUNCED};
 use muse_model::{Airspace, Instant, NodeKind, Plan, UtcOffset, Zone};
 use serde::Serialize;
 
@@ -38,8 +38,10 @@ pub struct SceneInput<'a> {
     /// No-fly zones, known from the start or announced during the day.
     pub zones: &'a [Zone],
     /// The flights: each record's final plan is drawn (a contingency's committed part);
-    /// rejected and cancelled requests are counted in the summary only.
+    /// rejected requests and those cancelled by a zone are listed with their reason.
     pub flights: &'a [PlanRecord],
+    /// The flights their operators cancelled (a service listing): listed with that reason.
+    pub cancelled: &'a [OperatorCancellation],
     /// The day's summary (`summary.json`), shown beside the map.
     pub summary: Option<serde_json::Value>,
 }
@@ -56,6 +58,7 @@ impl<'a> SceneInput<'a> {
             land: &[],
             zones: &[],
             flights: &[],
+            cancelled: &[],
             summary: None,
         }
     }
@@ -84,6 +87,12 @@ pub struct Scene {
     pub zones: Vec<SceneZone>,
     /// Flights with something to draw, in the records' order.
     pub flights: Vec<SceneFlight>,
+    /// The requests with nothing to draw (rejected, or cancelled before take-off), in the
+    /// records' order, then the operators' cancellations: found by the page's search, which
+    /// shows why.
+    pub unflown: Vec<SceneUnflown>,
+    /// Why each of `unflown` did not fly (they point into this list).
+    pub reasons: Vec<SceneReason>,
     /// The day's summary, if any.
     pub summary: Option<serde_json::Value>,
     /// Whether the page is fed live by `muse serve` (flights come from its API).
@@ -145,6 +154,39 @@ pub struct SceneFlight {
     pub s: Vec<i64>,
 }
 
+/// A request with nothing to draw, compact: `[id, origin, destination, requested departure,
+/// reason]` (node indices, ms from `t0`, an index into [`Scene::reasons`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneUnflown(
+    /// The request id.
+    pub String,
+    /// Origin node index.
+    pub u32,
+    /// Destination node index.
+    pub u32,
+    /// Requested departure, ms from `t0`.
+    pub i64,
+    /// Its reason: an index into [`Scene::reasons`].
+    pub usize,
+);
+
+/// Why a request did not fly.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, Serialize)]
+pub struct SceneReason {
+    /// `rejected` or `cancelled`.
+    pub status: &'static str,
+    /// As in `plans.jsonl`: `out_of_range`, `unreachable`, `no_feasible_plan`,
+    /// `departure_in_past`, `zone_announced` or `cancelled_by_operator`.
+    pub reason: &'static str,
+    /// The zone whose announcement cancelled it (`zone_announced`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub zone: Option<String>,
+    /// When it was cancelled (ms from `t0`): the zone's announcement, or the operator's
+    /// cancellation when the file gives it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub at: Option<i64>,
+}
+
 /// Builds the scene of `input`.
 ///
 /// Errors: a zone whose schedule or area cannot be resolved over the day, or a flight
@@ -201,6 +243,7 @@ pub fn scene(input: &SceneInput<'_>) -> Result<Scene, ViewError> {
         .into_iter()
         .map(|(r, plan, status)| scene_flight(a, r, plan, status, t0))
         .collect::<Result<_, _>>()?;
+    let (unflown, reasons) = unflown(input, t0)?;
 
     Ok(Scene {
         title: input.title.clone(),
@@ -213,6 +256,8 @@ pub fn scene(input: &SceneInput<'_>) -> Result<Scene, ViewError> {
         land,
         zones,
         flights,
+        unflown,
+        reasons,
         summary: input.summary.clone(),
         live: false,
     })
@@ -274,6 +319,80 @@ fn scene_flight(
             .flat_map(|s| [i64::from(s.node.0), s.arrive.0 - t0, s.depart.0 - t0])
             .collect(),
     })
+}
+
+/// The requests of `input` with nothing to draw, and their reasons (each listed once).
+fn unflown(
+    input: &SceneInput<'_>,
+    t0: i64,
+) -> Result<(Vec<SceneUnflown>, Vec<SceneReason>), ViewError> {
+    let mut reasons: Vec<SceneReason> = Vec::new();
+    let mut out = Vec::new();
+    let mut push = |id: &str, od: (&str, &str), dep: Instant, why: SceneReason| {
+        let node = |n: &str| {
+            input
+                .airspace
+                .node_id(n)
+                .map(|n| n.0)
+                .ok_or_else(|| ViewError::Flight {
+                    flight: id.to_owned(),
+                    message: format!("station `{n}` is not in the airspace"),
+                })
+        };
+        let k = reasons.iter().position(|r| *r == why).unwrap_or_else(|| {
+            reasons.push(why);
+            reasons.len() - 1
+        });
+        out.push(SceneUnflown(
+            id.to_owned(),
+            node(od.0)?,
+            node(od.1)?,
+            dep.0 - t0,
+            k,
+        ));
+        Ok::<_, ViewError>(())
+    };
+    for r in input.flights {
+        let why = match (&r.fate, &r.result) {
+            (None, Err(reason)) => SceneReason {
+                status: "rejected",
+                reason: reason.as_str(),
+                zone: None,
+                at: None,
+            },
+            (Some(Fate::Cancelled), _) => {
+                let last = r.changes.last();
+                SceneReason {
+                    status: "cancelled",
+                    reason: ZONE_ANNOUNCED,
+                    zone: last.map(|c| c.zone.clone()),
+                    at: last.map(|c| c.announced.0 - t0),
+                }
+            }
+            _ => continue,
+        };
+        push(
+            &r.request,
+            (&r.origin, &r.destination),
+            r.requested_departure,
+            why,
+        )?;
+    }
+    for c in input.cancelled {
+        let why = SceneReason {
+            status: "cancelled",
+            reason: CANCELLED_BY_OPERATOR,
+            zone: None,
+            at: c.cancelled_at.map(|t| t.0 - t0),
+        };
+        push(
+            &c.request,
+            (&c.origin, &c.destination),
+            c.requested_departure,
+            why,
+        )?;
+    }
+    Ok((out, reasons))
 }
 
 /// `v` rounded to 1e-5.
@@ -364,12 +483,66 @@ mod tests {
         let flights = [rejected];
         let mut input = SceneInput::new(&a, UtcOffset(0), (Instant(0), Instant(1)));
         input.flights = &flights;
-        assert!(scene(&input).unwrap().flights.is_empty());
+        let s = scene(&input).unwrap();
+        assert!(s.flights.is_empty());
+        assert_eq!(s.unflown.len(), 1, "listed with its reason");
+        assert_eq!(s.reasons[s.unflown[0].4].reason, "no_feasible_plan");
         let mut bad = record("r3", &[(0, 0, 0), (1, 5, 5)]);
         bad.origin = "nowhere".into();
         let flights = [bad];
         input.flights = &flights;
         let e = scene(&input).unwrap_err().to_string();
         assert!(e.contains("r3") && e.contains("nowhere"), "{e}");
+    }
+
+    #[test]
+    fn unflown_requests_carry_their_reason_once_per_kind() {
+        let a = Airspace::line(&[1_000.0]);
+        let mut r1 = record("r1", &[(0, 0, 0)]);
+        r1.result = Err(muse_model::RejectReason::OutOfRange);
+        let mut r2 = r1.clone();
+        r2.request = "r2".into();
+        let mut z = record("z1", &[(0, 60_000, 60_000), (1, 180_000, 180_000)]);
+        z.changes.push(muse_formats::plans::ChangeNote {
+            zone: "EVT".into(),
+            announced: Instant(30_000),
+            airborne: false,
+            outcome: muse_model::plan::FateKind::Cancelled,
+        });
+        z.fate = Some(Fate::Cancelled);
+        let flown = record("f1", &[(0, 0, 0), (1, 120_000, 120_000)]);
+        let flights = [r1, flown, z, r2];
+        let cancelled = [OperatorCancellation {
+            request: "op1".into(),
+            origin: "A".into(),
+            destination: "B".into(),
+            requested_departure: Instant(90_000),
+            free_flow: None,
+            original: None,
+            changes: Vec::new(),
+            cancelled_at: Some(Instant(45_000)),
+        }];
+        let mut input = SceneInput::new(&a, UtcOffset(0), (Instant(0), Instant(1)));
+        input.flights = &flights;
+        input.cancelled = &cancelled;
+        let s = scene(&input).unwrap();
+        assert_eq!(s.flights.len(), 1);
+        let ids: Vec<(&str, usize)> = s.unflown.iter().map(|u| (u.0.as_str(), u.4)).collect();
+        assert_eq!(ids, [("r1", 0), ("z1", 1), ("r2", 0), ("op1", 2)]);
+        let reasons: Vec<(&str, &str, Option<&str>, Option<i64>)> = s
+            .reasons
+            .iter()
+            .map(|r| (r.status, r.reason, r.zone.as_deref(), r.at))
+            .collect();
+        assert_eq!(
+            reasons,
+            [
+                ("rejected", "out_of_range", None, None),
+                ("cancelled", "zone_announced", Some("EVT"), Some(30_000)),
+                ("cancelled", "cancelled_by_operator", None, Some(45_000)),
+            ]
+        );
+        let json = serde_json::to_string(&s.unflown[3]).unwrap();
+        assert_eq!(json, r#"["op1",0,1,90000,2]"#, "compact");
     }
 }

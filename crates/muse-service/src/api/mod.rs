@@ -10,6 +10,7 @@
 //! | `GET /v1/zones` | the no-fly zones, ED-318 GeoJSON, announced ones included |
 //! | `POST /v1/zones` | announce a zone now (authority): `201` with every flight it changed |
 //! | `DELETE /v1/zones/{id}` | withdraw an announced zone (authority); replans nothing |
+//! | `GET /v1/closures` | the nodes and corridors each zone closes while active |
 //! | `GET /v1/events` | the caller's flights' changes, server-sent events, resumable |
 //! | `GET /v1/openapi.json` | this API as `OpenAPI` 3.1 |
 //! | `GET /healthz` | liveness and a few numbers |
@@ -83,6 +84,7 @@ pub const ROUTES: &[(&str, &str)] = &[
     ("get", "/v1/zones"),
     ("post", "/v1/zones"),
     ("delete", "/v1/zones/{id}"),
+    ("get", "/v1/closures"),
     ("get", "/v1/events"),
     ("get", "/v1/openapi.json"),
     ("get", "/healthz"),
@@ -130,6 +132,7 @@ pub fn router(app: Arc<App>) -> Router {
                 ))),
         )
         .route("/v1/zones/{id}", delete(zones::withdraw))
+        .route("/v1/closures", get(zones::closures))
         .route("/v1/events", get(events::stream))
         .route("/v1/openapi.json", get(openapi))
         .route("/healthz", get(healthz))

@@ -187,3 +187,73 @@ pub(super) async fn list(AxumState(app): AxumState<Arc<App>>, Authed(_): Authed)
     )
         .into_response()
 }
+
+/// The answer to `GET /v1/closures`.
+#[derive(Serialize)]
+struct ClosuresBody {
+    zones: Vec<ZoneClosureBody>,
+}
+
+/// What one zone closes while it is active.
+#[derive(Serialize)]
+struct ZoneClosureBody {
+    zone: String,
+    nodes: Vec<String>,
+    corridors: Vec<CorridorBody>,
+}
+
+/// A corridor, by its id and its end nodes.
+#[derive(Serialize)]
+struct CorridorBody {
+    id: String,
+    from: String,
+    to: String,
+}
+
+/// `GET /v1/closures`: the nodes and corridors each zone of `GET /v1/zones` closes while it is
+/// active, worked out as the planner does (the live viewer draws them).
+pub(super) async fn closures(
+    AxumState(app): AxumState<Arc<App>>,
+    Authed(_): Authed,
+) -> Result<Response, ApiError> {
+    let airspace = &app.state.world.airspace;
+    let zones: Vec<muse_model::Zone> = app
+        .state
+        .zones
+        .read()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+        .all()
+        .cloned()
+        .collect();
+    let mut body = ClosuresBody {
+        zones: Vec::with_capacity(zones.len()),
+    };
+    for zone in &zones {
+        // Every zone here was resolved on this airspace when it was loaded or announced.
+        let (nodes, edges) =
+            muse_airspace::closures::closed_elements(airspace, zone).map_err(|e| {
+                ApiError::new(
+                    StatusCode::INTERNAL_SERVER_ERROR,
+                    "internal",
+                    format!("zone `{}`: {e}", zone.id),
+                )
+            })?;
+        let id = |n: muse_model::NodeId| airspace.node(n).id.clone();
+        body.zones.push(ZoneClosureBody {
+            zone: zone.id.clone(),
+            nodes: nodes.into_iter().map(id).collect(),
+            corridors: edges
+                .into_iter()
+                .map(|e| {
+                    let edge = airspace.edge(e);
+                    CorridorBody {
+                        id: edge.id.clone(),
+                        from: id(edge.from),
+                        to: id(edge.to),
+                    }
+                })
+                .collect(),
+        });
+    }
+    Ok(json(StatusCode::OK, &body))
+}

@@ -1,6 +1,8 @@
-// Decoding the live feed of `muse serve`: flights as its API shows them, and its
-// server-sent events. No DOM here (node's test runner loads it); the page inlines it with
-// its `export` keywords dropped.
+// Decoding the live feed of `muse serve`: flights as its API shows them, its server-sent
+// events, its zones and what they close. No DOM here (node's test runner loads it); the page
+// inlines it after model.js with its `import` lines and `export` keywords dropped.
+
+import { edgeKey } from './model.js';
 
 /** A scene flight (model.js's compact form) from a flight as the API shows it. */
 export function flightFromApi(scene, nodeIndex, plan) {
@@ -22,6 +24,61 @@ export function flightFromApi(scene, nodeIndex, plan) {
     operator: plan.operator ?? null,
     s: path.flatMap((st) => [node(st.node), rel(st.arrive), rel(st.depart)]),
   };
+}
+
+/**
+ * A request the service did not fly, from its answer (as `GET /v1/flights/{id}` shows it),
+ * in the form `addUnflown` takes; null if it is neither rejected nor cancelled.
+ */
+export function unflownFromApi(scene, nodeIndex, plan) {
+  if (plan.status !== 'rejected' && plan.status !== 'cancelled') return null;
+  const rel = (t) => Date.parse(t) - scene.t0;
+  const node = (id) => {
+    const i = nodeIndex.get(id);
+    if (i === undefined) throw new Error(`unknown node ${id}`);
+    return i;
+  };
+  const u = {
+    id: plan.request,
+    o: node(plan.origin),
+    d: node(plan.destination),
+    dep: rel(plan.requested_departure),
+    status: plan.status,
+    reason: plan.reason,
+  };
+  const changes = plan.changes ?? [];
+  const last = changes[changes.length - 1];
+  if (plan.reason === 'zone_announced' && last) {
+    u.zone = last.zone;
+    u.at = rel(last.announced);
+  } else if (plan.cancelled_at) {
+    u.at = rel(plan.cancelled_at);
+  }
+  return u;
+}
+
+/**
+ * What each zone closes, from `GET /v1/closures`, as node and corridor indices of `scene`: a
+ * Map from zone id to `{ nodes, edges }`. A node or corridor the page does not know is an
+ * error naming it (the service and the page share one airspace).
+ */
+export function closuresFromApi(scene, nodeIndex, body) {
+  const node = (zone, id) => {
+    const i = nodeIndex.get(id);
+    if (i === undefined) throw new Error(`zone ${zone}: unknown node ${id}`);
+    return i;
+  };
+  const out = new Map();
+  for (const z of body.zones ?? []) {
+    const nodes = z.nodes.map((id) => node(z.zone, id));
+    const edges = z.corridors.map((c) => {
+      const e = scene.edgeIndex.get(edgeKey(node(z.zone, c.from), node(z.zone, c.to)));
+      if (e === undefined) throw new Error(`zone ${z.zone}: unknown corridor ${c.id}`);
+      return e;
+    });
+    out.set(z.zone, { nodes, edges });
+  }
+  return out;
 }
 
 /**
@@ -131,7 +188,8 @@ function periodWindows(scene, period, from, to) {
 /**
  * The zones of an ED-318 FeatureCollection (as `GET /v1/zones` serves it) in the scene's
  * form, active windows within `[from, to)`: area, windows, and the MUSE `announced` and
- * `withdrawn` instants. Corridors and nodes they close are not worked out here.
+ * `withdrawn` instants. The nodes and corridors they close come from `GET /v1/closures`
+ * (`closuresFromApi`), worked out by the service as its planner does.
  */
 export function zonesFromEd318(scene, fc, from, to) {
   return (fc.features ?? []).map((f) => {

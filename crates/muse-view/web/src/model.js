@@ -1,5 +1,6 @@
 // The scene and the questions asked of it: where each flight is at an instant, which are
-// airborne, how busy each corridor is, what a zone is doing. No DOM here, so that node's
+// airborne, how busy each corridor is, what a zone is doing, which requests an id search
+// finds, what the address says. No DOM here, so that node's
 // test runner can load this file (`npm test`); the page inlines it with its `export`
 // keywords dropped.
 //
@@ -7,11 +8,23 @@
 
 /** Decodes a scene as embedded in the page (or built by the live feed). */
 export function decodeScene(raw) {
-  const scene = { ...raw, flights: [], byId: new Map() };
+  const scene = { ...raw, flights: [], byId: new Map(), unflown: new Map() };
   scene.edgeIndex = new Map();
   raw.edges.forEach(([a, b], i) => scene.edgeIndex.set(edgeKey(a, b), i));
   for (const f of raw.flights) addFlight(scene, f);
+  const reasons = raw.reasons ?? [];
+  for (const [id, o, d, dep, why] of raw.unflown ?? []) {
+    addUnflown(scene, { id, o, d, dep, ...reasons[why] });
+  }
   return scene;
+}
+
+/**
+ * Adds (or replaces) a request with nothing to draw: `{ id, o, d, dep, status, reason,
+ * zone?, at? }` (`status` `rejected` or `cancelled`; `at`, when it was cancelled).
+ */
+export function addUnflown(scene, u) {
+  scene.unflown.set(u.id, u);
 }
 
 /** Adds (or replaces) a flight in `scene`; returns the decoded flight. */
@@ -161,14 +174,14 @@ export function duration(ms) {
 }
 
 /**
- * The instant (ms from `t0`) of local clock time `hh:mm[:ss]` on the scene's first day,
- * or null if `text` is not one.
+ * The instant (ms from `t0`) of local clock time `hh:mm[:ss]` on the scene's first day
+ * (hours past 23 run into the next days), or null if `text` is not one.
  */
 export function parseClock(scene, text) {
-  const m = /^(\d{1,2}):(\d{2})(?::(\d{2}))?$/.exec(text.trim());
+  const m = /^(\d{1,3}):(\d{2})(?::(\d{2}))?$/.exec(text.trim());
   if (!m) return null;
   const [h, min, sec] = [Number(m[1]), Number(m[2]), Number(m[3] ?? 0)];
-  if (h > 47 || min > 59 || sec > 59) return null;
+  if (min > 59 || sec > 59) return null;
   const local0 = scene.t0 + scene.offset_s * 1000;
   const midnight = Math.floor(local0 / 86400000) * 86400000;
   return midnight + ((h * 60 + min) * 60 + sec) * 1000 - local0;
@@ -205,4 +218,104 @@ export function planDetails(scene, f) {
     hover: f.stays.reduce((sum, s) => sum + (s.depart - s.arrive), 0),
     rows,
   };
+}
+
+/**
+ * The search box: the requests whose id contains `text`, case aside, among the flights and
+ * the requests that did not fly. `exact` is the id typed (in its own case if there is one,
+ * else in any), or null; `matches` the first `limit` ids containing it, those that start
+ * with it first, then the shorter, then in order; `total` how many contain it.
+ */
+export function findRequests(scene, text, limit = 10) {
+  const q = text.trim();
+  if (q === '') return { exact: null, matches: [], total: 0 };
+  const lower = q.toLowerCase();
+  let exact = scene.byId.has(q) || scene.unflown.has(q) ? q : null;
+  const hits = [];
+  const consider = (id) => {
+    const l = id.toLowerCase();
+    const at = l.indexOf(lower);
+    if (at < 0) return;
+    if (exact === null && l === lower) exact = id;
+    hits.push([at === 0 ? 0 : 1, id.length, id]);
+  };
+  for (const id of scene.byId.keys()) consider(id);
+  for (const id of scene.unflown.keys()) consider(id);
+  hits.sort((a, b) => a[0] - b[0] || a[1] - b[1] || (a[2] < b[2] ? -1 : Number(a[2] > b[2])));
+  return { exact, matches: hits.slice(0, limit).map((h) => h[2]), total: hits.length };
+}
+
+const REASONS = {
+  out_of_range: 'even the free-flow path, ignoring traffic and zones, takes longer than the battery allows',
+  unreachable: 'no path of corridors joins its origin and destination',
+  no_feasible_plan: 'traffic and no-fly zones leave no plan',
+  departure_in_past: "its departure was earlier than the service's clock",
+  zone_announced: 'a no-fly zone announced before its take-off left it no plan',
+  cancelled_by_operator: 'its operator cancelled it before take-off',
+};
+
+/** Why request `u` (see `addUnflown`) did not fly, in words. */
+export function reasonText(scene, u) {
+  if (u.reason === 'zone_announced' && u.zone) {
+    const when = u.at !== undefined && u.at !== null ? `, announced at ${clock(scene, u.at)},` : '';
+    return `zone ${u.zone}${when} left it no plan before take-off`;
+  }
+  if (u.reason === 'cancelled_by_operator' && u.at !== undefined && u.at !== null) {
+    return `its operator cancelled it at ${clock(scene, u.at)}, before take-off`;
+  }
+  return REASONS[u.reason] ?? String(u.reason ?? 'unknown').replaceAll('_', ' ');
+}
+
+/**
+ * `HH:MM:SS` of `t`, hours counted from the local midnight of the scene's first day (past 23
+ * on the next days), as the address gives it; `parseClock` reads it back.
+ */
+export function hashClock(scene, t) {
+  const local0 = scene.t0 + scene.offset_s * 1000;
+  const midnight = Math.floor(local0 / 86400000) * 86400000;
+  const s = Math.floor((local0 + t - midnight) / 1000);
+  const two = (v) => String(v).padStart(2, '0');
+  return `${two(Math.floor(s / 3600))}:${two(Math.floor((s % 3600) / 60))}:${two(s % 60)}`;
+}
+
+/** The address's fragment (without `#`) for clock `t` (null: none) and the selection. */
+export function formatHash(scene, t, selected) {
+  const parts = [];
+  if (t !== null) parts.push(`t=${hashClock(scene, t)}`);
+  if (selected) parts.push(`f=${encodeURIComponent(selected)}`);
+  return parts.join('&');
+}
+
+/**
+ * What the address's fragment asks for: `t` (ms from `t0`; null if absent or not a time)
+ * and `f` the request id (null if absent). `flight=` is read as `f=`.
+ */
+export function parseHash(scene, hash) {
+  const p = new URLSearchParams(hash.replace(/^#/, ''));
+  const t = p.has('t') ? parseClock(scene, p.get('t')) : null;
+  const f = p.get('f') ?? p.get('flight');
+  return { t, f: f === null || f === '' ? null : f };
+}
+
+const WEEKDAY = ['Sun', 'Mon', 'Tue', 'Wed', 'Thu', 'Fri', 'Sat'];
+const MONTH = ['Jan', 'Feb', 'Mar', 'Apr', 'May', 'Jun', 'Jul', 'Aug', 'Sep', 'Oct', 'Nov', 'Dec'];
+
+/** The local date of `t`, e.g. `Mon 5 Jan`. */
+export function localDay(scene, t) {
+  const d = new Date(scene.t0 + t + scene.offset_s * 1000);
+  return `${WEEKDAY[d.getUTCDay()]} ${d.getUTCDate()} ${MONTH[d.getUTCMonth()]}`;
+}
+
+/**
+ * Window `[a, b)` of a zone, dated: `Mon 5 Jan 10:00–12:00`, or across midnight `Sat 10 Jan
+ * 22:00 – Sun 11 Jan 02:00`. Windows are clipped to the time shown, `[lo, hi)`: an end at
+ * its edge reads `from …` or `until …`.
+ */
+export function windowText(scene, [a, b], lo, hi) {
+  const at = (t) => `${localDay(scene, t)} ${clock(scene, t).slice(0, 5)}`;
+  if (a <= lo && b >= hi) return 'all the time shown';
+  if (a <= lo) return `until ${at(b)}`;
+  if (b >= hi) return `from ${at(a)}`;
+  if (localDay(scene, a) === localDay(scene, b)) return `${at(a)}–${clock(scene, b).slice(0, 5)}`;
+  return `${at(a)} – ${at(b)}`;
 }

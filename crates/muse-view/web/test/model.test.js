@@ -7,8 +7,14 @@ import assert from 'node:assert/strict';
 import {
   decodeScene, decodeFlight, legAt, isAirborne, airborneAt, positionAt, edgeLoad,
   zoneState, clock, duration, parseClock, planDetails, addFlight, removeFlight,
+  findRequests, reasonText, hashClock, formatHash, parseHash, localDay, windowText,
 } from '../src/model.js';
-import { flightFromApi, readEvents, zonesFromEd318 } from '../src/feed.js';
+import {
+  flightFromApi, readEvents, zonesFromEd318, unflownFromApi, closuresFromApi,
+} from '../src/feed.js';
+import {
+  LOAD_STOPS, COLOURS, loadRgb, loadColour, loadPosition, loadTicks,
+} from '../src/palette.js';
 
 const nodes = [
   { id: 'A', lon: 0, lat: 0, station: true },
@@ -223,4 +229,148 @@ test('ED-318 zones as GET /v1/zones serves them: windows, circles, announcement,
   const [, , wkdWeek] = zonesFromEd318(sc, fc, 0, h(24 * 8));
   assert.deepEqual(wkdWeek.windows, [[0, h(2)], [h(5 * 24 + 22), h(6 * 24 + 2)], [h(6 * 24 + 22), h(7 * 24 + 2)]]);
   assert.deepEqual(perm.windows, [[0, h(48)]]);
+});
+
+test('requests that did not fly are decoded with their reason and found by the search', () => {
+  const sc = decodeScene({
+    t0: 0, span: 10000, offset_s: 0, nodes, edges, land: [], zones: [], summary: null, live: false,
+    flights: [twoLegs, { ...twoLegs, id: 'R100' }],
+    unflown: [['r10', 0, 2, 50, 0], ['x-r1', 1, 0, 60, 1], ['r2', 0, 1, 70, 0]],
+    reasons: [{ status: 'rejected', reason: 'no_feasible_plan' }, { status: 'cancelled', reason: 'zone_announced', zone: 'EVT', at: 3600000 }],
+  });
+  assert.deepEqual(sc.unflown.get('x-r1'), { id: 'x-r1', o: 1, d: 0, dep: 60, status: 'cancelled', reason: 'zone_announced', zone: 'EVT', at: 3600000 });
+  assert.equal(reasonText(sc, sc.unflown.get('r10')), 'traffic and no-fly zones leave no plan');
+  assert.equal(reasonText(sc, sc.unflown.get('x-r1')), 'zone EVT, announced at 01:00:00, left it no plan before take-off');
+  assert.equal(reasonText(sc, { reason: 'cancelled_by_operator' }), 'its operator cancelled it before take-off');
+  assert.equal(reasonText(sc, { reason: 'something_new' }), 'something new');
+  // Case aside; the id's own case first; those starting with the text, then the shorter.
+  assert.deepEqual(findRequests(sc, ' R1 '), { exact: 'r1', matches: ['r1', 'r10', 'R100', 'x-r1'], total: 4 });
+  assert.deepEqual(findRequests(sc, 'r100'), { exact: 'R100', matches: ['R100'], total: 1 });
+  assert.equal(findRequests(sc, 'R1', 2).matches.length, 2);
+  assert.equal(findRequests(sc, 'R1', 2).total, 4);
+  assert.deepEqual(findRequests(sc, 'zz'), { exact: null, matches: [], total: 0 });
+  assert.deepEqual(findRequests(sc, '  '), { exact: null, matches: [], total: 0 });
+});
+
+test('the address: time and selection written, and read back', () => {
+  // t0 = 2026-01-05T00:00:00Z, 08:00 in Singapore.
+  const sc = { t0: Date.UTC(2026, 0, 5), offset_s: 8 * 3600 };
+  const h = 3600000;
+  assert.equal(hashClock(sc, 2.25 * h + 1999), '10:15:01');
+  assert.equal(hashClock(sc, 17 * h), '25:00:00', 'the next day counts on');
+  assert.equal(formatHash(sc, 0.25 * h, 'r:42'), 't=08:15:00&f=r%3A42');
+  assert.equal(formatHash(sc, null, 'r42'), 'f=r42');
+  assert.equal(formatHash(sc, 0, null), 't=08:00:00');
+  for (const t of [0, 1000, 2.25 * h, 17 * h, 40 * h]) {
+    assert.equal(parseHash(sc, `#${formatHash(sc, t, 'a.b')}`).t, t);
+  }
+  assert.deepEqual(parseHash(sc, '#t=08:15:00&f=r%3A42'), { t: 0.25 * h, f: 'r:42' });
+  assert.deepEqual(parseHash(sc, 't=10:30&flight=r3841'), { t: 2.5 * h, f: 'r3841' }, 'the older spelling');
+  assert.deepEqual(parseHash(sc, ''), { t: null, f: null });
+  assert.deepEqual(parseHash(sc, '#t=noon&f='), { t: null, f: null });
+});
+
+test('zone windows are dated, and clipped ends said so', () => {
+  // t0 = Monday 2026-01-05 08:00 local (+08:00).
+  const sc = { t0: Date.parse('2026-01-05T08:00:00+08:00'), offset_s: 8 * 3600 };
+  const h = 3600000;
+  assert.equal(localDay(sc, 0), 'Mon 5 Jan');
+  assert.equal(localDay(sc, 16 * h), 'Tue 6 Jan');
+  assert.equal(windowText(sc, [2 * h, 4 * h], 0, 24 * h), 'Mon 5 Jan 10:00–12:00');
+  assert.equal(windowText(sc, [14 * h, 18 * h], 0, 24 * h), 'Mon 5 Jan 22:00 – Tue 6 Jan 02:00');
+  assert.equal(windowText(sc, [0, 2 * h], 0, 24 * h), 'until Mon 5 Jan 10:00');
+  assert.equal(windowText(sc, [20 * h, 24 * h], 0, 24 * h), 'from Tue 6 Jan 04:00');
+  assert.equal(windowText(sc, [0, 24 * h], 0, 24 * h), 'all the time shown');
+});
+
+test('a rejected or cancelled answer of the service, and what zones close', () => {
+  const sc = decodeScene({ t0: Date.parse('2026-01-05T00:00:00Z'), span: 1, offset_s: 0, nodes, edges, land: [], zones: [], flights: [], summary: null, live: true });
+  const index = new Map(nodes.map((n, i) => [n.id, i]));
+  const base = { request: 'q', origin: 'A', destination: 'C', requested_departure: '2026-01-05T08:00:00.000+08:00' };
+  assert.deepEqual(unflownFromApi(sc, index, { ...base, status: 'rejected', reason: 'out_of_range' }),
+    { id: 'q', o: 0, d: 2, dep: 0, status: 'rejected', reason: 'out_of_range' });
+  assert.deepEqual(unflownFromApi(sc, index, {
+    ...base, status: 'cancelled', reason: 'zone_announced',
+    changes: [{ zone: 'EVT', announced: '2026-01-05T07:30:00.000+08:00', airborne: false, outcome: 'cancelled' }],
+  }), { id: 'q', o: 0, d: 2, dep: 0, status: 'cancelled', reason: 'zone_announced', zone: 'EVT', at: -1800000 });
+  assert.equal(unflownFromApi(sc, index, { ...base, status: 'cancelled', reason: 'cancelled_by_operator', cancelled_at: '2026-01-05T08:00:01.000+08:00' }).at, 1000);
+  assert.equal(unflownFromApi(sc, index, { ...base, status: 'planned' }), null);
+  const closures = closuresFromApi(sc, index, { zones: [
+    { zone: 'Z1', nodes: ['B'], corridors: [{ id: 'C-B', from: 'C', to: 'B' }] },
+    { zone: 'Z2', nodes: [], corridors: [] },
+  ] });
+  assert.deepEqual(closures.get('Z1'), { nodes: [1], edges: [1] });
+  assert.deepEqual(closures.get('Z2'), { nodes: [], edges: [] });
+  assert.throws(() => closuresFromApi(sc, index, { zones: [{ zone: 'Z3', nodes: [], corridors: [{ id: 'A-C', from: 'A', to: 'C' }] }] }), /zone Z3: unknown corridor A-C/);
+  assert.throws(() => closuresFromApi(sc, index, { zones: [{ zone: 'Z4', nodes: ['Q'], corridors: [] }] }), /zone Z4: unknown node Q/);
+});
+
+// Colour vision: each sRGB colour seen with deuteranopia and protanopia, simulated with the
+// full-severity matrices of Machado, Oliveira and Fernandes (2009) on linear RGB, and
+// compared in CIELAB (D65).
+const SIMULATIONS = {
+  normal: [[1, 0, 0], [0, 1, 0], [0, 0, 1]],
+  deuteranopia: [[0.367322, 0.860646, -0.227968], [0.280085, 0.672501, 0.047413], [-0.011820, 0.042940, 0.968881]],
+  protanopia: [[0.152286, 1.052583, -0.204868], [0.114503, 0.786281, 0.099216], [-0.003882, -0.048116, 1.051998]],
+};
+
+function seenAs(matrix, rgb) {
+  const lin = rgb.map((c) => { const v = c / 255; return v <= 0.04045 ? v / 12.92 : ((v + 0.055) / 1.055) ** 2.4; });
+  const [r, g, b] = matrix.map((row) => Math.min(1, Math.max(0, row[0] * lin[0] + row[1] * lin[1] + row[2] * lin[2])));
+  const [x, y, z] = [
+    (0.4124 * r + 0.3576 * g + 0.1805 * b) / 0.95047,
+    0.2126 * r + 0.7152 * g + 0.0722 * b,
+    (0.0193 * r + 0.1192 * g + 0.9505 * b) / 1.08883,
+  ];
+  const f = (t) => (t > 216 / 24389 ? Math.cbrt(t) : ((24389 / 27) * t + 16) / 116);
+  return [116 * f(y) - 16, 500 * (f(x) - f(y)), 200 * (f(y) - f(z))];
+}
+
+const distance = (p, q) => Math.hypot(p[0] - q[0], p[1] - q[1], p[2] - q[2]);
+const hex = (css) => [1, 3, 5].map((i) => parseInt(css.slice(i, i + 2), 16));
+
+test('the load scale keeps its order and the other styles stand apart, with any colour vision', () => {
+  for (const [vision, m] of Object.entries(SIMULATIONS)) {
+    const ramp = Array.from({ length: 11 }, (_, i) => seenAs(m, loadRgb(i / 10)));
+    ramp.slice(1).forEach((c, i) => {
+      assert.ok(c[0] < ramp[i][0] - 4, `${vision}: lightness falls along the scale (${i / 10}: ${ramp[i][0]}, then ${c[0]})`);
+      assert.ok(distance(c, ramp[i]) > 7, `${vision}: steps of a tenth are told apart (${i / 10})`);
+    });
+    const fine = Array.from({ length: 101 }, (_, i) => seenAs(m, loadRgb(i / 100)));
+    // Drawn as lines like the corridors: far from every colour of the scale.
+    for (const name of ['closed', 'selected', 'selectedCasing', 'unused']) {
+      const c = seenAs(m, hex(COLOURS[name]));
+      const nearest = Math.min(...fine.map((r) => distance(c, r)));
+      assert.ok(nearest > 25, `${vision}: ${name} is ${nearest.toFixed(1)} from the load scale`);
+    }
+    const styles = ['zone', 'closed', 'selected', 'drone', 'hover'];
+    for (const a of styles) {
+      for (const b of styles.filter((s) => s > a)) {
+        const d = distance(seenAs(m, hex(COLOURS[a])), seenAs(m, hex(COLOURS[b])));
+        assert.ok(d > 20, `${vision}: ${a} and ${b} are ${d.toFixed(1)} apart`);
+      }
+    }
+  }
+  assert.equal(loadColour(0), `rgb(${LOAD_STOPS[0].join(',')})`);
+  assert.equal(loadColour(1), `rgb(${LOAD_STOPS[LOAD_STOPS.length - 1].join(',')})`);
+});
+
+test('the load key: where a corridor sits on the scale, and the values labelled', () => {
+  assert.equal(loadPosition(0, 10), null, 'no flight: drawn as unused');
+  assert.equal(loadPosition(1, 10), 0);
+  assert.equal(loadPosition(10, 10), 1);
+  assert.equal(loadPosition(4, 7), 0.5);
+  assert.equal(loadPosition(1, 1), 1);
+  assert.deepEqual(loadTicks(0), []);
+  assert.deepEqual(loadTicks(1), [1]);
+  assert.deepEqual(loadTicks(3), [1, 2, 3]);
+  assert.deepEqual(loadTicks(37), [1, 10, 20, 30, 37]);
+  assert.deepEqual(loadTicks(81), [1, 20, 40, 60, 81]);
+  for (let max = 1; max < 3000; max += 7) {
+    const t = loadTicks(max);
+    assert.equal(t[0], 1);
+    assert.equal(t[t.length - 1], max);
+    assert.ok(t.length <= 7, `${max}: ${t}`);
+    assert.ok(t.every((v, i) => i === 0 || v > t[i - 1]) && t.every(Number.isInteger), `${max}: ${t}`);
+  }
 });
