@@ -4,12 +4,12 @@
 # screenshots from target/screenshots/ to docs/images/.
 #
 # Usage: scripts/viewer-images.sh
-#   view-simulate.png  the default day at 10:30, a flight clicked   (tests/view_browser.rs)
-#   view-narrow.png    the same day on a 600 px wide touch screen    (tests/view_truth_browser.rs)
-#   view-live.png      muse serve's live page, a zone announced live (tests/view_live_browser.rs)
+#   view-simulate.png  the default day at 10:30, a flight clicked   (tests/viewer/page.rs)
+#   view-narrow.png    the same day on a 600 px wide touch screen    (tests/viewer/truth.rs)
+#   view-live.png      muse serve's live page, a zone announced live (tests/viewer/live.rs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-CI=1 cargo test --test view_browser --test view_truth_browser --test view_live_browser
+CI=1 cargo test --test viewer
 for image in view-simulate.png view-narrow.png view-live.png; do
   cp "target/screenshots/$image" "docs/images/$image"
   echo "docs/images/$image"

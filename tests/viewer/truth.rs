@@ -14,10 +14,8 @@ use std::time::Duration;
 use serde_json::Value;
 
 // The `muse serve` helpers are not used here.
-#[allow(dead_code)]
-mod support;
-use support::cdp::{Browser, Page, browser_or_skip};
-use support::viewer::{
+use crate::support::cdp::{Browser, Page, browser_or_skip};
+use crate::support::viewer::{
     Plan, assert_no_console_errors, clock, eval_count, eval_i64, eval_string, local, open_offline,
     screenshots, simulate,
 };
@@ -33,7 +31,7 @@ impl Day {
     /// Simulates the default day into a folder of its own, or `None` without Chromium.
     fn new(test: &str) -> Option<Day> {
         let browser = browser_or_skip(test)?;
-        let (plans, view) = simulate(&support::scratch_dir(test));
+        let (plans, view) = simulate(&crate::support::scratch_dir(test));
         Some(Day {
             browser,
             plans,

@@ -16,8 +16,7 @@ use std::time::Duration;
 
 use serde_json::Value;
 
-mod support;
-use support::cdp::{Page, browser_or_skip};
+use crate::support::cdp::{Page, browser_or_skip};
 
 /// The service's clock starts here (and runs at real speed).
 const CLOCK: &str = "2026-01-05T09:00:00+08:00";
@@ -290,8 +289,8 @@ fn live_page_shows_a_flight_planned_over_http() {
     let Some(browser) = browser_or_skip("live_page_shows_a_flight_planned_over_http") else {
         return;
     };
-    let data = support::scratch_dir("view-live-open");
-    let server = support::start(&data, &["--clock", CLOCK]);
+    let data = crate::support::scratch_dir("view-live-open");
+    let server = crate::support::start(&data, &["--clock", CLOCK]);
     let page = browser.new_page().expect("a page");
     open_live(&page, &format!("{}/", server.base));
     let p = plan(&server.base, None, "live1", ("S012", "S040"), 60);
@@ -325,7 +324,7 @@ fn live_page_shows_an_operator_its_own_flights_and_the_authority_all() {
     let Some(browser) = browser_or_skip("live_page_shows_an_operator_its_own_flights") else {
         return;
     };
-    let data = support::scratch_dir("view-live-tokens");
+    let data = crate::support::scratch_dir("view-live-tokens");
     std::fs::create_dir_all(&data).expect("data dir");
     let tokens = data.with_extension("toml");
     std::fs::write(
@@ -335,7 +334,7 @@ fn live_page_shows_an_operator_its_own_flights_and_the_authority_all() {
          [[tokens]]\ntoken = \"authority-secret-0003\"\noperator = \"caas\"\nrole = \"authority\"\n",
     )
     .expect("tokens file");
-    let server = support::start(
+    let server = crate::support::start(
         &data,
         &[
             "--clock",

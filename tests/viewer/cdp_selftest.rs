@@ -8,9 +8,7 @@ use std::time::Duration;
 use serde_json::json;
 
 // The `muse serve` helpers are not used here.
-#[allow(dead_code)]
-mod support;
-use support::cdp::{browser_or_skip, file_url};
+use crate::support::cdp::{browser_or_skip, file_url};
 
 /// A button that says when it is clicked, one `console.error` and one uncaught exception.
 const PAGE: &str = r#"<!doctype html>
@@ -34,7 +32,7 @@ fn the_cdp_client_drives_a_local_page() {
     let Some(browser) = browser_or_skip("cdp_selftest") else {
         return;
     };
-    let dir = support::scratch_dir("cdp_selftest");
+    let dir = crate::support::scratch_dir("cdp_selftest");
     std::fs::create_dir_all(&dir).expect("the scratch folder is created");
     let html = dir.join("page with space.html");
     std::fs::write(&html, PAGE).expect("the page is written");

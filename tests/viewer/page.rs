@@ -9,10 +9,8 @@ use std::path::Path;
 use std::time::Duration;
 
 // The `muse serve` helpers are not used here.
-#[allow(dead_code)]
-mod support;
-use support::cdp::{Page, browser_or_skip};
-use support::viewer::{
+use crate::support::cdp::{Page, browser_or_skip};
+use crate::support::viewer::{
     Plan, assert_no_console_errors, clock, eval_count, eval_i64, local, open_offline, screenshots,
     simulate,
 };
@@ -185,7 +183,7 @@ fn the_simulated_day_plays_offline_and_a_click_shows_a_plan() {
     let Some(browser) = browser_or_skip("view_browser") else {
         return;
     };
-    let (plans, view) = simulate(&support::scratch_dir("view_browser"));
+    let (plans, view) = simulate(&crate::support::scratch_dir("view_browser"));
     let page = browser.new_page().expect("a new page");
     let requests = open_offline(&page, &view, "");
 
