@@ -101,8 +101,8 @@ fn bad_zone_file_is_named_with_feature_and_field() {
 /// Two stations one kilometre apart (two minutes at 30 km/h).
 const PAIR: &str = r#"{"type": "FeatureCollection", "features": [
   {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.8, 1.3]}, "properties": {"id": "A", "kind": "station"}},
-  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.81, 1.3]}, "properties": {"id": "B", "kind": "station"}},
-  {"type": "Feature", "geometry": {"type": "LineString", "coordinates": [[103.8, 1.3], [103.81, 1.3]]}, "properties": {"from": "A", "to": "B", "length_m": 1000}}]}"#;
+  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.8089, 1.3]}, "properties": {"id": "B", "kind": "station"}},
+  {"type": "Feature", "geometry": {"type": "LineString", "coordinates": [[103.8, 1.3], [103.8089, 1.3]]}, "properties": {"from": "A", "to": "B", "length_m": 1000}}]}"#;
 
 fn plan_line(id: &str, from: &str, to: &str, depart: &str, arrive: &str) -> String {
     format!(
@@ -992,7 +992,7 @@ fn sweep_announce_lead_zones_and_errors() {
         ),
         (
             vec!["--vary", "announce-lead", "--leads", "0,-5"],
-            "--leads `0,-5`: -5 minutes: a lead must be a number of minutes >= 0",
+            "--leads `0,-5`: -5 minutes: a lead must be a number of minutes from 0 to 43200",
         ),
         (
             vec![
@@ -1022,7 +1022,10 @@ fn sweep_announce_lead_zones_and_errors() {
 fn argument_errors_are_clear() {
     for (args, expected) in [
         (vec!["sweep", "--counts", "10:5:1"], "--counts `10:5:1`"),
-        (vec!["sweep", "--reps", "0"], "--reps must be at least 1"),
+        (
+            vec!["sweep", "--reps", "0"],
+            "invalid value '0' for '--reps <REPS>': must be a whole number of repetitions from 1 to 10000",
+        ),
         (
             vec!["sweep", "--vary", "zones", "--zones", "none"],
             "--vary zones needs zones",
@@ -1045,11 +1048,11 @@ fn argument_errors_are_clear() {
         ),
         (
             vec!["simulate", "--max-flight-min=-1"],
-            "--max-flight-min -1 must be a number > 0",
+            "invalid value '-1' for '--max-flight-min <MIN>': must be a number of minutes from 1 to 1440",
         ),
         (
             vec!["simulate", "--speed-kmh", "0"],
-            "speed 0 km/h must be a finite number > 0",
+            "invalid value '0' for '--speed-kmh <KMH>': must be a speed in km/h from 1 to 1000",
         ),
         (
             vec!["plan", "--requests", "x.csv", "--headway-s", "3"],
@@ -1074,7 +1077,7 @@ fn argument_errors_are_clear() {
         (
             "demand",
             "-5",
-            "invalid value '-5' for '--booking-lead-min <A[:B]>': -5 minutes: a booking lead must be a number of minutes >= 0",
+            "invalid value '-5' for '--booking-lead-min <A[:B]>': -5 minutes: a booking lead must be a number of minutes from 0 to 43200",
         ),
         (
             "sweep",
@@ -1180,7 +1183,7 @@ fn bench_argument_errors_are_clear() {
     for (args, expected) in [
         (
             vec!["--requests", "0"],
-            "--requests `0`: `0` is not a positive count",
+            "--requests `0`: `0` is not a count of requests from 1 to 10000000",
         ),
         (vec!["--requests", "10k,10000"], "10000 is named twice"),
         (vec!["--graphs", "atlantis"], "--graphs: `atlantis`"),
@@ -1191,7 +1194,7 @@ fn bench_argument_errors_are_clear() {
         (vec!["--graphs", "singapore-77,singapore-77"], "named twice"),
         (
             vec!["--max-flight-min=-1"],
-            "--max-flight-min -1 must be a number > 0",
+            "invalid value '-1' for '--max-flight-min <MIN>': must be a number of minutes from 1 to 1440",
         ),
     ] {
         let all: Vec<&str> = ["bench", "--out", &out]
@@ -1328,7 +1331,7 @@ fn unknown_scenario_and_conflicting_sources_are_usage_errors() {
         ),
         (
             vec!["--synthetic", "grid", "--nodes", "1"],
-            "--synthetic grid: invalid synthetic airspace: nodes = 1 must be between 2",
+            "invalid value '1' for '--nodes <N>': must be a whole number of nodes from 2 to 1000000",
         ),
         (
             vec![
@@ -1339,7 +1342,7 @@ fn unknown_scenario_and_conflicting_sources_are_usage_errors() {
                 "--spacing-m",
                 "0",
             ],
-            "spacing = 0 m must be a number of at least 1 m",
+            "invalid value '0' for '--spacing-m <M>': must be a number of metres from 1 to 100000",
         ),
         (
             vec![
@@ -1350,7 +1353,7 @@ fn unknown_scenario_and_conflicting_sources_are_usage_errors() {
                 "--station-share",
                 "1.5",
             ],
-            "station share = 1.5 must be greater than 0 and at most 1",
+            "invalid value '1.5' for '--station-share <SHARE>': must be a share from 0.001 to 1",
         ),
     ] {
         let all: Vec<&str> = ["airspace", "info"].into_iter().chain(args).collect();

@@ -50,8 +50,8 @@ pub enum AirspaceCommand {
         /// Output SVG file.
         #[arg(long, value_name = "FILE", default_value = "map.svg")]
         out: PathBuf,
-        /// Width of the drawing, pixels.
-        #[arg(long, default_value_t = 1800)]
+        /// Width of the drawing, pixels, from 100 to 20000.
+        #[arg(long, default_value_t = 1800, allow_negative_numbers = true, value_parser = super::ranges::width_px)]
         width: u32,
     },
 }
@@ -240,6 +240,13 @@ fn describe_periods(zone: &Zone) -> String {
 
 fn export(world: &WorldArgs, out: &Path, zones_out: Option<&Path>) -> anyhow::Result<ExitCode> {
     let world = world.load()?;
+    if zones_out.is_some() && world.zones.is_empty() {
+        // A zone file holding no zone is refused when read: do not write one.
+        anyhow::bail!(
+            "--zones-out: there are no zones to write (no zones are in force: give --zones FILE, \
+             or a built-in scenario)"
+        );
+    }
     let text = muse_formats::airspace_geojson::write_airspace(&world.airspace);
     super::common::write_atomically(out, &text)?;
     println!(

@@ -25,6 +25,7 @@ use muse_sim::demand::{BookingLead, DemandSpec, OdRule, generate};
 use super::common::{FlightArgs, write_atomically};
 use super::demand::OdArg;
 use super::progress::LazyProgress;
+use super::ranges::{self, MAX_REQUESTS};
 use super::study::{Study, report_reproduction};
 
 /// Synthetic graphs of `--graphs synthetic-N`: geometric layout, this share of stations,
@@ -45,8 +46,14 @@ const TO_H: i64 = 20;
 /// Arguments of `muse bench`.
 #[derive(Debug, Args)]
 pub struct BenchArgs {
-    /// Demand levels, requests per day, comma-separated (`10k` and `1M` are read too).
-    #[arg(long, value_name = "N,N,...", default_value = "10000,100000,1000000")]
+    /// Demand levels, requests per day, comma-separated (`10k` and `1M` are read too), each
+    /// from 1 to 10000000.
+    #[arg(
+        long,
+        value_name = "N,N,...",
+        default_value = "10000,100000,1000000",
+        allow_hyphen_values = true
+    )]
     requests: String,
     /// Graphs, comma-separated: `singapore-77`, `singapore-all` (every HDB multi-storey car
     /// park a station) or `synthetic-N` (a geometric graph of N nodes, 10% of them
@@ -62,8 +69,9 @@ pub struct BenchArgs {
     /// before any search).
     #[arg(long, value_enum, default_value_t = OdArg::InRange)]
     od: OdArg,
-    /// Seed of the demand (the same for every case).
-    #[arg(long, default_value_t = 1)]
+    /// Seed of the demand (the same for every case), a whole number from 0 to
+    /// 18446744073709551615.
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = ranges::seed)]
     seed: u64,
     #[command(flatten)]
     flight: FlightArgs,
@@ -83,14 +91,14 @@ pub struct CaseArgs {
     /// The graph, as in `muse bench --graphs`.
     #[arg(long)]
     graph: String,
-    /// Requests.
-    #[arg(long)]
+    /// Requests, from 1 to 10000000.
+    #[arg(long, allow_negative_numbers = true, value_parser = ranges::requests)]
     requests: usize,
     /// Origin–destination rule.
     #[arg(long, value_enum, default_value_t = OdArg::InRange)]
     od: OdArg,
-    /// Seed of the demand.
-    #[arg(long, default_value_t = 1)]
+    /// Seed of the demand, a whole number from 0 to 18446744073709551615.
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = ranges::seed)]
     seed: u64,
     #[command(flatten)]
     flight: FlightArgs,
@@ -161,7 +169,8 @@ fn parse_graphs(text: &str) -> anyhow::Result<Vec<GraphName>> {
 fn parse_requests(text: &str) -> anyhow::Result<Vec<usize>> {
     let bad = |item: &str| {
         anyhow::anyhow!(
-            "--requests `{text}`: `{}` is not a positive count (e.g. 10000, 10k or 1M)",
+            "--requests `{text}`: `{}` is not a count of requests from 1 to {MAX_REQUESTS} \
+             (e.g. 10000, 10k or 1M)",
             item.trim()
         )
     };
@@ -179,7 +188,7 @@ fn parse_requests(text: &str) -> anyhow::Result<Vec<usize>> {
             .parse::<usize>()
             .ok()
             .and_then(|n| n.checked_mul(scale))
-            .filter(|&n| n > 0)
+            .filter(|n| (1..=MAX_REQUESTS).contains(n))
             .ok_or_else(|| bad(item))?;
         if out.contains(&n) {
             anyhow::bail!("--requests `{text}`: {n} is named twice");
@@ -605,13 +614,20 @@ mod tests {
         );
         assert_eq!(parse_requests("200").unwrap(), vec![200]);
         for (bad, message) in [
-            ("", "`` is not a positive count"),
-            ("0", "`0` is not a positive count"),
-            ("10,,20", "`` is not a positive count"),
-            ("-5", "`-5` is not a positive count"),
-            ("ten", "`ten` is not a positive count"),
-            ("1.5k", "`1.5k` is not a positive count"),
-            ("99999999999999999999", "is not a positive count"),
+            ("", "`` is not a count of requests from 1 to 10000000"),
+            ("0", "`0` is not a count of requests from 1 to 10000000"),
+            ("10,,20", "`` is not a count of requests from 1 to 10000000"),
+            ("-5", "`-5` is not a count of requests from 1 to 10000000"),
+            ("ten", "`ten` is not a count of requests from 1 to 10000000"),
+            (
+                "1.5k",
+                "`1.5k` is not a count of requests from 1 to 10000000",
+            ),
+            (
+                "99999999999999999999",
+                "is not a count of requests from 1 to 10000000",
+            ),
+            ("11M", "`11M` is not a count of requests from 1 to 10000000"),
             ("10k,10000", "10000 is named twice"),
         ] {
             let err = parse_requests(bad).unwrap_err().to_string();

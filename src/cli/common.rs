@@ -7,6 +7,8 @@ use clap::Args;
 use clap::builder::PossibleValuesParser;
 use muse_model::{Airspace, Millis, Speed, UtcOffset, Zone};
 
+use super::ranges;
+
 /// Which airspace and zones to work on.
 #[derive(Debug, Args, Clone)]
 pub struct WorldArgs {
@@ -26,27 +28,41 @@ pub struct WorldArgs {
     /// or `geometric` (uniform random points, Delaunay); needs `--nodes`.
     #[arg(long, value_enum, value_name = "LAYOUT", requires = "nodes")]
     pub synthetic: Option<LayoutArg>,
-    /// Synthetic airspace: number of nodes.
-    #[arg(long, value_name = "N", requires = "synthetic")]
+    /// Synthetic airspace: number of nodes, from 2 to 1000000.
+    #[arg(long, value_name = "N", requires = "synthetic", allow_negative_numbers = true, value_parser = ranges::nodes)]
     pub nodes: Option<usize>,
-    /// Synthetic airspace: grid spacing, or mean nearest-neighbour distance, metres.
+    /// Synthetic airspace: grid spacing, or mean nearest-neighbour distance, metres, from 1
+    /// to 100000 (the airspace spans at most 2,000 km).
     #[arg(
         long,
         value_name = "M",
         default_value_t = 1_500.0,
-        requires = "synthetic"
+        requires = "synthetic",
+        allow_negative_numbers = true,
+        value_parser = ranges::spacing_m
     )]
     pub spacing_m: f64,
-    /// Synthetic airspace: the fraction of nodes that are stations (at least 2 stations).
+    /// Synthetic airspace: the fraction of nodes that are stations, from 0.001 to 1 (at least
+    /// 2 stations).
     #[arg(
         long,
         value_name = "SHARE",
         default_value_t = 0.1,
-        requires = "synthetic"
+        requires = "synthetic",
+        allow_negative_numbers = true,
+        value_parser = ranges::station_share
     )]
     pub station_share: f64,
-    /// Synthetic airspace: seed of the points and of the choice of stations.
-    #[arg(long, value_name = "SEED", default_value_t = 1, requires = "synthetic")]
+    /// Synthetic airspace: seed of the points and of the choice of stations, a whole number
+    /// from 0 to 18446744073709551615.
+    #[arg(
+        long,
+        value_name = "SEED",
+        default_value_t = 1,
+        requires = "synthetic",
+        allow_negative_numbers = true,
+        value_parser = ranges::seed
+    )]
     pub synthetic_seed: u64,
     /// No-fly zone file (ED-318 GeoJSON or ED-269 JSON); repeat for several, or `none`.
     /// Default: the scenario's zones (the CBD zone) with a built-in scenario, no zones with
@@ -173,11 +189,11 @@ impl WorldArgs {
 /// Cruise speed and battery.
 #[derive(Debug, Args, Clone, Copy)]
 pub struct RangeArgs {
-    /// Cruise speed, km/h.
-    #[arg(long, default_value_t = 30.0, value_name = "KMH")]
+    /// Cruise speed, km/h, from 1 to 1000.
+    #[arg(long, default_value_t = 30.0, value_name = "KMH", allow_negative_numbers = true, value_parser = ranges::speed_kmh)]
     pub speed_kmh: f64,
-    /// Maximum airborne time (battery), minutes.
-    #[arg(long, default_value_t = 20.0, value_name = "MIN")]
+    /// Maximum airborne time (battery), minutes, from 1 to 1440.
+    #[arg(long, default_value_t = 20.0, value_name = "MIN", allow_negative_numbers = true, value_parser = ranges::max_flight_min)]
     pub max_flight_min: f64,
 }
 
@@ -194,7 +210,7 @@ impl RangeArgs {
             .filter(|m| m.0 > 0)
             .with_context(|| {
                 format!(
-                    "--max-flight-min {} must be a number > 0",
+                    "--max-flight-min {}: must be a number of minutes from 1 to 1440",
                     self.max_flight_min
                 )
             })
@@ -206,31 +222,33 @@ impl RangeArgs {
 pub struct FlightArgs {
     #[command(flatten)]
     pub range: RangeArgs,
-    /// Node separation `tau`, seconds.
-    #[arg(long, default_value_t = 5.0, value_name = "S")]
+    /// Node separation `tau`, seconds, from 0 to 3600.
+    #[arg(long, default_value_t = 5.0, value_name = "S", allow_negative_numbers = true, value_parser = ranges::separation_s)]
     pub node_separation_s: f64,
     /// Edge rule: `exclusive` (one drone per corridor) or `headway` (same-direction drones
     /// `--headway-s` apart).
     #[arg(long, value_enum, default_value_t = EdgeRuleArg::Exclusive)]
     pub edge_rule: EdgeRuleArg,
-    /// Same-direction headway for `--edge-rule headway`, seconds (default: `tau`).
-    #[arg(long, value_name = "S")]
+    /// Same-direction headway for `--edge-rule headway`, seconds, from 0 to 3600 (default:
+    /// `tau`).
+    #[arg(long, value_name = "S", allow_negative_numbers = true, value_parser = ranges::separation_s)]
     pub headway_s: Option<f64>,
-    /// Maximum ground delay `G_max`, seconds.
-    #[arg(long, default_value_t = 0.0, value_name = "S")]
+    /// Maximum ground delay `G_max`, seconds, from 0 to 86400.
+    #[arg(long, default_value_t = 0.0, value_name = "S", allow_negative_numbers = true, value_parser = ranges::day_s)]
     pub max_ground_delay_s: f64,
     /// Battery swaps at stations (docs/reference.md#multi-leg-trips): a trip may land at
     /// intermediate stations, stay on the ground at least this many seconds, and take off
-    /// again with a full battery. Off by default (the paper: single legs).
-    #[arg(long, value_name = "S")]
+    /// again with a full battery; from 0 to 86400. Off by default (the paper: single legs).
+    #[arg(long, value_name = "S", allow_negative_numbers = true, value_parser = ranges::day_s)]
     pub battery_swap_s: Option<f64>,
-    /// With `--battery-swap-s`: at most this many legs per trip (default: no bound).
-    #[arg(long, value_name = "K", requires = "battery_swap_s", value_parser = clap::value_parser!(u32).range(1..))]
+    /// With `--battery-swap-s`: at most this many legs per trip, from 1 to 100 (default: no
+    /// bound).
+    #[arg(long, value_name = "K", requires = "battery_swap_s", allow_negative_numbers = true, value_parser = ranges::max_legs)]
     pub max_legs: Option<u32>,
     /// A delivery deadline: every trip must land within this many minutes of its requested
     /// departure, or it is rejected (`no_feasible_plan`). Default: none. With battery swaps
-    /// the time on the ground between legs is otherwise unbounded.
-    #[arg(long, value_name = "MIN")]
+    /// the time on the ground between legs is otherwise unbounded. From 1 to 1440.
+    #[arg(long, value_name = "MIN", allow_negative_numbers = true, value_parser = ranges::max_trip_min)]
     pub max_trip_min: Option<f64>,
 }
 

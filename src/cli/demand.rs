@@ -10,6 +10,7 @@ use muse_model::{Instant, Millis};
 use muse_sim::demand::{BookingLead, DemandSpec, OdRule, generate};
 
 use super::common::{RangeArgs, World, WorldArgs, write_atomically};
+use super::ranges::{self, MAX_LEAD_MIN};
 
 /// Origin–destination rule on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -23,11 +24,11 @@ pub enum OdArg {
 /// Demand options shared by `muse demand` and `muse simulate`.
 #[derive(Debug, Args, Clone)]
 pub struct DemandArgs {
-    /// Number of requests.
-    #[arg(long, default_value_t = 5_000)]
+    /// Number of requests, from 1 to 10000000.
+    #[arg(long, default_value_t = 5_000, allow_negative_numbers = true, value_parser = ranges::requests)]
     pub count: usize,
-    /// Seed of the generator.
-    #[arg(long, default_value_t = 1)]
+    /// Seed of the generator, a whole number from 0 to 18446744073709551615.
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = ranges::seed)]
     pub seed: u64,
     /// Start of the departure window, local time on the scenario's date.
     #[arg(long, default_value = "08:00", value_name = "HH:MM")]
@@ -39,11 +40,11 @@ pub struct DemandArgs {
     #[arg(long, value_enum, default_value_t = OdArg::Uniform)]
     pub od: OdArg,
     /// Book each request ahead of its departure by a lead uniform in [A, B] minutes (whole
-    /// milliseconds): `submitted = departure − lead`. A single number A means exactly A
-    /// minutes; 0 (the default, the paper) books every request at its departure; `muse sweep
-    /// --vary announce-lead` books 0:120 unless given. Departures and pairs do not depend on
-    /// it: a seed gives the same ones with any lead.
-    #[arg(long, value_name = "A[:B]", value_parser = parse_booking_lead)]
+    /// milliseconds), each from 0 to 43200 (30 days): `submitted = departure − lead`. A single
+    /// number A means exactly A minutes; 0 (the default, the paper) books every request at its
+    /// departure; `muse sweep --vary announce-lead` books 0:120 unless given. Departures and
+    /// pairs do not depend on it: a seed gives the same ones with any lead.
+    #[arg(long, value_name = "A[:B]", allow_hyphen_values = true, value_parser = parse_booking_lead)]
     pub booking_lead_min: Option<BookingLeadArg>,
 }
 
@@ -83,11 +84,14 @@ impl BookingLeadArg {
 fn parse_booking_lead(text: &str) -> Result<BookingLeadArg, String> {
     let minutes = |part: &str| -> Result<(f64, Millis), String> {
         let m: f64 = part.trim().parse().map_err(|_| {
-            format!("`{part}` is not a number of minutes; expected A or A:B, e.g. 0:120")
+            format!(
+                "`{part}` is not a number of minutes from 0 to {MAX_LEAD_MIN}; expected A or \
+                 A:B, e.g. 0:120"
+            )
         })?;
-        if !m.is_finite() || m < 0.0 {
+        if !m.is_finite() || !(0.0..=MAX_LEAD_MIN).contains(&m) {
             return Err(format!(
-                "{} minutes: a booking lead must be a number of minutes >= 0",
+                "{} minutes: a booking lead must be a number of minutes from 0 to {MAX_LEAD_MIN}",
                 part.trim()
             ));
         }
@@ -218,7 +222,11 @@ mod tests {
             ("5:1", "the lower bound 5 must not exceed the upper bound 1"),
             (
                 "-1",
-                "-1 minutes: a booking lead must be a number of minutes >= 0",
+                "-1 minutes: a booking lead must be a number of minutes from 0 to 43200",
+            ),
+            (
+                "43201",
+                "43201 minutes: a booking lead must be a number of minutes from 0 to",
             ),
             ("0:-5", "-5 minutes: a booking lead must be"),
             ("abc", "`abc` is not a number of minutes"),

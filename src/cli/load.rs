@@ -11,6 +11,7 @@ use muse_load::{Event, LoadConfig, Mode, OdChoice, Stop};
 use muse_model::Millis;
 
 use super::common::write_atomically;
+use super::ranges::{self, MAX_LEAD_MIN};
 
 /// Origin–destination rule on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -31,28 +32,28 @@ pub struct LoadArgs {
     #[arg(long, value_name = "TOKEN")]
     token: Option<String>,
     /// Open loop: send this many requests per second, whatever the answers (latency counts
-    /// from each request's due time). With --clients: paced, see there.
-    #[arg(long, value_name = "R")]
+    /// from each request's due time), from 0.01 to 1000000. With --clients: paced, see there.
+    #[arg(long, value_name = "R", allow_negative_numbers = true, value_parser = ranges::load_rate)]
     rate: Option<f64>,
     /// Closed loop: this many concurrent clients, each sending as soon as answered
     /// (default 16 without --rate). With --rate: paced, these N clients together follow the
     /// open-loop schedule of R requests/s, each request taken by whichever client is free (it
-    /// waits while all are busy; latency still counts from its due time).
-    #[arg(long, value_name = "N")]
+    /// waits while all are busy; latency still counts from its due time). From 1 to 100000.
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = ranges::clients)]
     clients: Option<usize>,
-    /// Run for this long, seconds.
-    #[arg(long, value_name = "SECONDS", conflicts_with = "count")]
+    /// Run for this long, seconds, from 1 to 86400.
+    #[arg(long, value_name = "SECONDS", conflicts_with = "count", allow_negative_numbers = true, value_parser = ranges::duration_s)]
     duration: Option<f64>,
-    /// Send this many requests (default 10000 without --duration).
-    #[arg(long, value_name = "N")]
+    /// Send this many requests, from 1 to 10000000 (default 10000 without --duration).
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = ranges::load_count)]
     count: Option<u64>,
-    /// Seed of the demand.
-    #[arg(long, default_value_t = 1)]
+    /// Seed of the demand, a whole number from 0 to 18446744073709551615.
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = ranges::seed)]
     seed: u64,
     /// Each departure is the service's now at send time plus a uniform lead in [A, B]
-    /// minutes.
-    #[arg(long, value_name = "A:B", default_value = "1:1440")]
-    lead_min: String,
+    /// minutes, each from 0 to 43200 (30 days).
+    #[arg(long, value_name = "A:B", default_value = "1:1440", allow_hyphen_values = true, value_parser = parse_lead)]
+    lead_min: (Millis, Millis),
     /// Origin–destination rule.
     #[arg(long, value_enum, default_value_t = OdArg::Uniform)]
     od: OdArg,
@@ -67,11 +68,11 @@ pub struct LoadArgs {
     #[arg(long, value_name = "PREFIX")]
     id_prefix: Option<String>,
     /// Open loop: most requests in flight at once (a request due beyond it waits and is
-    /// counted). Paced runs have --clients in flight at most.
-    #[arg(long, value_name = "N", default_value_t = muse_load::config::DEFAULT_MAX_IN_FLIGHT, requires = "rate", conflicts_with = "clients")]
+    /// counted), from 1 to 1000000. Paced runs have --clients in flight at most.
+    #[arg(long, value_name = "N", default_value_t = muse_load::config::DEFAULT_MAX_IN_FLIGHT, requires = "rate", conflicts_with = "clients", allow_negative_numbers = true, value_parser = ranges::max_in_flight)]
     max_in_flight: usize,
-    /// Per-request timeout, seconds.
-    #[arg(long, value_name = "SECONDS", default_value_t = 30.0)]
+    /// Per-request timeout, seconds, from 0.1 to 86400.
+    #[arg(long, value_name = "SECONDS", default_value_t = 30.0, allow_negative_numbers = true, value_parser = ranges::timeout_s)]
     timeout: f64,
 }
 
@@ -95,7 +96,7 @@ impl LoadArgs {
             (None, None) => Stop::Count(10_000),
         };
         c.seed = self.seed;
-        c.lead = lead(&self.lead_min)?;
+        c.lead = self.lead_min;
         c.od = match self.od {
             OdArg::Uniform => OdChoice::Uniform,
             OdArg::InRange => OdChoice::InRange,
@@ -114,18 +115,21 @@ fn seconds(name: &str, s: f64) -> anyhow::Result<Duration> {
         .with_context(|| format!("{name} must be a positive number of seconds, got {s}"))
 }
 
-/// `A:B` (or `A`) minutes.
-fn lead(text: &str) -> anyhow::Result<(Millis, Millis)> {
+/// `--lead-min A:B` (or `A`): minutes from 0 to [`MAX_LEAD_MIN`], `A <= B`.
+fn parse_lead(text: &str) -> Result<(Millis, Millis), String> {
     let (a, b) = text.split_once(':').unwrap_or((text, text));
-    let minutes = |v: &str| -> anyhow::Result<Millis> {
-        let m: f64 = v
-            .trim()
-            .parse()
-            .ok()
-            .with_context(|| format!("--lead-min {text}: `{v}` is not a number of minutes"))?;
-        Millis::from_secs_f64(m * 60.0).with_context(|| format!("--lead-min {text}"))
+    let minutes = |v: &str| -> Result<Millis, String> {
+        let m = ranges::in_range(v, 0.0, MAX_LEAD_MIN, "a number of minutes")
+            .map_err(|e| format!("`{}`: {e}", v.trim()))?;
+        Millis::from_secs_f64(m * 60.0).map_err(|e| e.to_string())
     };
-    Ok((minutes(a)?, minutes(b)?))
+    let (a, b) = (minutes(a)?, minutes(b)?);
+    if b < a {
+        return Err(format!(
+            "A:B must have A <= B, got {text}: a lead of at least A and at most B minutes"
+        ));
+    }
+    Ok((a, b))
 }
 
 /// Runs `muse load`; exits 1 if the verifier finds a violation, 2 if the service cannot be
@@ -286,14 +290,21 @@ mod tests {
     #[test]
     fn lead_ranges() {
         assert_eq!(
-            lead("1:1440").unwrap(),
+            parse_lead("1:1440").unwrap(),
             (Millis::from_mins(1), Millis::from_mins(1_440))
         );
         assert_eq!(
-            lead("0.5").unwrap(),
+            parse_lead("0.5").unwrap(),
             (Millis::from_secs(30), Millis::from_secs(30))
         );
-        assert!(lead("a:2").is_err());
-        assert!(lead("-1:2").is_err());
+        for bad in ["a:2", "-1:2", "1:NaN", "0:43201"] {
+            assert!(
+                parse_lead(bad)
+                    .unwrap_err()
+                    .ends_with("must be a number of minutes from 0 to 43200"),
+                "{bad}"
+            );
+        }
+        assert!(parse_lead("5:1").unwrap_err().contains("A <= B"));
     }
 }

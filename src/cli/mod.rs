@@ -7,6 +7,7 @@ mod demand;
 mod load;
 mod plan;
 mod progress;
+mod ranges;
 mod serve;
 mod simulate;
 mod study;

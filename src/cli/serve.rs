@@ -27,6 +27,7 @@ use muse_service::state::{Clock, ServiceWorld};
 use muse_service::{Options, launch};
 
 use super::common::{FlightArgs, WorldArgs};
+use super::ranges;
 
 /// What `muse serve --help` says after the options.
 const ROUTES_HELP: &str = "\
@@ -71,8 +72,8 @@ pub struct ServeArgs {
     /// at real speed from there. For demonstrations and tests.
     #[arg(long, value_name = "TIME")]
     clock: Option<String>,
-    /// Bookings open this many days ahead of now.
-    #[arg(long, value_name = "DAYS", default_value_t = 30)]
+    /// Bookings open this many days ahead of now, from 1 to 3650.
+    #[arg(long, value_name = "DAYS", default_value_t = 30, allow_negative_numbers = true, value_parser = ranges::booking_horizon_days)]
     booking_horizon_days: u32,
     /// Convert the data folder's log written by an earlier version (`muse.log`) into the
     /// store and exit, without serving (`muse serve` also converts it at start). The log is
@@ -84,38 +85,32 @@ pub struct ServeArgs {
     /// it is whole, 2 naming the first damage.
     #[arg(long, conflicts_with = "import_log")]
     check_store: bool,
-    /// Largest request body, KiB (larger: 413).
-    #[arg(long, value_name = "KIB", default_value_t = 16)]
+    /// Largest request body, KiB, from 1 to 1024 (larger: 413).
+    #[arg(long, value_name = "KIB", default_value_t = 16, allow_negative_numbers = true, value_parser = ranges::max_body_kib)]
     max_body_kib: usize,
-    /// Requests per second allowed per token (0: no limit; over it: 429).
-    #[arg(long, value_name = "N", default_value_t = 20_000.0)]
+    /// Requests per second allowed per token, from 0 to 1000000 (0: no limit; over it: 429).
+    #[arg(long, value_name = "N", default_value_t = 20_000.0, allow_negative_numbers = true, value_parser = ranges::rate_limit)]
     rate_limit: f64,
-    /// Burst of requests allowed above the rate, per token.
-    #[arg(long, value_name = "N", default_value_t = 40_000.0)]
+    /// Burst of requests allowed above the rate, per token, from 1 to 1000000.
+    #[arg(long, value_name = "N", default_value_t = 40_000.0, allow_negative_numbers = true, value_parser = ranges::burst)]
     burst: f64,
     /// Seconds a client has, from the first byte of a request, to send all its headers
-    /// (slower clients are disconnected).
-    #[arg(long, value_name = "S", default_value = "10", value_parser = http::parse_timeout)]
+    /// (slower clients are disconnected), from 0.1 to 86400.
+    #[arg(long, value_name = "S", default_value = "10", allow_negative_numbers = true, value_parser = http::parse_timeout)]
     header_timeout_s: Duration,
-    /// Seconds a client has, after the headers, to send the body of a POST (later: 408).
-    #[arg(long, value_name = "S", default_value = "30", value_parser = http::parse_timeout)]
+    /// Seconds a client has, after the headers, to send the body of a POST (later: 408), from
+    /// 0.1 to 86400.
+    #[arg(long, value_name = "S", default_value = "30", allow_negative_numbers = true, value_parser = http::parse_timeout)]
     body_timeout_s: Duration,
     /// Seconds a connection may stay open with no request in progress (an event stream is a
-    /// request in progress).
-    #[arg(long, value_name = "S", default_value = "60", value_parser = http::parse_timeout)]
+    /// request in progress), from 0.1 to 86400.
+    #[arg(long, value_name = "S", default_value = "60", allow_negative_numbers = true, value_parser = http::parse_timeout)]
     idle_timeout_s: Duration,
-    /// Most connections open at once, lowered to what the open-file limit allows (the soft
-    /// limit is raised to the hard one first); connections above it are answered 503.
-    #[arg(long, value_name = "N", default_value = "10000", value_parser = parse_connections)]
+    /// Most connections open at once, from 1 to 1000000, lowered to what the open-file limit
+    /// allows (the soft limit is raised to the hard one first); connections above it are
+    /// answered 503.
+    #[arg(long, value_name = "N", default_value = "10000", allow_negative_numbers = true, value_parser = ranges::max_connections)]
     max_connections: usize,
-}
-
-/// `--max-connections`: a whole number, at least 1.
-fn parse_connections(text: &str) -> Result<usize, String> {
-    match text.trim().parse::<usize>() {
-        Ok(n) if n >= 1 => Ok(n),
-        _ => Err("must be a whole number of connections, at least 1".into()),
-    }
 }
 
 /// Runs `muse serve` until the process is stopped (Ctrl-C or SIGTERM stop it cleanly; any

@@ -16,6 +16,7 @@ use muse_sim::sweep::{
 
 use super::common::{FlightArgs, World, WorldArgs, write_atomically};
 use super::demand::DemandArgs;
+use super::ranges::{self, MAX_COUNTS, MAX_REQUESTS, MAX_SWEEP_DAYS};
 use super::study::Study;
 use super::sweep_lead::LeadSweep;
 use super::sweep_shard::{ShardInfo, run_shard};
@@ -46,21 +47,22 @@ pub struct SweepArgs {
     /// Run only shard `K` of `N` (0-based: runs `K`, `K+N`, … in run order), seeds unchanged,
     /// and write `DIR/shard.json`; `muse sweep merge` joins the shards. For array jobs:
     /// Slurm `--shard $SLURM_ARRAY_TASK_ID/N`, Kubernetes `--shard $JOB_COMPLETION_INDEX/N`.
-    #[arg(long, value_name = "K/N")]
+    #[arg(long, value_name = "K/N", allow_hyphen_values = true)]
     pub(super) shard: Option<String>,
-    /// Request counts: `START:END:STEP` or a comma-separated list.
-    #[arg(long, default_value = "1000:10000:1000")]
+    /// Request counts: `START:END:STEP` or a comma-separated list; each from 1 to 10000000,
+    /// at most 1000 counts, and at most 1000000 days (counts × repetitions).
+    #[arg(long, default_value = "1000:10000:1000", allow_hyphen_values = true)]
     pub(super) counts: String,
-    /// Repetitions per count, each with its own seed.
-    #[arg(long, default_value_t = 100)]
+    /// Repetitions per count, each with its own seed, from 1 to 10000.
+    #[arg(long, default_value_t = 100, allow_negative_numbers = true, value_parser = ranges::reps)]
     pub(super) reps: usize,
     /// Compare scenarios on the same seeds; repeat to combine (except `announce-lead`).
     #[arg(long, value_enum)]
     pub(super) vary: Vec<Vary>,
     /// `--vary announce-lead`: the leads to compare, minutes between a zone's announcement and
-    /// the start of its first active window on the scenario's day, comma-separated
-    /// [default: 0,15,30,60,120].
-    #[arg(long, value_name = "MIN,...")]
+    /// the start of its first active window on the scenario's day, comma-separated, each
+    /// from 0 to 43200, at most 100 [default: 0,15,30,60,120].
+    #[arg(long, value_name = "MIN,...", allow_hyphen_values = true)]
     pub(super) leads: Option<String>,
     /// `--vary announce-lead`: zone files (ED-318/ED-269) whose zones are announced, each
     /// `lead` before its first window (their own announcement instants are replaced); repeat
@@ -69,11 +71,11 @@ pub struct SweepArgs {
     #[arg(long, value_name = "FILE")]
     pub(super) announce_zones: Vec<PathBuf>,
     /// `--vary battery-swap`: the swap times to compare with single legs, minutes,
-    /// comma-separated [default: 2,5,10].
-    #[arg(long, value_name = "MIN,...")]
+    /// comma-separated, each from 0 to 1440, at most 100 [default: 2,5,10].
+    #[arg(long, value_name = "MIN,...", allow_hyphen_values = true)]
     pub(super) swap_min: Option<String>,
-    /// Worker threads (default: all cores).
-    #[arg(long)]
+    /// Worker threads, from 1 to 1024 (default: all cores).
+    #[arg(long, allow_negative_numbers = true, value_parser = ranges::threads)]
     threads: Option<usize>,
     /// Print what would run — the sweep's identity, its runs and requests, the shard's share,
     /// the command line it stands for — and exit without running.
@@ -90,32 +92,51 @@ pub struct SweepArgs {
     pub(super) out: PathBuf,
 }
 
-/// Parses `START:END:STEP` or `a,b,c`.
+/// Parses `START:END:STEP` or `a,b,c`: at most [`MAX_COUNTS`] counts, each from 1 to
+/// [`MAX_REQUESTS`] (checked before the list is made).
 pub(super) fn parse_counts(text: &str) -> anyhow::Result<Vec<usize>> {
     let bad = || {
         anyhow::anyhow!(
-            "--counts `{text}`: expected START:END:STEP or a comma-separated list of positive numbers"
+            "--counts `{text}`: expected START:END:STEP or a comma-separated list of counts, \
+             each from 1 to {MAX_REQUESTS}, at most {MAX_COUNTS} counts"
         )
     };
+    let count = |x: &str| {
+        x.trim()
+            .parse()
+            .ok()
+            .filter(|n| (1..=MAX_REQUESTS).contains(n))
+            .ok_or_else(bad)
+    };
     let counts: Vec<usize> = if let [a, b, s] = text.split(':').collect::<Vec<_>>()[..] {
-        let (a, b, s): (usize, usize, usize) = (
-            a.trim().parse().map_err(|_| bad())?,
-            b.trim().parse().map_err(|_| bad())?,
-            s.trim().parse().map_err(|_| bad())?,
-        );
-        if s == 0 || a > b {
+        let (a, b, s): (usize, usize, usize) = (count(a)?, count(b)?, count(s)?);
+        if a > b || (b - a) / s >= MAX_COUNTS {
             return Err(bad());
         }
         (a..=b).step_by(s).collect()
     } else {
-        text.split(',')
-            .map(|x| x.trim().parse().map_err(|_| bad()))
+        let items: Vec<&str> = text.split(',').collect();
+        if items.len() > MAX_COUNTS {
+            return Err(bad());
+        }
+        items
+            .into_iter()
+            .map(count)
             .collect::<anyhow::Result<_>>()?
     };
-    if counts.is_empty() || counts.contains(&0) {
-        return Err(bad());
-    }
     Ok(counts)
+}
+
+/// Refuses a sweep of more than [`MAX_SWEEP_DAYS`] days (counts × repetitions).
+pub(super) fn check_days(counts: usize, reps: usize) -> anyhow::Result<()> {
+    let days = counts.saturating_mul(reps);
+    if days > MAX_SWEEP_DAYS {
+        anyhow::bail!(
+            "--counts and --reps: {counts} counts × {reps} repetitions = {days} days, more than \
+             the {MAX_SWEEP_DAYS} a sweep runs"
+        );
+    }
+    Ok(())
 }
 
 /// Runs `muse sweep`; `matches` are its own, to tell what was given beside `--study`.
@@ -262,9 +283,7 @@ pub(super) fn spec_of(args: &SweepArgs) -> anyhow::Result<(World, SweepSpec)> {
     let base = args.flight.params()?;
     let world = args.world.load()?;
     let counts = parse_counts(&args.counts)?;
-    if args.reps == 0 {
-        anyhow::bail!("--reps must be at least 1");
-    }
+    check_days(counts.len(), args.reps)?;
     let demand = args.demand.spec(&world, args.flight.range)?;
     let spec = SweepSpec {
         counts,
@@ -409,7 +428,7 @@ pub(super) fn print_table(rows: &[SummaryRow]) {
 
 #[cfg(test)]
 mod tests {
-    use super::parse_counts;
+    use super::{check_days, parse_counts};
 
     #[test]
     fn counts() {
@@ -418,8 +437,40 @@ mod tests {
             vec![1000, 2000, 3000]
         );
         assert_eq!(parse_counts("5, 10").unwrap(), vec![5, 10]);
-        for bad in ["", "1:2", "3:1:1", "1:5:0", "a,b", "0,5"] {
-            assert!(parse_counts(bad).is_err(), "{bad}");
+        for bad in [
+            "",
+            "1:2",
+            "3:1:1",
+            "1:5:0",
+            "a,b",
+            "0,5",
+            "-5",
+            "10000001",
+            "1:2000000000:1",
+            "1:1001:1",
+        ] {
+            let e = parse_counts(bad).unwrap_err().to_string();
+            assert!(
+                e.ends_with("each from 1 to 10000000, at most 1000 counts"),
+                "{bad}: {e}"
+            );
         }
+        assert_eq!(parse_counts("1:1000:1").unwrap().len(), 1_000);
+        assert_eq!(
+            parse_counts(&vec!["5"; 1_001].join(","))
+                .unwrap_err()
+                .to_string(),
+            format!(
+                "--counts `{}`: expected START:END:STEP or a comma-separated list of counts, \
+                 each from 1 to 10000000, at most 1000 counts",
+                vec!["5"; 1_001].join(",")
+            )
+        );
+        assert!(check_days(100, 10_000).is_ok());
+        assert_eq!(
+            check_days(1_000, 10_000).unwrap_err().to_string(),
+            "--counts and --reps: 1000 counts × 10000 repetitions = 10000000 days, more than \
+             the 1000000 a sweep runs"
+        );
     }
 }

@@ -18,8 +18,9 @@ use muse_sim::stats::MeanCi;
 
 use super::common::{World, write_atomically};
 use super::demand::BookingLeadArg;
+use super::ranges::{MAX_LEAD_MIN, MAX_LIST};
 use super::study::Study;
-use super::sweep::{SweepArgs, parse_counts, runs_bar};
+use super::sweep::{SweepArgs, check_days, parse_counts, runs_bar};
 
 /// The leads compared unless `--leads` is given, minutes.
 const DEFAULT_LEADS: &str = "0,15,30,60,120";
@@ -39,22 +40,32 @@ const FILES: [&str; 5] = [
     "announce_lead_extra_delay.svg",
 ];
 
-/// Parses `--leads`: comma-separated minutes `>= 0`, sorted, duplicates dropped.
+/// Parses `--leads`: at most [`MAX_LIST`] comma-separated minutes from 0 to
+/// [`MAX_LEAD_MIN`], sorted, duplicates dropped.
 fn parse_leads(text: &str) -> anyhow::Result<Vec<Millis>> {
+    let parts: Vec<&str> = text.split(',').collect();
+    if parts.len() > MAX_LIST {
+        anyhow::bail!(
+            "--leads: {} leads, more than the {MAX_LIST} a sweep compares",
+            parts.len()
+        );
+    }
     let mut leads = Vec::new();
-    for part in text.split(',') {
+    for part in parts {
         let m: f64 = part.trim().parse().map_err(|_| {
             anyhow::anyhow!(
-                "--leads `{text}`: `{}` is not a number of minutes; expected e.g. 0,15,30,60,120",
+                "--leads `{text}`: `{}` is not a number of minutes from 0 to {MAX_LEAD_MIN}; \
+                 expected e.g. 0,15,30,60,120",
                 part.trim()
             )
         })?;
-        let lead = Millis::from_secs_f64(m * 60.0).map_err(|_| {
-            anyhow::anyhow!(
-                "--leads `{text}`: {m} minutes: a lead must be a number of minutes >= 0"
-            )
-        })?;
-        leads.push(lead);
+        if !(0.0..=MAX_LEAD_MIN).contains(&m) {
+            anyhow::bail!(
+                "--leads `{text}`: {m} minutes: a lead must be a number of minutes from 0 to \
+                 {MAX_LEAD_MIN}"
+            );
+        }
+        leads.push(Millis::from_secs_f64(m * 60.0)?);
     }
     leads.sort_unstable();
     leads.dedup();
@@ -101,9 +112,7 @@ fn split_zones(
 /// The sweep the arguments describe, and the booking note for messages.
 fn spec(args: &SweepArgs, world: &World) -> anyhow::Result<(LeadSweepSpec, String)> {
     let counts = parse_counts(&args.counts)?;
-    if args.reps == 0 {
-        anyhow::bail!("--reps must be at least 1");
-    }
+    check_days(counts.len(), args.reps)?;
     let leads = parse_leads(args.leads.as_deref().unwrap_or(DEFAULT_LEADS))?;
     let (base_zones, announce) = split_zones(world, &args.announce_zones)?;
     let mut demand = args.demand.clone();
@@ -531,8 +540,11 @@ mod tests {
         for (bad, message) in [
             ("", "`` is not a number of minutes"),
             ("10,soon", "`soon` is not a number of minutes"),
-            ("-5", "-5 minutes: a lead must be a number of minutes >= 0"),
-            ("inf", "a lead must be a number of minutes >= 0"),
+            (
+                "-5",
+                "-5 minutes: a lead must be a number of minutes from 0 to 43200",
+            ),
+            ("inf", "a lead must be a number of minutes from 0 to 43200"),
         ] {
             let e = parse_leads(bad).unwrap_err().to_string();
             assert!(e.contains(message), "{bad}: {e}");

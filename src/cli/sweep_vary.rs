@@ -5,6 +5,7 @@ use muse_model::{EdgeRule, FlightParams, Millis};
 use muse_sim::sweep::Variant;
 
 use super::common::World;
+use super::ranges::MAX_LIST;
 
 /// A policy to compare.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -40,14 +41,30 @@ fn zone_label(world: &World) -> String {
 
 /// Parses `--swap-min`: positive minutes, comma-separated.
 pub(super) fn parse_swap_times(text: &str) -> anyhow::Result<Vec<Millis>> {
-    let bad = || anyhow::anyhow!("--swap-min `{text}`: expected comma-separated minutes >= 0");
-    text.split(',')
+    let bad = || {
+        anyhow::anyhow!(
+            "--swap-min `{text}`: expected at most {MAX_LIST} comma-separated minutes, each \
+             from 0 to {MAX_SWAP_MIN}"
+        )
+    };
+    let parts: Vec<&str> = text.split(',').collect();
+    if parts.len() > MAX_LIST {
+        return Err(bad());
+    }
+    parts
+        .into_iter()
         .map(|x| {
             let m: f64 = x.trim().parse().map_err(|_| bad())?;
+            if !(0.0..=MAX_SWAP_MIN).contains(&m) {
+                return Err(bad());
+            }
             Millis::from_secs_f64(m * 60.0).map_err(|_| bad())
         })
         .collect()
 }
+
+/// The longest swap time `--swap-min` compares: a day, as `--battery-swap-s`.
+const MAX_SWAP_MIN: f64 = 1_440.0;
 
 /// The settings `vary` compares, applied to `cur`, with their labels.
 fn options(

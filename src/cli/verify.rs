@@ -22,8 +22,8 @@ pub struct VerifyArgs {
     world: WorldArgs,
     #[command(flatten)]
     flight: FlightArgs,
-    /// Print at most this many violations (all are counted).
-    #[arg(long, default_value_t = 50)]
+    /// Print at most this many violations (all are counted), from 0 to 1000000.
+    #[arg(long, default_value_t = 50, allow_negative_numbers = true, value_parser = super::ranges::max_listed)]
     max_listed: usize,
 }
 

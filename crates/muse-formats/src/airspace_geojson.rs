@@ -118,6 +118,14 @@ pub fn read_airspace(text: &str, file: &str) -> Result<Airspace, InputError> {
         };
         let a = lookup(&from, "from")?;
         let b = lookup(&to, "to")?;
+        if a != b {
+            // (A self-loop is refused below, by the airspace, naming `to`.)
+            let nodes = [
+                (from.as_str(), nodes[a.index()].pos),
+                (to.as_str(), nodes[b.index()].pos),
+            ];
+            check_corridor(&ctx, ends, nodes, length_m)?;
+        }
         let length_m = length_m.unwrap_or_else(|| ends[0].geodesic_distance_m(ends[1]));
         edges.push(Edge {
             id,
@@ -128,6 +136,125 @@ pub fn read_airspace(text: &str, file: &str) -> Result<Airspace, InputError> {
         edge_feature.push(index);
     }
     Airspace::new(nodes, edges).map_err(|e| airspace_error(file, &e, &node_feature, &edge_feature))
+}
+
+/// How far (metres, geodesic) a corridor's LineString position may lie from the node it
+/// names: its positions are its nodes' (`from` first), as written to 7 decimals (about 1 cm).
+pub const END_TOLERANCE_M: f64 = 1.0;
+
+/// A `length_m` may be shorter than the geodesic distance between the corridor's nodes by
+/// this many metres, or by [`LENGTH_TOLERANCE_SHARE`] of the distance if that is more.
+pub const LENGTH_TOLERANCE_M: f64 = 1.0;
+
+/// See [`LENGTH_TOLERANCE_M`]: 0.1 %.
+pub const LENGTH_TOLERANCE_SHARE: f64 = 0.001;
+
+/// A `length_m` is at most this many times the geodesic distance between the corridor's
+/// nodes, or [`MIN_LONGEST_LENGTH_M`] if that is more.
+pub const MAX_LENGTH_FACTOR: f64 = 10.0;
+
+/// See [`MAX_LENGTH_FACTOR`]: 1 km.
+pub const MIN_LONGEST_LENGTH_M: f64 = 1_000.0;
+
+/// The lengths `length_m` may take for a corridor whose nodes are `straight_m` metres apart
+/// (geodesic): from the distance less the tolerance (1 m, or 0.1 % if more) to 10 times the
+/// distance (or 1 km if more). A corridor is flown in a straight line: a length below the
+/// distance between its ends is impossible, and one far above it a mistake (a unit, a typo).
+///
+/// ```
+/// use muse_formats::airspace_geojson::length_range_m;
+/// assert_eq!(length_range_m(2_000.0), (1_998.0, 20_000.0));
+/// assert_eq!(length_range_m(50.0), (49.0, 1_000.0));
+/// ```
+pub fn length_range_m(straight_m: f64) -> (f64, f64) {
+    let tolerance = (straight_m * LENGTH_TOLERANCE_SHARE).max(LENGTH_TOLERANCE_M);
+    (
+        (straight_m - tolerance).max(0.0),
+        (straight_m * MAX_LENGTH_FACTOR).max(MIN_LONGEST_LENGTH_M),
+    )
+}
+
+/// Checks a corridor against its nodes (name and position, `from` then `to`): its
+/// LineString's `ends` are theirs, and a given `length_m` fits the distance between them.
+fn check_corridor(
+    ctx: &FeatureCtx<'_>,
+    ends: [LonLat; 2],
+    nodes: [(&str, LonLat); 2],
+    length_m: Option<f64>,
+) -> Result<(), InputError> {
+    for (k, (end, (name, pos))) in ends.into_iter().zip(nodes).enumerate() {
+        check_end(ctx, k, end, name, pos)?;
+    }
+    match length_m {
+        Some(l) => check_length(
+            ctx,
+            l,
+            nodes[0].0,
+            nodes[1].0,
+            nodes[0].1.geodesic_distance_m(nodes[1].1),
+        ),
+        None => Ok(()),
+    }
+}
+
+/// Checks that position `k` of a corridor's LineString is (within [`END_TOLERANCE_M`]) the
+/// position of the node `name` it joins there.
+fn check_end(
+    ctx: &FeatureCtx<'_>,
+    k: usize,
+    end: LonLat,
+    name: &str,
+    node: LonLat,
+) -> Result<(), InputError> {
+    let off = end.geodesic_distance_m(node);
+    if off <= END_TOLERANCE_M {
+        return Ok(());
+    }
+    let which = if k == 0 { "from" } else { "to" };
+    Err(ctx.err(
+        &format!("geometry.coordinates[{k}]"),
+        format!(
+            "[{}, {}] is {off:.1} m from node `{name}` ([{}, {}]), the corridor's `{which}`: a \
+             corridor's positions are those of its nodes, `from` then `to`, within \
+             {END_TOLERANCE_M} m",
+            end.lon, end.lat, node.lon, node.lat
+        ),
+    ))
+}
+
+/// Checks a given `length_m` against [`length_range_m`]: finite, above 0 and within the range.
+fn check_length(
+    ctx: &FeatureCtx<'_>,
+    length_m: f64,
+    from: &str,
+    to: &str,
+    straight_m: f64,
+) -> Result<(), InputError> {
+    let (lo, hi) = length_range_m(straight_m);
+    if length_m > 0.0 && (lo..=hi).contains(&length_m) {
+        return Ok(());
+    }
+    Err(ctx.err(
+        "length_m",
+        format!(
+            "{} m is not a possible length: `{from}` and `{to}` are {straight_m:.3} m \
+             apart (geodesic), so the corridor's length must be from {lo:.3} to {hi:.3} m (at \
+             least that distance, less {LENGTH_TOLERANCE_M} m or 0.1 % if more; at most \
+             {MAX_LENGTH_FACTOR} times it, or {} km if more)",
+            show_number(length_m),
+            MIN_LONGEST_LENGTH_M / 1_000.0
+        ),
+    ))
+}
+
+/// A number as a reader would write it: plainly, or with an exponent when very large or
+/// small (`1e300`, not 301 digits).
+fn show_number(x: f64) -> String {
+    if x != 0.0 && !(1e-4..1e15).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
 }
 
 /// Reads an airspace GeoJSON file.
@@ -388,9 +515,24 @@ mod tests {
         )
     }
 
+    /// The longitude of the test nodes `A`, `B`, `C` (1,113 m apart); others at 103.83.
+    fn lon(id: &str) -> f64 {
+        match id {
+            "A" => 103.8,
+            "B" => 103.81,
+            "C" => 103.82,
+            _ => 103.83,
+        }
+    }
+
     fn line(from: &str, to: &str, extra: &str) -> String {
+        line_at(from, to, [lon(from), lon(to)], extra)
+    }
+
+    fn line_at(from: &str, to: &str, lons: [f64; 2], extra: &str) -> String {
+        let [a, b] = lons;
         format!(
-            r#"{{"type": "Feature", "geometry": {{"type": "LineString", "coordinates": [[103.8, 1.3], [103.81, 1.3]]}}, "properties": {{"from": "{from}", "to": "{to}"{extra}}}}}"#
+            r#"{{"type": "Feature", "geometry": {{"type": "LineString", "coordinates": [[{a}, 1.3], [{b}, 1.3]]}}, "properties": {{"from": "{from}", "to": "{to}"{extra}}}}}"#
         )
     }
 
@@ -415,7 +557,7 @@ mod tests {
                 point("B", 103.81),
                 point("C", 103.82),
                 line("A", "B", ""),
-                line("B", "C", r#", "length_m": 5.5"#),
+                line("B", "C", r#", "length_m": 1500.5"#),
             ]),
             "t",
         )
@@ -425,7 +567,7 @@ mod tests {
             "{}",
             a.edges()[0].length_m
         );
-        assert_eq!(a.edges()[1].length_m, 5.5);
+        assert_eq!(a.edges()[1].length_m, 1_500.5);
     }
 
     #[test]
@@ -434,7 +576,7 @@ mod tests {
             &collection(&[
                 point("A", 103.8),
                 point("B", 103.812_345_678_9),
-                line("A", "B", ""),
+                line_at("A", "B", [103.8, 103.812_345_678_9], ""),
             ]),
             "t",
         )
@@ -443,6 +585,97 @@ mod tests {
         let twice = write_airspace(&read_airspace(&once, "t").unwrap());
         assert_eq!(once, twice);
         assert!(once.contains("103.8123457"), "{once}");
+    }
+
+    #[test]
+    fn lengths_must_fit_the_distance_between_the_nodes() {
+        let with = |length: &str| {
+            read_airspace(
+                &collection(&[
+                    point("A", 103.8),
+                    point("B", 103.81),
+                    line("A", "B", &format!(r#", "length_m": {length}"#)),
+                ]),
+                "air.geojson",
+            )
+            .map(|a| a.edges()[0].length_m)
+            .map_err(|e| e.to_string())
+        };
+        // A and B are 1,112.9 m apart: 1,111.8 m to 11,129.1 m is accepted (1.1 m below, 10×).
+        for ok in ["1111.8", "1112.91", "1500", "11129"] {
+            assert!(with(ok).is_ok(), "{ok}: {:?}", with(ok));
+        }
+        for bad in ["1", "1000", "1111.7", "11130", "1e300"] {
+            let e = with(bad).unwrap_err();
+            assert!(
+                e == format!(
+                    "air.geojson: feature 2 (`A-B`): field `length_m`: {} m is not a possible \
+                     length: `A` and `B` are 1112.910 m apart (geodesic), so the corridor's \
+                     length must be from 1111.797 to 11129.103 m (at least that distance, less \
+                     1 m or 0.1 % if more; at most 10 times it, or 1 km if more)",
+                    show_number(bad.parse::<f64>().unwrap())
+                ),
+                "{bad}: {e}"
+            );
+        }
+        // Zero and negative lengths are told the range too.
+        for bad in ["0", "-3"] {
+            assert!(
+                with(bad).unwrap_err().contains(&format!(
+                    "field `length_m`: {bad} m is not a possible length: `A` and `B` are"
+                )),
+                "{bad}"
+            );
+        }
+        // A length given for a corridor with far nodes (0.1 % of the distance is more than 1 m).
+        let far = read_airspace(
+            &collection(&[
+                point("A", 103.8),
+                point("D", 103.9),
+                line_at("A", "D", [103.8, 103.9], r#", "length_m": 11120"#),
+            ]),
+            "t",
+        );
+        assert!(far.is_ok(), "{far:?}");
+        assert_eq!(length_range_m(50.0), (49.0, 1_000.0));
+        assert_eq!(length_range_m(0.5), (0.0, 1_000.0));
+        assert_eq!(show_number(1e300), "1e300");
+        assert_eq!(show_number(1_500.5), "1500.5");
+    }
+
+    #[test]
+    fn corridor_positions_must_be_its_nodes() {
+        let e = err(&[
+            point("A", 103.8),
+            point("B", 103.81),
+            line_at("A", "B", [103.8, 103.85], ""),
+        ]);
+        assert!(
+            e.starts_with(
+                "air.geojson: feature 2 (`A-B`): field `geometry.coordinates[1]`: [103.85, 1.3] \
+                 is 4451.6 m from node `B` ([103.81, 1.3]), the corridor's `to`"
+            ) && e.ends_with("within 1 m"),
+            "{e}"
+        );
+        // Reversed positions: `from` first.
+        assert!(
+            err(&[
+                point("A", 103.8),
+                point("B", 103.81),
+                line_at("A", "B", [103.81, 103.8], ""),
+            ])
+            .contains("field `geometry.coordinates[0]`")
+        );
+        // Within 1 m (about 0.000009 degrees) is the node.
+        let near = read_airspace(
+            &collection(&[
+                point("A", 103.8),
+                point("B", 103.81),
+                line_at("A", "B", [103.800_005, 103.81], ""),
+            ]),
+            "t",
+        );
+        assert!(near.is_ok(), "{near:?}");
     }
 
     #[test]
@@ -469,7 +702,7 @@ mod tests {
                 line("A", "B", r#", "length_m": 0"#)
             ])
             .starts_with(
-                "air.geojson: feature 2 (`A-B`): field `length_m`: edge 0 (`A-B`) has length 0 m"
+                "air.geojson: feature 2 (`A-B`): field `length_m`: 0 m is not a possible length"
             )
         );
         assert!(

@@ -132,10 +132,10 @@ mod tests {
         read_airspace(
             r#"{"type": "FeatureCollection", "features": [
   {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.8, 1.3]}, "properties": {"id": "A", "kind": "station"}},
-  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.81, 1.3]}, "properties": {"id": "B", "kind": "station"}},
-  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.82, 1.3]}, "properties": {"id": "C", "kind": "station"}},
-  {"type": "Feature", "geometry": {"type": "LineString", "coordinates": [[103.8, 1.3], [103.81, 1.3]]}, "properties": {"from": "A", "to": "B", "length_m": 1000}},
-  {"type": "Feature", "geometry": {"type": "LineString", "coordinates": [[103.81, 1.3], [103.82, 1.3]]}, "properties": {"from": "B", "to": "C", "length_m": 1000}}]}"#,
+  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.8089, 1.3]}, "properties": {"id": "B", "kind": "station"}},
+  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.8178, 1.3]}, "properties": {"id": "C", "kind": "station"}},
+  {"type": "Feature", "geometry": {"type": "LineString", "coordinates": [[103.8, 1.3], [103.8089, 1.3]]}, "properties": {"from": "A", "to": "B", "length_m": 1000}},
+  {"type": "Feature", "geometry": {"type": "LineString", "coordinates": [[103.8089, 1.3], [103.8178, 1.3]]}, "properties": {"from": "B", "to": "C", "length_m": 1000}}]}"#,
             "a",
         )
         .unwrap()
@@ -196,14 +196,14 @@ mod tests {
         let coords = |i: usize| features[i]["geometry"]["coordinates"].clone();
         assert_eq!(
             coords(0),
-            json!([[103.8, 1.3, 0, 1.0], [103.81, 1.3, 0, 121.0]])
+            json!([[103.8, 1.3, 0, 1.0], [103.8089, 1.3, 0, 121.0]])
         );
         assert_eq!(
             coords(1),
             json!([
-                [103.81, 1.3, 0, 421.0],
-                [103.81, 1.3, 0, 423.0],
-                [103.82, 1.3, 0, 543.0]
+                [103.8089, 1.3, 0, 421.0],
+                [103.8089, 1.3, 0, 423.0],
+                [103.8178, 1.3, 0, 543.0]
             ])
         );
         let props = |i: usize| features[i]["properties"].clone();

@@ -19,14 +19,47 @@ pub mod zones;
 
 pub use error::{InputError, Location};
 
-/// Reads a whole file to a string, mapping I/O failures to an [`InputError`].
+/// Reads a whole file to a string, mapping I/O failures to an [`InputError`]. A file that is
+/// not UTF-8 is an error naming the line (and the byte in it) of the first bad byte.
 pub fn read_to_string(path: &std::path::Path) -> Result<String, InputError> {
-    std::fs::read_to_string(path).map_err(|e| {
+    let file = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| {
         InputError::new(
-            path.display().to_string(),
+            file.as_str(),
             Location::Whole,
             None,
             format!("cannot read: {e}"),
         )
-    })
+    })?;
+    String::from_utf8(bytes).map_err(|e| not_utf8(&file, e.as_bytes(), e.utf8_error()))
+}
+
+/// The error for text that is not UTF-8: the line of the first bad byte, the byte's place in
+/// the line (1-based) and its value.
+///
+/// ```
+/// let bytes = b"id,origin\nr\xe9,A\n";
+/// let e = std::str::from_utf8(bytes).unwrap_err();
+/// assert_eq!(
+///     muse_formats::not_utf8("r.csv", bytes, e).to_string(),
+///     "r.csv: line 2: byte 2 of the line, 0xE9, is not UTF-8: save the file as UTF-8"
+/// );
+/// ```
+pub fn not_utf8(file: &str, bytes: &[u8], e: std::str::Utf8Error) -> InputError {
+    let at = e.valid_up_to();
+    let before = &bytes[..at];
+    let line = before.split(|&b| b == b'\n').count();
+    let column = at
+        - before
+            .iter()
+            .rposition(|&b| b == b'\n')
+            .map_or(0, |i| i + 1)
+        + 1;
+    let byte = bytes.get(at).copied().unwrap_or_default();
+    InputError::new(
+        file,
+        Location::Line(line),
+        None,
+        format!("byte {column} of the line, 0x{byte:02X}, is not UTF-8: save the file as UTF-8"),
+    )
 }

@@ -11,7 +11,8 @@
 //! The header names exactly these columns: the four required ones and, optionally,
 //! `submitted`. They may come in any order; a missing required column, a column named twice,
 //! an unnamed column or any other column is an error on line 1 naming the column. Origin and
-//! destination must be distinct stations of the airspace; ids must be unique. Every error
+//! destination must be distinct stations of the airspace; ids must be unique and follow the
+//! service's rule ([`muse_model::request::ID_RULE`]). Every error
 //! names the file, the line (the header is line 1) and the field.
 //!
 //! [`write_requests`] writes the four required columns, and the `submitted` column only when
@@ -23,6 +24,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use jiff::civil::Date;
+use muse_model::request::{ID_RULE, valid_id};
 use muse_model::time::{TimeError, parse_clock};
 use muse_model::{Airspace, Instant, NodeId, Request, UtcOffset};
 
@@ -164,6 +166,12 @@ pub fn read_requests(
         let id = get(0);
         if id.is_empty() {
             return Err(err("id", "missing".into()));
+        }
+        if !valid_id(id) {
+            return Err(err(
+                "id",
+                format!("{id:?} is not a valid id: an id is {ID_RULE} (the service's rule too)"),
+            ));
         }
         if let Some(prev) = seen.insert(id.to_owned(), line) {
             return Err(err(
@@ -540,6 +548,31 @@ mod tests {
             "r.csv: line 3: field `id`: duplicate request id `r1` (first on line 2)"
         );
         assert_eq!(err(",A,B,08:00\n"), "r.csv: line 2: field `id`: missing");
+        // Ids follow the service's rule: what the API refuses, the file refuses too.
+        for (row, shown) in [
+            ("\"a,b\",A,B,08:00", r#""a,b""#),
+            ("\"say \"\"hi\"\"\",A,B,08:00", r#""say \"hi\"""#),
+            ("caf\u{e9},A,B,08:00", "\"caf\u{e9}\""),
+            ("a#2,A,B,08:00", r#""a#2""#),
+        ] {
+            assert_eq!(
+                err(&format!("r1,A,B,08:00\n{row}\n")),
+                format!(
+                    "r.csv: line 3: field `id`: {shown} is not a valid id: an id is 1 to 128 \
+                     characters among the ASCII letters and digits and `._~:-` (the service's \
+                     rule too)"
+                ),
+                "{row}"
+            );
+        }
+        assert!(err(&format!("{},A,B,08:00\n", "x".repeat(129))).contains("is not a valid id"));
+        assert!(
+            read(&format!(
+                "id,origin,destination,departure\n{},A,B,08:00\n",
+                "x".repeat(128)
+            ))
+            .is_ok()
+        );
         assert_eq!(
             err("r1,,B,08:00\n"),
             "r.csv: line 2: field `origin`: missing"

@@ -284,6 +284,8 @@ fn arb_daily() -> impl Strategy<Value = DailyWindow> {
         0..=86_400_000_i64,
         -18 * 60..=18 * 60_i32,
     )
+        // A window may end the next day (written with `overnight`), not when it starts.
+        .prop_filter("ends when it starts", |(_, start, end, _)| start != end)
         .prop_map(|(days, start, end, minutes)| DailyWindow {
             days,
             start: Millis(start),
@@ -316,7 +318,7 @@ fn arb_zone() -> impl Strategy<Value = Zone> {
             "REQ_AUTHORIZATION",
             "CONDITIONAL",
             "NO_RESTRICTION",
-            "X \"y\"",
+            "USPACE",
         ]),
         prop::option::of(arb_area()),
         prop::collection::vec("[A-Z0-9-]{1,6}", 0..3),

@@ -56,9 +56,7 @@ pub const MAX_PREFIX_LEN: usize = 100;
 pub fn valid_prefix(prefix: &str) -> bool {
     !prefix.is_empty()
         && prefix.len() <= MAX_PREFIX_LEN
-        && prefix
-            .bytes()
-            .all(|b| b.is_ascii_alphanumeric() || b"._~:-".contains(&b))
+        && prefix.bytes().all(muse_model::request::is_id_byte)
 }
 
 /// The default id prefix of a run: `load-s{seed}-{start in unix ms}`, distinct for every run

@@ -3,6 +3,33 @@
 use crate::ids::NodeId;
 use crate::time::Instant;
 
+/// Longest request id accepted, in a requests file as by the service's API (also the longest
+/// id of a zone announced to the service).
+pub const MAX_ID_LEN: usize = 128;
+
+/// The rule [`valid_id`] checks, for messages and documentation.
+pub const ID_RULE: &str = "1 to 128 characters among the ASCII letters and digits and `._~:-`";
+
+/// Whether `b` may appear in an id: an ASCII letter or digit, or one of `._~:-` (the
+/// characters a URL path segment carries as they are; `#` is left for the service's store).
+pub fn is_id_byte(b: u8) -> bool {
+    b.is_ascii_alphanumeric() || b"._~:-".contains(&b)
+}
+
+/// Whether `id` is a valid request id ([`ID_RULE`]): the same rule for the requests CSV and
+/// the service's `POST /v1/flights`, so that any request of a file can also be sent to the
+/// service (its id names the flight in `/v1/flights/{id}`).
+///
+/// ```
+/// use muse_model::request::valid_id;
+/// assert!(valid_id("r-000042") && valid_id("a.b~c:d_e"));
+/// assert!(!valid_id("") && !valid_id("a b") && !valid_id("a#2") && !valid_id("a,b"));
+/// assert!(!valid_id("caf\u{e9}") && !valid_id("\"q\"") && !valid_id(&"x".repeat(129)));
+/// ```
+pub fn valid_id(id: &str) -> bool {
+    !id.is_empty() && id.len() <= MAX_ID_LEN && id.bytes().all(is_id_byte)
+}
+
 /// A delivery request: fly from `origin` to `destination`, taking off no earlier than
 /// `departure`. Origin and destination are distinct stations (checked by the readers).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -36,4 +63,16 @@ pub struct Request {
 /// ```
 pub fn sort_for_planning(requests: &mut [Request]) {
     requests.sort_by(|a, b| a.submitted.cmp(&b.submitted).then_with(|| a.id.cmp(&b.id)));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn id_rule_states_the_length() {
+        assert!(ID_RULE.starts_with(&format!("1 to {MAX_ID_LEN} characters")));
+        assert!(valid_id(&"x".repeat(MAX_ID_LEN)));
+        assert!(!valid_id(&"x".repeat(MAX_ID_LEN + 1)));
+    }
 }

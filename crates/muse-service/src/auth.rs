@@ -76,13 +76,14 @@ struct TokenEntry {
 /// Errors reading a tokens file.
 #[derive(Debug, thiserror::Error)]
 pub enum TokensError {
-    /// The file cannot be read.
-    #[error("{file}: {source}")]
+    /// The file cannot be read. (The I/O error is part of the message, not a `source`: a
+    /// chain would print it twice.)
+    #[error("{file}: cannot read: {error}")]
     Io {
         /// The file.
         file: String,
         /// The error.
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// The file is not a valid tokens file.
     #[error("{file}: {message}")]
@@ -208,9 +209,9 @@ impl Tokens {
 
 fn read_map(path: &Path) -> Result<HashMap<String, Caller>, TokensError> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| TokensError::Io {
+    let text = std::fs::read_to_string(path).map_err(|error| TokensError::Io {
         file: file.clone(),
-        source,
+        error,
     })?;
     parse_map(&text, &file)
 }

@@ -11,23 +11,10 @@ use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Request, UtcOffs
 use muse_planner::Holding;
 use serde::Serialize;
 
-/// Longest client id (or announced zone id) accepted.
-pub const MAX_ID_LEN: usize = 128;
-
-/// Whether `id` is a valid client id: 1 to [`MAX_ID_LEN`] characters of letters, digits and
-/// `._~:-` (it names the flight in a URL path, and `#` is left for the store).
-///
-/// ```
-/// use muse_service::flights::valid_id;
-/// assert!(valid_id("r-000042") && !valid_id("") && !valid_id("a b") && !valid_id("a#2"));
-/// ```
-pub fn valid_id(id: &str) -> bool {
-    !id.is_empty()
-        && id.len() <= MAX_ID_LEN
-        && id
-            .bytes()
-            .all(|b| b.is_ascii_alphanumeric() || b"._~:-".contains(&b))
-}
+// The client id rule is shared with the requests file (`muse_model::request::valid_id`):
+// 1 to `MAX_ID_LEN` characters of letters, digits and `._~:-` (an id names the flight in a
+// URL path, and `#` is left for the store).
+pub use muse_model::request::{ID_RULE, MAX_ID_LEN, valid_id};
 
 /// The reason given for a flight cancelled by its operator.
 pub const CANCELLED_BY_OPERATOR: &str = "cancelled_by_operator";

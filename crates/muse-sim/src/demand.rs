@@ -116,7 +116,15 @@ pub enum DemandError {
         .0.max.as_secs_f64()
     )]
     BookingLead(BookingLead),
+    /// More requests than [`MAX_REQUESTS`].
+    #[error("{0} requests is more than a day of demand can hold: at most {MAX_REQUESTS}")]
+    TooMany(usize),
 }
+
+/// The most requests [`generate`] makes for one day (ten million: far beyond what any of the
+/// built-in airspaces can land in a day, and a few gigabytes of plans): more is refused before
+/// anything is allocated.
+pub const MAX_REQUESTS: usize = 10_000_000;
 
 /// The ordered station pairs a rule allows, in a fixed order (origin, then destination index).
 pub fn allowed_pairs(airspace: &Airspace, od: OdRule) -> Vec<(NodeId, NodeId)> {
@@ -178,6 +186,9 @@ pub fn allowed_pairs(airspace: &Airspace, od: OdRule) -> Vec<(NodeId, NodeId)> {
 pub fn generate(airspace: &Airspace, spec: &DemandSpec) -> Result<Vec<Request>, DemandError> {
     if spec.end <= spec.start {
         return Err(DemandError::EmptyWindow);
+    }
+    if spec.count > MAX_REQUESTS {
+        return Err(DemandError::TooMany(spec.count));
     }
     spec.booking_lead.check()?;
     let pairs = allowed_pairs(airspace, spec.od);
@@ -357,6 +368,16 @@ mod tests {
             booking_lead: BookingLead::NONE,
         };
         assert_eq!(generate(&air, &spec), Err(DemandError::EmptyWindow));
+        // Too many requests are refused before anything is allocated.
+        let huge = DemandSpec {
+            count: 2_000_000_000,
+            end: Instant(6),
+            ..spec
+        };
+        assert_eq!(
+            generate(&air, &huge),
+            Err(DemandError::TooMany(2_000_000_000))
+        );
         let od = OdRule::InRange {
             speed: Speed::PAPER,
             max_flight: Millis::from_secs(1),

@@ -119,7 +119,7 @@ fn errors_name_the_file_line_and_key() {
         ),
         (
             "title = \"t\"\n\n[sweep]\nreps = \"x\"\n",
-            "bad.toml:4: `reps`: invalid value 'x' for '--reps <REPS>': invalid digit found in string",
+            "bad.toml:4: `reps`: invalid value 'x' for '--reps <REPS>': must be a whole number of repetitions from 1 to 10000",
         ),
         (
             "title = \"t\"\n[sweep]\nvary = [\"zones\", \"nope\"]\n",

@@ -154,7 +154,7 @@ fn circle_extent(ctx: &Ctx<'_>, v: &Value, field: &str) -> Result<f64, InputErro
 /// with explicit elements only. Date-times are written in the offset of the period's first
 /// daily window (UTC when it has none; `announced` in the offset of the zone's first daily
 /// window, else UTC), clock times as `HH:MM:SS[.mmm]` with their offset, all seven days as
-/// `["ANY"]`.
+/// `["ANY"]`, and a daily window that ends the next day with `"overnight": true`.
 ///
 /// What is written is each zone's [`normalize`]d form: coordinates rounded to 7 decimals of a
 /// degree (about 1 cm, see [`COORDINATE_DECIMALS`](super::COORDINATE_DECIMALS)), days sorted,
@@ -261,6 +261,9 @@ struct DailyOut {
     day: Vec<&'static str>,
     start_time: String,
     end_time: String,
+    /// A window ending the next day says so (the reader requires it).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    overnight: bool,
 }
 
 #[derive(Serialize)]
@@ -337,6 +340,7 @@ fn daily_out(d: &DailyWindow) -> DailyOut {
         },
         start_time: clock(d.start, d.offset),
         end_time: clock(d.end, d.offset),
+        overnight: d.end <= d.start,
     }
 }
 

@@ -11,8 +11,8 @@
 //! - `properties.identifier` (falling back to the feature's `id`): the zone id, unique in the file;
 //! - `properties.name`: a string or the ED-318 list of `{"text", "lang"}` (the first text is used);
 //! - `properties.restriction` or, as in ED-318 proper, `properties.type` (the zone type:
-//!   `PROHIBITED`, `REQ_AUTHORIZATION`, …): kept as text (MUSE closes the airspace whatever
-//!   it says; `PROHIBITED` when neither is given);
+//!   `PROHIBITED`, `REQ_AUTHORISATION`, …, see [`ZONE_TYPES`]): kept as text (MUSE closes
+//!   the airspace whatever it says; `PROHIBITED` when neither is given);
 //! - `properties.limitedApplicability` (or `applicability`): time periods, see below;
 //! - `properties.announced` (MUSE extension, SPEC §11): see below;
 //! - `geometry`: `Polygon`, `MultiPolygon`, a `Point` with an `extent`
@@ -39,8 +39,12 @@
 //!   entry is `{"day": ["ANY" | "MON" … "SUN"], "startTime": "10:00:00+08:00",
 //!   "endTime": "12:00:00+08:00"}`: clock times `HH:MM[:SS[.mmm]]` **with** a UTC offset
 //!   (`+08:00`, `Z`); a time without one is an error, since it would be ambiguous.
-//!   `endTime` may be `24:00`; an end at or before the start runs past midnight. Daylight
-//!   events (`startEvent`, `endEvent`) are not supported and are an error.
+//!   `endTime` may be `24:00`. A window that runs past midnight (its end before its start)
+//!   must say so with the MUSE extension `"overnight": true` in its entry; without it such an
+//!   end is an error, and so is an end equal to the start. Daylight events (`startEvent`,
+//!   `endEvent`) are not supported and are an error.
+//! - The zone type (ED-318 `type` or `restriction`, ED-269 `restriction`) is one of
+//!   [`ZONE_TYPES`]; any other is an error. [`read_zones_file`] refuses a file with no zone.
 //! - A zone with no period, or with a period that has no bounds and no schedule (e.g. ED-269
 //!   `permanent: "YES"`), is permanent.
 //! - MUSE extension: `nodes: ["S001", …]` and `edges: ["S001-S002", …]` list airspace
@@ -77,6 +81,7 @@ mod properties;
 mod time;
 
 pub use ed318::write_ed318;
+pub use properties::ZONE_TYPES;
 
 /// Decimals of degrees kept by [`write_ed318`] (and [`normalize`]): 7, about 1 cm.
 pub const COORDINATE_DECIMALS: i32 = 7;
@@ -146,10 +151,23 @@ pub fn read_zones(text: &str, file: &str) -> Result<Vec<Zone>, InputError> {
     Ok(zones)
 }
 
-/// Reads a zone file from disk (see [`read_zones`]); errors name the path.
+/// Reads a zone file from disk (see [`read_zones`]); errors name the path. A file holding no
+/// zone is an error: a zone file given by a user that closes nothing is more likely the wrong
+/// file than a wish for no zones (which `--zones none` says).
 pub fn read_zones_file(path: &Path) -> Result<Vec<Zone>, InputError> {
     let text = crate::read_to_string(path)?;
-    read_zones(&text, &path.display().to_string())
+    let file = path.display().to_string();
+    let zones = read_zones(&text, &file)?;
+    if zones.is_empty() {
+        return Err(InputError::new(
+            file,
+            Location::Whole,
+            None,
+            "the file holds no zone (no features): give a file with at least one zone, or \
+             `--zones none` for none",
+        ));
+    }
+    Ok(zones)
 }
 
 /// The canonical form of a zone, the form [`write_ed318`] writes: coordinates rounded to

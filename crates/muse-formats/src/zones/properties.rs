@@ -8,6 +8,18 @@ use super::time::{parse_date_time, parse_periods};
 use super::{Ctx, member, show};
 use crate::InputError;
 
+/// The zone types read (ED-318 `type`, ED-269 `restriction`; `REQ_AUTHORIZATION` is read as
+/// written too). MUSE closes what a zone covers whatever its type; an unknown type is refused
+/// all the same, as it is more likely a typo than a type MUSE should ignore.
+pub const ZONE_TYPES: [&str; 6] = [
+    "PROHIBITED",
+    "REQ_AUTHORISATION",
+    "REQ_AUTHORIZATION",
+    "CONDITIONAL",
+    "NO_RESTRICTION",
+    "USPACE",
+];
+
 /// The fields every zone has, whatever the format.
 pub(super) struct Common {
     pub(super) name: String,
@@ -38,6 +50,16 @@ pub(super) fn parse_common(
                     format!("the restriction must be a string, got {}", show(v)),
                 )
             })?;
+            if !ZONE_TYPES.contains(&s) {
+                return Err(ctx.err(
+                    key,
+                    format!(
+                        "unknown zone type {}: expected one of {}",
+                        show(v),
+                        ZONE_TYPES.join(", ")
+                    ),
+                ));
+            }
             restriction = Some(s.to_owned());
             break;
         }

@@ -159,12 +159,93 @@ fn parse_daily(ctx: &Ctx<'_>, v: &Value, field: &str) -> Result<DailyWindow, Inp
         let shifted = (end.0 + i64::from(offset.0 - end_offset.0) * 1_000).rem_euclid(DAY_MS);
         Millis(if shifted == 0 { DAY_MS } else { shifted })
     };
+    check_overnight(ctx, obj, field, start, end)?;
     Ok(DailyWindow {
         days,
         start,
         end,
         offset,
     })
+}
+
+/// A daily window whose end is at or before its start runs past midnight into the next day:
+/// that must be said with `"overnight": true` (a MUSE extension), since an end before the
+/// start is more often a mistake (10:00 to 09:00 would close the zone 23 hours a day). An end
+/// equal to the start (empty, or a whole day?) is refused: a whole day is 00:00 to 24:00.
+fn check_overnight(
+    ctx: &Ctx<'_>,
+    obj: &Map<String, Value>,
+    field: &str,
+    start: Millis,
+    end: Millis,
+) -> Result<(), InputError> {
+    let overnight_field = join(field, "overnight");
+    let overnight = match member(obj, "overnight") {
+        None => false,
+        Some(Value::Bool(b)) => *b,
+        Some(v) => {
+            return Err(ctx.err(
+                &overnight_field,
+                format!("expected true or false, got {}", show(v)),
+            ));
+        }
+    };
+    let (from, to) = (hh_mm(start), hh_mm(end));
+    if end == start {
+        return Err(ctx.err(
+            &join(field, "endTime"),
+            format!(
+                "the window ends ({to}) when it starts: give a later endTime (for a whole day, \
+                 startTime 00:00 and endTime 24:00)"
+            ),
+        ));
+    }
+    match (end < start, overnight) {
+        (true, false) => Err(ctx.err(
+            &join(field, "endTime"),
+            format!(
+                "the window ends ({to}) before it starts ({from}), times in the startTime's \
+                 offset: it would run past midnight and close {} a day. If it is meant to end \
+                 the next day, add \"overnight\": true to this schedule entry; otherwise \
+                 give an endTime after the startTime, up to 24:00",
+                duration(Millis(end.0 + DAY_MS - start.0))
+            ),
+        )),
+        (false, true) => Err(ctx.err(
+            &overnight_field,
+            format!(
+                "the window {from}–{to} ends the day it starts; `overnight: true` is for a \
+                 window whose endTime is before its startTime (it ends the next day)"
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// `HH:MM`, or `HH:MM:SS[.mmm]` when it has seconds.
+fn hh_mm(t: Millis) -> String {
+    let (h, m, s, ms) = (
+        t.0 / 3_600_000,
+        t.0 / 60_000 % 60,
+        t.0 / 1_000 % 60,
+        t.0 % 1_000,
+    );
+    match (s, ms) {
+        (0, 0) => format!("{h:02}:{m:02}"),
+        (_, 0) => format!("{h:02}:{m:02}:{s:02}"),
+        _ => format!("{h:02}:{m:02}:{s:02}.{ms:03}"),
+    }
+}
+
+/// `23 h`, `1 h 30 min`, `45 min`, or `30 s` for what is shorter.
+fn duration(d: Millis) -> String {
+    let minutes = d.0 / 60_000;
+    match (minutes / 60, minutes % 60) {
+        (0, 0) => format!("{} s", d.0 as f64 / 1_000.0),
+        (0, m) => format!("{m} min"),
+        (h, 0) => format!("{h} h"),
+        (h, m) => format!("{h} h {m} min"),
+    }
 }
 
 fn parse_clock_with_offset(

@@ -18,7 +18,7 @@ use crate::metrics::PlanOutcome;
 use super::error::json;
 use super::guard::JsonBody;
 use super::{ApiError, App, Authed};
-use crate::flights::{MAX_ID_LEN, valid_id};
+use crate::flights::{ID_RULE, valid_id};
 
 /// The body of `POST /v1/flights`.
 #[derive(Debug, Deserialize)]
@@ -61,10 +61,7 @@ fn validate(app: &App, body: NewFlight) -> Result<Request, ApiError> {
     if !valid_id(&body.id) {
         return Err(ApiError::invalid(
             "id",
-            format!(
-                "must be 1 to {MAX_ID_LEN} characters of letters, digits and `._~:-`, got {:?}",
-                body.id
-            ),
+            format!("must be {ID_RULE}, got {:?}", body.id),
         ));
     }
     let station = |field: &str, id: &str| -> Result<NodeId, ApiError> {

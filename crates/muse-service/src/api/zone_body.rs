@@ -4,7 +4,7 @@
 use muse_formats::zones::read_zones;
 use serde_json::Value;
 
-use crate::flights::{MAX_ID_LEN, valid_id};
+use crate::flights::{ID_RULE, valid_id};
 use crate::zones::NewZone;
 
 /// Why a body is not a zone to announce: the field at fault (as `muse_formats` names it) and
@@ -102,8 +102,8 @@ pub fn parse_feature(body: &[u8]) -> Result<NewZone, BodyError> {
         return Err(BodyError::new(
             Some("identifier"),
             format!(
-                "an announced zone's identifier must be 1 to {MAX_ID_LEN} characters of letters, \
-                 digits and `._~:-` (it names the zone in /v1/zones/{{id}}), got {id:?}"
+                "an announced zone's identifier must be {ID_RULE} (it names the zone in \
+                 /v1/zones/{{id}}), got {id:?}"
             ),
         ));
     }

@@ -1,0 +1,135 @@
+//! The accepted range of every numeric option: clap value parsers that read a number and
+//! refuse anything outside its range — not a number, NaN, infinite, negative, zero where zero
+//! means nothing, absurdly large — with a message that states the range, before anything
+//! runs or is allocated. clap prints it as ``invalid value '1e12' for '--max-flight-min
+//! <MIN>': must be a number of minutes from 1 to 1440`` and exits 2.
+//!
+//! Every option's `--help` states the same range (`from 1 to 1440`); the tests of this module
+//! check that for every option of every command, and that no numeric option is left
+//! without a range. Numeric options also take `allow_negative_numbers`, so that `-30` is
+//! read as a value (and refused here) rather than as an unknown option.
+
+use std::fmt::Display;
+use std::str::FromStr;
+
+/// A number an option can take: parsed from text, compared, shown.
+pub trait Number: FromStr + PartialOrd + Display + Copy {
+    /// Whether the value is a finite number (always, for integers).
+    fn is_finite_number(self) -> bool;
+}
+
+impl Number for f64 {
+    fn is_finite_number(self) -> bool {
+        self.is_finite()
+    }
+}
+
+macro_rules! integer_number {
+    ($($t:ty),*) => {$(
+        impl Number for $t {
+            fn is_finite_number(self) -> bool {
+                true
+            }
+        }
+    )*};
+}
+integer_number!(u32, u64, usize);
+
+/// Reads `text` as a `T` within `lo..=hi`; the error says `must be {what} from {lo} to {hi}`.
+pub fn in_range<T: Number>(text: &str, lo: T, hi: T, what: &str) -> Result<T, String> {
+    let bad = || format!("must be {what} from {lo} to {hi}");
+    let x: T = text.trim().parse().map_err(|_| bad())?;
+    if x.is_finite_number() && lo <= x && x <= hi {
+        Ok(x)
+    } else {
+        Err(bad())
+    }
+}
+
+/// Declares one parser per option: `name: type = lo, hi, "what it is";`.
+macro_rules! ranges {
+    ($($(#[$doc:meta])* $name:ident: $t:ty = $lo:expr, $hi:expr, $what:expr;)*) => {$(
+        $(#[$doc])*
+        pub fn $name(text: &str) -> Result<$t, String> {
+            in_range::<$t>(text, $lo, $hi, $what)
+        }
+    )*};
+}
+
+/// The most requests of one day (`--count`, `--counts`, `--requests`): see
+/// [`muse_sim::demand::MAX_REQUESTS`].
+pub const MAX_REQUESTS: usize = muse_sim::demand::MAX_REQUESTS;
+
+ranges! {
+    /// `--speed-kmh`.
+    speed_kmh: f64 = 1.0, 1_000.0, "a speed in km/h";
+    /// `--max-flight-min`: up to a day.
+    max_flight_min: f64 = 1.0, 1_440.0, "a number of minutes";
+    /// `--node-separation-s` and `--headway-s`: up to an hour.
+    separation_s: f64 = 0.0, 3_600.0, "a number of seconds";
+    /// `--max-ground-delay-s` and `--battery-swap-s`: up to a day.
+    day_s: f64 = 0.0, 86_400.0, "a number of seconds";
+    /// `--max-legs`.
+    max_legs: u32 = 1, 100, "a whole number of legs";
+    /// `--max-trip-min`: a deadline of at least a minute, at most a day.
+    max_trip_min: f64 = 1.0, 1_440.0, "a number of minutes";
+    /// `--count` of generated demand (`muse demand`, `muse simulate`, `muse bench-case`).
+    requests: usize = 1, MAX_REQUESTS, "a whole number of requests";
+    /// `muse load --count`.
+    load_count: u64 = 1, MAX_REQUESTS as u64, "a whole number of requests";
+    /// Seeds: any 64-bit number.
+    seed: u64 = 0, u64::MAX, "a whole number";
+    /// `--nodes` of a synthetic airspace.
+    nodes: usize = 2, muse_scenario::synthetic::MAX_NODES, "a whole number of nodes";
+    /// `--spacing-m` of a synthetic airspace.
+    spacing_m: f64 = muse_scenario::synthetic::MIN_SPACING_M, 100_000.0, "a number of metres";
+    /// `--station-share` of a synthetic airspace.
+    station_share: f64 = 0.001, 1.0, "a share";
+    /// `muse sweep --reps`.
+    reps: usize = 1, MAX_REPS, "a whole number of repetitions";
+    /// `--threads`.
+    threads: usize = 1, 1_024, "a whole number of threads";
+    /// `muse serve --booking-horizon-days`: up to ten years.
+    booking_horizon_days: u32 = 1, 3_650, "a whole number of days";
+    /// `muse serve --max-body-kib`: up to 1 MiB.
+    max_body_kib: usize = 1, 1_024, "a whole number of KiB";
+    /// `muse serve --rate-limit` (0: no limit).
+    rate_limit: f64 = 0.0, 1_000_000.0, "a number of requests per second";
+    /// `muse serve --burst`.
+    burst: f64 = 1.0, 1_000_000.0, "a number of requests";
+    /// `muse serve --max-connections`.
+    max_connections: usize = 1, 1_000_000, "a whole number of connections";
+    /// `muse load --rate`.
+    load_rate: f64 = 0.01, 1_000_000.0, "a number of requests per second";
+    /// `muse load --clients`.
+    clients: usize = 1, 100_000, "a whole number of clients";
+    /// `muse load --duration`: up to a day.
+    duration_s: f64 = 1.0, 86_400.0, "a number of seconds";
+    /// `muse load --max-in-flight`.
+    max_in_flight: usize = 1, 1_000_000, "a whole number of requests";
+    /// `muse load --timeout`: as the service's timeouts.
+    timeout_s: f64 = 0.1, 86_400.0, "a number of seconds";
+    /// `muse verify --max-listed`.
+    max_listed: usize = 0, 1_000_000, "a whole number of violations";
+    /// `muse airspace map --width`.
+    width_px: u32 = 100, 20_000, "a whole number of pixels";
+}
+
+/// The most repetitions of a sweep (`--reps`).
+pub const MAX_REPS: usize = 10_000;
+
+/// The most days (request counts × repetitions) a sweep runs.
+pub const MAX_SWEEP_DAYS: usize = 1_000_000;
+
+/// The most request counts a sweep compares (`--counts`).
+pub const MAX_COUNTS: usize = 1_000;
+
+/// The most values of a list option that multiplies a sweep's runs (`--leads`, `--swap-min`).
+pub const MAX_LIST: usize = 100;
+
+/// Minutes of a lead or a swap time in a list option (`--leads`, `--swap-min`, booking and
+/// load leads): from 0 to 30 days.
+pub const MAX_LEAD_MIN: f64 = 43_200.0;
+
+#[cfg(test)]
+mod tests;
