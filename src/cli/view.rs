@@ -10,6 +10,7 @@ use muse_formats::plans::{PlanRecord, read_plans_file};
 use muse_model::{Instant, Millis};
 
 use super::common::{World, WorldArgs, write_atomically};
+use super::output;
 
 /// Arguments of `muse view`.
 #[derive(Debug, Args)]
@@ -23,19 +24,28 @@ pub struct ViewArgs {
     summary: Option<PathBuf>,
     #[command(flatten)]
     world: WorldArgs,
-    /// Output file.
+    /// Output file (`-`: standard output).
     #[arg(long, value_name = "FILE", default_value = "view.html")]
     out: PathBuf,
 }
 
 /// Runs `muse view`.
 pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
-    let world = args.world.load()?;
-    let records = read_plans_file(&args.plans, &world.airspace)?;
     let summary_path = args.summary.clone().or_else(|| {
         let beside = args.plans.with_file_name("summary.json");
         beside.is_file().then_some(beside)
     });
+    let inputs = output::Inputs::new()
+        .add("--plans", &args.plans)
+        .world(&args.world);
+    let inputs = match &summary_path {
+        Some(path) if args.summary.is_some() => inputs.add("--summary", path),
+        Some(path) => inputs.add("the summary beside --plans", path),
+        None => inputs,
+    };
+    let out = output::file("--out", &args.out, &inputs)?;
+    let world = args.world.load()?;
+    let records = read_plans_file(&args.plans, &world.airspace)?;
     let summary = match &summary_path {
         Some(path) => {
             let text = std::fs::read_to_string(path)
@@ -47,14 +57,17 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
         }
         None => None,
     };
-    let bytes = write_view(&world, &records, summary, &args.out)?;
+    let html = view_page(&world, &records, summary)?;
+    out.write(&html)?;
     let drawn = records.iter().filter(|r| r.final_plan().is_some()).count();
-    println!(
-        "wrote {} ({:.1} MB): {drawn} flights of {} requests{}; open it in a browser, no network needed",
-        args.out.display(),
-        bytes as f64 / 1e6,
-        records.len(),
-        summary_path.map_or(String::new(), |p| format!(", summary from {}", p.display()))
+    output::say(
+        out.is_stdout(),
+        format_args!(
+            "wrote {out} ({:.1} MB): {drawn} flights of {} requests{}; open it in a browser, no network needed",
+            html.len() as f64 / 1e6,
+            records.len(),
+            summary_path.map_or(String::new(), |p| format!(", summary from {}", p.display()))
+        ),
     );
     Ok(ExitCode::SUCCESS)
 }
@@ -66,10 +79,19 @@ pub fn write_view(
     summary: Option<serde_json::Value>,
     path: &Path,
 ) -> anyhow::Result<usize> {
-    let scene = scene_of(world, records, summary, day_range(world, records))?;
-    let html = muse_view::page(&scene);
+    let html = view_page(world, records, summary)?;
     write_atomically(path, &html)?;
     Ok(html.len())
+}
+
+/// The page of `records` over `world`.
+fn view_page(
+    world: &World,
+    records: &[PlanRecord],
+    summary: Option<serde_json::Value>,
+) -> anyhow::Result<String> {
+    let scene = scene_of(world, records, summary, day_range(world, records))?;
+    Ok(muse_view::page(&scene))
 }
 
 /// The live page of `muse serve` over `world`, its clock starting around `now`.
