@@ -11,13 +11,15 @@ use muse_airspace::stats::airspace_stats;
 use muse_model::{Millis, Period, Zone};
 
 use super::common::{RangeArgs, WorldArgs};
+use super::output;
 
 /// The airspace subcommands.
 #[derive(Debug, Subcommand)]
 pub enum AirspaceCommand {
     /// Regenerate the embedded Singapore files from the source data in `data/`.
     Build {
-        /// Output folder.
+        /// Output folder: its two files are replaced, each atomically; its other files are
+        /// left alone.
         #[arg(long, value_name = "DIR", default_value = "scenarios/singapore-77")]
         out: PathBuf,
         /// Do not write: compare with the files in the output folder and fail if they differ.
@@ -36,10 +38,10 @@ pub enum AirspaceCommand {
     Export {
         #[command(flatten)]
         world: WorldArgs,
-        /// Output airspace GeoJSON file.
+        /// Output airspace GeoJSON file (`-`: standard output).
         #[arg(long, value_name = "FILE")]
         out: PathBuf,
-        /// Also write the zones (ED-318 GeoJSON) to this file.
+        /// Also write the zones (ED-318 GeoJSON) to this file (`-`: standard output).
         #[arg(long, value_name = "FILE")]
         zones_out: Option<PathBuf>,
     },
@@ -47,7 +49,7 @@ pub enum AirspaceCommand {
     Map {
         #[command(flatten)]
         world: WorldArgs,
-        /// Output SVG file.
+        /// Output SVG file (`-`: standard output).
         #[arg(long, value_name = "FILE", default_value = "map.svg")]
         out: PathBuf,
         /// Width of the drawing, pixels, from 100 to 20000.
@@ -98,11 +100,19 @@ fn build(out: &Path, check: bool) -> anyhow::Result<ExitCode> {
             ExitCode::FAILURE
         });
     }
+    if out.as_os_str() == output::STDOUT {
+        anyhow::bail!(
+            "--out -: muse airspace build writes two files into a folder, and standard output takes a single file; give a folder path"
+        );
+    }
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    for (name, text) in files {
-        let path = out.join(name);
-        std::fs::write(&path, text).with_context(|| format!("writing {}", path.display()))?;
-        println!("wrote {} ({} bytes)", path.display(), text.len());
+    let targets = files
+        .iter()
+        .map(|(name, _)| output::file("--out", &out.join(name), &output::Inputs::new()))
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    for (target, (_, text)) in targets.iter().zip(files) {
+        target.write(text)?;
+        println!("wrote {target} ({} bytes)", text.len());
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -239,6 +249,19 @@ fn describe_periods(zone: &Zone) -> String {
 }
 
 fn export(world: &WorldArgs, out: &Path, zones_out: Option<&Path>) -> anyhow::Result<ExitCode> {
+    let inputs = output::Inputs::new().world(world);
+    let out = output::file("--out", out, &inputs)?;
+    let zones_out = zones_out
+        .map(|path| output::file("--zones-out", path, &inputs))
+        .transpose()?;
+    output::distinct(
+        &[Some(&out), zones_out.as_ref()]
+            .into_iter()
+            .flatten()
+            .collect::<Vec<_>>(),
+    )?;
+    let stdout_taken =
+        out.is_stdout() || zones_out.as_ref().is_some_and(output::FileOut::is_stdout);
     let world = world.load()?;
     if zones_out.is_some() && world.zones.is_empty() {
         // A zone file holding no zone is refused when read: do not write one.
@@ -248,26 +271,36 @@ fn export(world: &WorldArgs, out: &Path, zones_out: Option<&Path>) -> anyhow::Re
         );
     }
     let text = muse_formats::airspace_geojson::write_airspace(&world.airspace);
-    super::common::write_atomically(out, &text)?;
-    println!(
-        "wrote {} ({} nodes, {} edges, {} bytes)",
-        out.display(),
-        world.airspace.node_count(),
-        world.airspace.edge_count(),
-        text.len()
+    let zones = zones_out
+        .as_ref()
+        .map(|_| muse_formats::zones::write_ed318(&world.zones));
+    out.write(&text)?;
+    if let (Some(path), Some(zones)) = (&zones_out, &zones) {
+        path.write(zones)?;
+    }
+    output::say(
+        stdout_taken,
+        format_args!(
+            "wrote {out} ({} nodes, {} edges, {} bytes)",
+            world.airspace.node_count(),
+            world.airspace.edge_count(),
+            text.len()
+        ),
     );
-    if let Some(path) = zones_out {
-        let zones = muse_formats::zones::write_ed318(&world.zones);
-        super::common::write_atomically(path, &zones)?;
-        println!("wrote {} ({} zone(s))", path.display(), world.zones.len());
+    if let Some(path) = &zones_out {
+        output::say(
+            stdout_taken,
+            format_args!("wrote {path} ({} zone(s))", world.zones.len()),
+        );
     }
     Ok(ExitCode::SUCCESS)
 }
 
 fn map(world: &WorldArgs, out: &Path, width: u32) -> anyhow::Result<ExitCode> {
+    let out = output::file("--out", out, &output::Inputs::new().world(world))?;
     let world = world.load()?;
     let svg = super::common::render_world_map(&world, width, None)?;
-    std::fs::write(out, svg).with_context(|| format!("writing {}", out.display()))?;
-    println!("wrote {}", out.display());
+    out.write(&svg)?;
+    output::say(out.is_stdout(), format_args!("wrote {out}"));
     Ok(ExitCode::SUCCESS)
 }

@@ -24,6 +24,7 @@ use muse_sim::demand::{BookingLead, DemandSpec, OdRule, generate};
 
 use super::common::{FlightArgs, write_atomically};
 use super::demand::OdArg;
+use super::output;
 use super::progress::LazyProgress;
 use super::ranges::{self, MAX_REQUESTS};
 use super::study::{Study, report_reproduction};
@@ -79,7 +80,8 @@ pub struct BenchArgs {
     /// command in a `[bench]` table; see `studies/`). Beside it give only `--out`.
     #[arg(long, value_name = "FILE")]
     study: Option<PathBuf>,
-    /// Output folder.
+    /// Output folder, written whole: it replaces an earlier run's folder as a whole, and a
+    /// folder holding files muse does not write is refused (docs/reference.md#outputs).
     #[arg(long, value_name = "DIR", default_value = "out/bench")]
     out: PathBuf,
 }
@@ -391,12 +393,12 @@ fn run_child(
 /// Runs `muse bench`; `matches` are its own, to tell what was given beside `--study`.
 pub fn run(args: &BenchArgs, matches: &clap::ArgMatches) -> anyhow::Result<ExitCode> {
     let Some(path) = &args.study else {
-        return run_bench(args);
+        return run_bench(args, None);
     };
     let study = Study::open::<BenchArgs>(path, "bench", matches)?;
     let out = study.out(matches, &args.out).display().to_string();
     let bench: BenchArgs = study.parse("bench", &["--out".to_owned(), out])?;
-    let code = run_bench(&bench)?;
+    let code = run_bench(&bench, Some(path))?;
     if code != ExitCode::SUCCESS {
         return Ok(code);
     }
@@ -430,10 +432,16 @@ fn measured_column(name: &str) -> bool {
     )
 }
 
-fn run_bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
+/// Runs the benchmark `args` describe; `study` is the study file it came from, if any.
+fn run_bench(args: &BenchArgs, study: Option<&Path>) -> anyhow::Result<ExitCode> {
     let params = args.flight.params()?;
     let levels = parse_requests(&args.requests)?;
     let graphs = parse_graphs(&args.graphs)?;
+    let inputs = match study {
+        Some(path) => output::Inputs::new().add("--study", path),
+        None => output::Inputs::new(),
+    };
+    let out = output::folder("--out", &args.out, &inputs)?;
     let exe = std::env::current_exe().context("finding the muse executable")?;
     let total = graphs.len() * levels.len();
     println!(
@@ -478,8 +486,6 @@ fn run_bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
         params.max_ground_delay.as_secs_f64()
     );
 
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
     let bench_started = std::time::Instant::now();
     let mut cases = Vec::with_capacity(total);
     for g in &graphs {
@@ -506,8 +512,12 @@ fn run_bench(args: &BenchArgs) -> anyhow::Result<ExitCode> {
 
     let results: Vec<CaseResult> = cases.iter().map(|m| m.result.clone()).collect();
     let exponents = Exponents::of(&results);
-    write_atomically(&args.out.join("bench.csv"), &bench_csv(&cases, &exponents))?;
-    let written = write_plots(&cases, args)?;
+    write_atomically(
+        &out.path().join("bench.csv"),
+        &bench_csv(&cases, &exponents),
+    )?;
+    let written = write_plots(&cases, args, out.path())?;
+    out.commit()?;
     println!();
     print!("{}", bench_table(&cases, &exponents));
     println!(
@@ -543,9 +553,9 @@ fn series_by_graph(cases: &[Measured], metric: impl Fn(&CaseResult) -> Option<f6
     out
 }
 
-/// Writes the three plots; returns the names of the files written (the memory plot is left
-/// out where peak memory could not be read).
-fn write_plots(cases: &[Measured], args: &BenchArgs) -> anyhow::Result<Vec<String>> {
+/// Writes the three plots into `out`; returns the names of the files written (the memory
+/// plot is left out where peak memory could not be read).
+fn write_plots(cases: &[Measured], args: &BenchArgs, out: &Path) -> anyhow::Result<Vec<String>> {
     let foot = format!(
         "One run per point: {} OD pairs, seed {}, departures uniform {FROM_H:02}:00–{TO_H:02}:00; \
          planner time is the wall time of the planning loop, one thread.",
@@ -592,7 +602,7 @@ fn write_plots(cases: &[Measured], args: &BenchArgs) -> anyhow::Result<Vec<Strin
             ..PlotOptions::default()
         };
         let svg = render_line_plot(&series, &opts).with_context(|| format!("drawing {file}"))?;
-        write_atomically(&args.out.join(file), &svg)?;
+        write_atomically(&out.join(file), &svg)?;
         written.push(file.to_owned());
     }
     Ok(written)

@@ -301,14 +301,8 @@ impl FlightArgs {
     }
 }
 
-/// Writes `text` to `path` atomically: to a temporary file beside it, then renamed, so that a
-/// failed run never leaves a partial file that looks complete.
-pub fn write_atomically(path: &std::path::Path, text: &str) -> anyhow::Result<()> {
-    let tmp = path.with_extension("partial");
-    std::fs::write(&tmp, text).with_context(|| format!("writing {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).with_context(|| format!("renaming to {}", path.display()))?;
-    Ok(())
-}
+/// Writes a file atomically (see [`super::output::write_atomically`]).
+pub use super::output::write_atomically;
 
 /// Stations are labelled on maps with at most this many stations (more would be illegible).
 const MAX_LABELLED_STATIONS: usize = 150;

@@ -9,7 +9,8 @@ use muse_model::time::{TimeError, parse_clock};
 use muse_model::{Instant, Millis};
 use muse_sim::demand::{BookingLead, DemandSpec, OdRule, generate};
 
-use super::common::{RangeArgs, World, WorldArgs, write_atomically};
+use super::common::{RangeArgs, World, WorldArgs};
+use super::output;
 use super::ranges::{self, MAX_LEAD_MIN};
 
 /// Origin–destination rule on the command line.
@@ -172,29 +173,33 @@ pub struct DemandCmd {
     world: WorldArgs,
     #[command(flatten)]
     range: RangeArgs,
-    /// Output CSV.
+    /// Output CSV (`-`: standard output).
     #[arg(long, value_name = "FILE", default_value = "requests.csv")]
     out: PathBuf,
 }
 
 /// Runs `muse demand`.
 pub fn run(args: &DemandCmd) -> anyhow::Result<ExitCode> {
+    let out = output::file(
+        "--out",
+        &args.out,
+        &output::Inputs::new().world(&args.world),
+    )?;
     let world = args.world.load()?;
     let spec = args.demand.spec(&world, args.range)?;
     let requests = generate(&world.airspace, &spec)?;
-    write_atomically(
-        &args.out,
-        &write_requests(&requests, &world.airspace, world.offset),
-    )?;
+    out.write(&write_requests(&requests, &world.airspace, world.offset))?;
     let booked = args
         .demand
         .booking_note()
         .map_or(String::new(), |b| format!(", {b}"));
-    println!(
-        "wrote {} requests (seed {}{booked}) to {}",
-        requests.len(),
-        spec.seed,
-        args.out.display()
+    output::say(
+        out.is_stdout(),
+        format_args!(
+            "wrote {} requests (seed {}{booked}) to {out}",
+            requests.len(),
+            spec.seed,
+        ),
     );
     Ok(ExitCode::SUCCESS)
 }

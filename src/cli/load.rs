@@ -10,7 +10,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use muse_load::{Event, LoadConfig, Mode, OdChoice, Stop};
 use muse_model::Millis;
 
-use super::common::write_atomically;
+use super::output;
 use super::ranges::{self, MAX_LEAD_MIN};
 
 /// Origin–destination rule on the command line.
@@ -57,7 +57,7 @@ pub struct LoadArgs {
     /// Origin–destination rule.
     #[arg(long, value_enum, default_value_t = OdArg::Uniform)]
     od: OdArg,
-    /// Report file (JSON).
+    /// Report file (JSON; `-`: standard output, the summary then on stderr).
     #[arg(long, value_name = "FILE", default_value = "load.json")]
     out: PathBuf,
     /// Do not fetch and verify the planned flights at the end.
@@ -136,6 +136,7 @@ fn parse_lead(text: &str) -> Result<(Millis, Millis), String> {
 /// reached or the options are wrong.
 pub fn run(args: &LoadArgs) -> anyhow::Result<ExitCode> {
     let config = args.config()?;
+    let out = output::file("--out", &args.out, &output::Inputs::new())?;
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()
@@ -144,9 +145,9 @@ pub fn run(args: &LoadArgs) -> anyhow::Result<ExitCode> {
     let report = runtime.block_on(muse_load::run(&config, |e| progress.on(e)));
     progress.clear();
     let report = report?;
-    write_atomically(&args.out, &report.to_json())?;
-    print!("{}", report.text());
-    println!("  wrote         {}", args.out.display());
+    out.write(&report.to_json())?;
+    output::say(out.is_stdout(), report.text().trim_end());
+    output::say(out.is_stdout(), format_args!("  wrote         {out}"));
     Ok(if report.verified_ok() {
         ExitCode::SUCCESS
     } else {

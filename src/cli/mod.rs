@@ -5,6 +5,7 @@ mod bench;
 mod common;
 mod demand;
 mod load;
+mod output;
 mod plan;
 mod progress;
 mod ranges;

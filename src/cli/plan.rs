@@ -12,6 +12,7 @@ use muse_sim::demand::BookingLead;
 use muse_sim::metrics::{Provenance, ReplanSummary, RunItem, Summary};
 
 use super::common::{FlightArgs, World, WorldArgs, write_atomically};
+use super::output;
 
 /// Arguments of `muse plan`.
 #[derive(Debug, Args)]
@@ -36,6 +37,13 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         date: world.date,
         offset: world.offset,
     };
+    let out = output::folder(
+        "--out",
+        &args.out,
+        &output::Inputs::new()
+            .add("--requests", &args.requests)
+            .world(&args.world),
+    )?;
     let requests = read_requests_file(&args.requests, &world.airspace, day)?;
     let run = plan_requests(&world.airspace, &world.zones, params, requests, |_| {})?;
     let provenance = Provenance {
@@ -44,7 +52,8 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         requests: args.requests.display().to_string(),
         seed: None,
     };
-    let (summary, _) = write_outputs(&world, &run, &params, provenance, None, &args.out)?;
+    let (summary, _) = write_outputs(&world, &run, &params, provenance, None, out.path())?;
+    out.commit()?;
     if let Some(r) = &summary.replanning {
         println!("{}", replanning_line(r));
     }

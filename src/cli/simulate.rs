@@ -17,6 +17,7 @@ use muse_verify::{Flight, verify_known};
 
 use super::common::{FlightArgs, World, WorldArgs, render_world_map, write_atomically};
 use super::demand::DemandArgs;
+use super::output;
 use super::plan::write_outputs;
 use super::progress::LazyProgress;
 use super::view::write_view;
@@ -37,7 +38,8 @@ pub struct SimulateArgs {
     world: WorldArgs,
     #[command(flatten)]
     flight: FlightArgs,
-    /// Output folder.
+    /// Output folder, written whole: it replaces an earlier run's folder as a whole, and a
+    /// folder holding files muse does not write is refused (docs/reference.md#outputs).
     #[arg(long, value_name = "DIR", default_value = "out")]
     out: PathBuf,
 }
@@ -46,6 +48,12 @@ pub struct SimulateArgs {
 pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
     let params = args.flight.params()?;
     let world = args.world.load()?;
+    let inputs = output::Inputs::new().world(&args.world);
+    let inputs = match &args.requests {
+        Some(path) => inputs.add("--requests", path),
+        None => inputs,
+    };
+    let out = output::folder("--out", &args.out, &inputs)?;
     let (requests, source, seed, booking_lead) = if let Some(path) = &args.requests {
         let day = LocalDay {
             date: world.date,
@@ -89,8 +97,6 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         .collect();
     let violations = verify_known(&world.airspace, &run.zones, &params, &flights);
 
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
     let provenance = Provenance {
         airspace: world.airspace_source.clone(),
         zones: world.zones.iter().map(|z| z.id.clone()).collect(),
@@ -101,12 +107,13 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
     sorted_by_id.sort_by(|a, b| a.id.cmp(&b.id));
     let owned: Vec<Request> = sorted_by_id.into_iter().cloned().collect();
     write_atomically(
-        &args.out.join("requests.csv"),
+        &out.path().join("requests.csv"),
         &write_requests(&owned, &world.airspace, world.offset),
     )?;
     let (summary, records) =
-        write_outputs(&world, &run, &params, provenance, booking_lead, &args.out)?;
-    write_maps(&world, &run, &flights, &records, &summary, &args.out)?;
+        write_outputs(&world, &run, &params, provenance, booking_lead, out.path())?;
+    write_maps(&world, &run, &flights, &records, &summary, out.path())?;
+    out.commit()?;
 
     print!(
         "{}",

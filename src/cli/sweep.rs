@@ -16,6 +16,7 @@ use muse_sim::sweep::{
 
 use super::common::{FlightArgs, World, WorldArgs, write_atomically};
 use super::demand::DemandArgs;
+use super::output;
 use super::ranges::{self, MAX_COUNTS, MAX_REQUESTS, MAX_SWEEP_DAYS};
 use super::study::Study;
 use super::sweep_lead::LeadSweep;
@@ -87,7 +88,8 @@ pub struct SweepArgs {
     pub(super) world: WorldArgs,
     #[command(flatten)]
     pub(super) flight: FlightArgs,
-    /// Output folder.
+    /// Output folder, written whole: it replaces an earlier run's folder as a whole, and a
+    /// folder holding files muse does not write is refused (docs/reference.md#outputs).
     #[arg(long, value_name = "DIR", default_value = "out/sweep")]
     pub(super) out: PathBuf,
 }
@@ -222,25 +224,27 @@ fn run_sweep_args(
         println!("command line: muse {}", line.join(" "));
         return Ok(ExitCode::SUCCESS);
     }
+    let out = output::folder("--out", &args.out, &inputs_of(args, study))?;
     let info = |sweep: String, runs: usize, shard: Shard| ShardInfo {
         sweep,
         runs,
         shard,
         command_line,
         study,
+        out: &args.out,
     };
     if announce_lead {
         if let Some(shard) = shard {
             let lead = LeadSweep::of(args)?;
             let info = info(fingerprint(&lead.spec), lead.spec.runs(), shard);
-            return run_shard(&info, &args.out, |tick| lead.run(shard, tick));
+            return run_shard(&info, out, |tick| lead.run(shard, tick));
         }
-        return super::sweep_lead::run(args, study);
+        return super::sweep_lead::run(args, study, out);
     }
     let (world, spec) = spec_of(args)?;
     if let Some(shard) = shard {
         let info = info(fingerprint(&spec), spec.runs(), shard);
-        return run_shard(&info, &args.out, |tick| {
+        return run_shard(&info, out, |tick| {
             Ok(run_sweep_shard(&world.airspace, &spec, shard, tick)?)
         });
     }
@@ -259,7 +263,8 @@ fn run_sweep_args(
     let started = std::time::Instant::now();
     let records = run_sweep(&world.airspace, &spec, || bar.inc(1))?;
     bar.finish_and_clear();
-    write_results(&spec, &records, booked.as_deref(), &args.out)?;
+    write_results(&spec, &records, booked.as_deref(), out.path())?;
+    out.commit()?;
     println!(
         "done in {:.1} s wall; wrote {}/{{sweep.csv, sweep_summary.csv, sweep_runtime.svg, sweep_success.svg, sweep_air_delay.svg}}",
         started.elapsed().as_secs_f64(),
@@ -272,6 +277,17 @@ fn run_sweep_args(
         SUMMARY_FILE,
         super::study::sweep_time_column,
     )
+}
+
+/// The files a sweep reads: its world, the zones it announces, its study.
+pub(super) fn inputs_of(args: &SweepArgs, study: Option<&Study>) -> output::Inputs {
+    let inputs = output::Inputs::new()
+        .world(&args.world)
+        .add_all("--announce-zones", &args.announce_zones);
+    match study {
+        Some(s) => inputs.add("--study", &s.path),
+        None => inputs,
+    }
 }
 
 /// The summary file, the one a study's published results are compared on.
@@ -306,7 +322,6 @@ pub(super) fn write_results(
     out: &std::path::Path,
 ) -> anyhow::Result<()> {
     let rows = summarize(records);
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     write_atomically(&out.join("sweep.csv"), &runs_csv(records))?;
     write_atomically(&out.join(SUMMARY_FILE), &summary_csv(&rows))?;
     write_plots(spec, &rows, booked, out)

@@ -18,6 +18,7 @@ use muse_sim::stats::MeanCi;
 
 use super::common::{World, write_atomically};
 use super::demand::BookingLeadArg;
+use super::output::OutFolder;
 use super::ranges::{MAX_LEAD_MIN, MAX_LIST};
 use super::study::Study;
 use super::sweep::{SweepArgs, check_days, parse_counts, runs_bar};
@@ -198,26 +199,27 @@ impl LeadSweep {
     }
 
     /// Writes the CSV files and plots of `records` (the whole sweep, in run order) into `out`
-    /// and prints the table.
+    /// (the folder `shown`) and prints the table.
     pub fn write_results(
         &self,
         records: &[LeadRecord],
-        out: &std::path::Path,
+        out: OutFolder,
+        shown: &std::path::Path,
     ) -> anyhow::Result<()> {
         let rows = summarize(records);
-        std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-        write_atomically(&out.join(FILES[0]), &runs_csv(records))?;
-        write_atomically(&out.join(SUMMARY_FILE), &summary_csv(&rows))?;
+        write_atomically(&out.path().join(FILES[0]), &runs_csv(records))?;
+        write_atomically(&out.path().join(SUMMARY_FILE), &summary_csv(&rows))?;
         let foot = footnote(&self.spec, &self.booked, &self.zones);
-        write_plots(&self.spec, &rows, &foot, out)?;
-        println!("wrote {}/{{{}}}", out.display(), FILES.join(", "));
+        write_plots(&self.spec, &rows, &foot, out.path())?;
+        out.commit()?;
+        println!("wrote {}/{{{}}}", shown.display(), FILES.join(", "));
         print_table(&rows);
         Ok(())
     }
 }
 
 /// Runs `muse sweep --vary announce-lead` (threads already set up).
-pub fn run(args: &SweepArgs, study: Option<&Study>) -> anyhow::Result<ExitCode> {
+pub fn run(args: &SweepArgs, study: Option<&Study>, out: OutFolder) -> anyhow::Result<ExitCode> {
     let sweep = LeadSweep::of(args)?;
     let spec = &sweep.spec;
     let leads: Vec<String> = spec
@@ -250,7 +252,7 @@ pub fn run(args: &SweepArgs, study: Option<&Study>) -> anyhow::Result<ExitCode> 
         .collect();
     bar.finish_and_clear();
     println!("done in {:.1} s wall", started.elapsed().as_secs_f64());
-    sweep.write_results(&records, &args.out)?;
+    sweep.write_results(&records, out, &args.out)?;
     super::study::report_reproduction(
         study.map(Study::reference).as_ref(),
         &args.out,

@@ -13,6 +13,7 @@ use muse_sim::sweep::{RunRecord, summarize};
 use serde::Serialize;
 
 use super::common::write_atomically;
+use super::output::{self, OutFolder};
 use super::study::{Study, report_reproduction, sweep_time_column};
 use super::sweep::{SUMMARY_FILE, SweepArgs, print_table, runs_bar, spec_of, write_results};
 use super::sweep_lead::{self, LeadSweep};
@@ -45,14 +46,16 @@ pub struct ShardInfo<'a> {
     pub command_line: &'a [String],
     /// The study it came from.
     pub study: Option<&'a Study>,
+    /// The output folder, as given.
+    pub out: &'a Path,
 }
 
 /// Runs the shard `info` says with `go` (which calls its tick once per finished run) and
-/// writes `shard.json` into `out` atomically: a killed shard leaves no file, and is simply
-/// rerun.
+/// writes `shard.json` into the output folder `out` as a whole: a killed shard leaves no
+/// file, and is simply rerun.
 pub fn run_shard<R: Serialize>(
     info: &ShardInfo<'_>,
-    out: &Path,
+    out: OutFolder,
     go: impl FnOnce(&(dyn Fn() + Sync)) -> anyhow::Result<Vec<(usize, R)>>,
 ) -> anyhow::Result<ExitCode> {
     let shard = info.shard;
@@ -74,14 +77,13 @@ pub fn run_shard<R: Serialize>(
         info.study.map(Study::reference),
         runs,
     );
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    let path = out.join(SHARD_FILE);
     let text = serde_json::to_string(&file).context("writing the shard")?;
-    write_atomically(&path, &text)?;
+    write_atomically(&out.path().join(SHARD_FILE), &text)?;
+    out.commit()?;
     println!(
         "done in {:.1} s wall; wrote {} (sweep {}); merge the {} shards with `muse sweep merge DIR...`",
         started.elapsed().as_secs_f64(),
-        path.display(),
+        info.out.join(SHARD_FILE).display(),
         file.sweep,
         shard.of
     );
@@ -120,12 +122,14 @@ fn read_shards<R: for<'de> serde::Deserialize<'de>>(
 /// Runs `muse sweep merge`.
 pub fn merge(args: &MergeArgs) -> anyhow::Result<ExitCode> {
     let mut texts = Vec::with_capacity(args.shards.len());
+    let mut files = Vec::with_capacity(args.shards.len());
     for dir in &args.shards {
         let path = if dir.is_dir() {
             dir.join(SHARD_FILE)
         } else {
             dir.clone()
         };
+        files.push(path.clone());
         let name = path.display().to_string();
         let text = std::fs::read_to_string(&path).with_context(|| {
             format!("reading {name} (a shard that did not finish writes none: rerun it)")
@@ -141,6 +145,8 @@ pub fn merge(args: &MergeArgs) -> anyhow::Result<ExitCode> {
         Recorded::try_parse_from(std::iter::once("muse".to_owned()).chain(head.args.clone()))
             .with_context(|| format!("{name}: the recorded command line does not parse"))?;
     let RecordedCommand::Sweep(sweep) = recorded.command;
+    let inputs = super::sweep::inputs_of(&sweep, None).add_all("the shard", &files);
+    let out = output::folder("--out", &args.out, &inputs)?;
     let rebuilt = |what: &str| format!("{name}: rebuilding the {what} from its command line");
     if sweep.vary.contains(&Vary::AnnounceLead) {
         let shards = read_shards::<LeadRecord>(&texts)?;
@@ -148,7 +154,7 @@ pub fn merge(args: &MergeArgs) -> anyhow::Result<ExitCode> {
         let lead = LeadSweep::of(&sweep).with_context(|| rebuilt("sweep"))?;
         check_fingerprint(name, &fingerprint(&lead.spec), &shards[0].1)?;
         announce(&shards, records.len(), &args.out);
-        lead.write_results(&records, &args.out)?;
+        lead.write_results(&records, out, &args.out)?;
         report_reproduction(
             shards[0].1.study.as_ref(),
             &args.out,
@@ -162,7 +168,8 @@ pub fn merge(args: &MergeArgs) -> anyhow::Result<ExitCode> {
         check_fingerprint(name, &fingerprint(&spec), &shards[0].1)?;
         announce(&shards, records.len(), &args.out);
         let booked = sweep.demand.booking_note();
-        write_results(&spec, &records, booked.as_deref(), &args.out)?;
+        write_results(&spec, &records, booked.as_deref(), out.path())?;
+        out.commit()?;
         println!(
             "wrote {}/{{sweep.csv, sweep_summary.csv, sweep_runtime.svg, sweep_success.svg, sweep_air_delay.svg}}",
             args.out.display()

@@ -10,6 +10,7 @@ use muse_formats::plans::{OperatorCancellation, PlanItem, PlanRecord, read_plan_
 use muse_model::{Instant, Millis};
 
 use super::common::{World, WorldArgs, write_atomically};
+use super::output;
 
 /// Arguments of `muse view`.
 #[derive(Debug, Args)]
@@ -23,13 +24,26 @@ pub struct ViewArgs {
     summary: Option<PathBuf>,
     #[command(flatten)]
     world: WorldArgs,
-    /// Output file.
+    /// Output file (`-`: standard output).
     #[arg(long, value_name = "FILE", default_value = "view.html")]
     out: PathBuf,
 }
 
 /// Runs `muse view`.
 pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
+    let summary_path = args.summary.clone().or_else(|| {
+        let beside = args.plans.with_file_name("summary.json");
+        beside.is_file().then_some(beside)
+    });
+    let inputs = output::Inputs::new()
+        .add("--plans", &args.plans)
+        .world(&args.world);
+    let inputs = match &summary_path {
+        Some(path) if args.summary.is_some() => inputs.add("--summary", path),
+        Some(path) => inputs.add("the summary beside --plans", path),
+        None => inputs,
+    };
+    let out = output::file("--out", &args.out, &inputs)?;
     let world = args.world.load()?;
     let mut records = Vec::new();
     let mut cancelled = Vec::new();
@@ -39,10 +53,6 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
             PlanItem::CancelledByOperator(c) => cancelled.push(c),
         }
     }
-    let summary_path = args.summary.clone().or_else(|| {
-        let beside = args.plans.with_file_name("summary.json");
-        beside.is_file().then_some(beside)
-    });
     let summary = match &summary_path {
         Some(path) => {
             let text = std::fs::read_to_string(path)
@@ -54,20 +64,22 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
         }
         None => None,
     };
-    let (bytes, drawn) = write_view(&world, &records, &cancelled, summary, &args.out)?;
-    println!(
-        "wrote {} ({:.1} MB): {drawn} flights of {} requests{}; open it in a browser, no network needed",
-        args.out.display(),
-        bytes as f64 / 1e6,
-        records.len() + cancelled.len(),
-        summary_path.map_or(String::new(), |p| format!(", summary from {}", p.display()))
+    let (html, drawn) = view_page(&world, &records, &cancelled, summary)?;
+    out.write(&html)?;
+    output::say(
+        out.is_stdout(),
+        format_args!(
+            "wrote {out} ({:.1} MB): {drawn} flights of {} requests{}; open it in a browser, no network needed",
+            html.len() as f64 / 1e6,
+            records.len() + cancelled.len(),
+            summary_path.map_or(String::new(), |p| format!(", summary from {}", p.display()))
+        ),
     );
     Ok(ExitCode::SUCCESS)
 }
 
-/// Writes the page of `records` and the operators' `cancelled` flights over `world` to
-/// `path`; returns its size in bytes and the number of flights it draws (contingencies'
-/// committed parts included).
+/// Writes the page of `records` (and the operators' `cancelled` flights) over `world` to
+/// `path`; returns its size in bytes and the flights it draws.
 pub fn write_view(
     world: &World,
     records: &[PlanRecord],
@@ -75,11 +87,21 @@ pub fn write_view(
     summary: Option<serde_json::Value>,
     path: &Path,
 ) -> anyhow::Result<(usize, usize)> {
+    let (html, drawn) = view_page(world, records, cancelled, summary)?;
+    write_atomically(path, &html)?;
+    Ok((html.len(), drawn))
+}
+
+/// The page of `records` over `world`, and the number of flights it draws.
+fn view_page(
+    world: &World,
+    records: &[PlanRecord],
+    cancelled: &[OperatorCancellation],
+    summary: Option<serde_json::Value>,
+) -> anyhow::Result<(String, usize)> {
     let range = day_range(world, records, cancelled);
     let scene = scene_of(world, records, cancelled, summary, range)?;
-    let html = muse_view::page(&scene);
-    write_atomically(path, &html)?;
-    Ok((html.len(), scene.flights.len()))
+    Ok((muse_view::page(&scene), scene.flights.len()))
 }
 
 /// The live page of `muse serve` over `world`, its clock starting around `now`.
