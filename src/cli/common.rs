@@ -314,7 +314,8 @@ pub fn render_world_map(
     width_px: u32,
     edge_load: Option<(Vec<f64>, String)>,
 ) -> anyhow::Result<String> {
-    use muse_render::{MapInput, MapOptions, ZoneLayer, render_map, zone_area_polygons};
+    use muse_model::zone_area_polygons;
+    use muse_render::{MapInput, MapOptions, ZoneLayer, render_map};
     let land: Vec<geo_types::Polygon<f64>> = if world.land {
         muse_scenario::singapore_land().0
     } else {

@@ -8,7 +8,8 @@
 //! - [`units`]: cruise speed and the exact edge traversal time `w(e)`;
 //! - [`airspace`]: the airspace graph with a compact adjacency layout;
 //! - [`request`]: delivery requests;
-//! - [`zone`]: no-fly zones (area and/or explicit elements, with time windows);
+//! - [`zone`]: no-fly zones (area and/or explicit elements, with time windows) and the
+//!   polygons of their areas;
 //! - [`params`]: the flight model parameters (speed, battery, separations, ground delay);
 //! - [`plan`]: planned flights and rejections.
 
@@ -30,4 +31,4 @@ pub use plan::{Plan, RejectReason, Stay};
 pub use request::Request;
 pub use time::{Instant, Millis, UtcOffset};
 pub use units::Speed;
-pub use zone::{DailyWindow, Period, Weekday, Zone, ZoneArea};
+pub use zone::{DailyWindow, Period, Weekday, Zone, ZoneArea, circle_polygon, zone_area_polygons};

@@ -1,9 +1,12 @@
 //! No-fly zones: an area and/or explicit nodes and edges, closed during time periods.
 //!
-//! This is the data model only; reading ED-318 / ED-269 files lives in `muse-formats`, and
-//! turning zones into per-element closure windows lives in `muse-airspace`.
+//! This is the data model, with the polygons of a zone's area ([`zone_area_polygons`], a
+//! circle as a geodesic polygon by [`circle_polygon`]) that the map, the viewer and the CLI
+//! draw; reading ED-318 / ED-269 files lives in `muse-formats`, and turning zones into
+//! per-element closure windows lives in `muse-airspace`.
 
-use geo_types::MultiPolygon;
+use geo::{Destination, Geodesic};
+use geo_types::{LineString, MultiPolygon, Point, Polygon};
 
 use crate::coords::LonLat;
 use crate::time::{Instant, Millis, UtcOffset};
@@ -20,6 +23,37 @@ pub enum ZoneArea {
         /// Radius, metres.
         radius_m: f64,
     },
+}
+
+/// The polygons of a zone's area: as given, or a 72-gon for a circle.
+///
+/// ```
+/// use muse_model::{LonLat, ZoneArea, zone_area_polygons};
+/// let circle = ZoneArea::Circle { centre: LonLat::new(103.99, 1.36), radius_m: 5_000.0 };
+/// let polygons = zone_area_polygons(&circle);
+/// assert_eq!(polygons.len(), 1);
+/// assert_eq!(polygons[0].exterior().0.len(), 73);
+/// ```
+pub fn zone_area_polygons(area: &ZoneArea) -> Vec<Polygon<f64>> {
+    match area {
+        ZoneArea::Polygons(mp) => mp.0.clone(),
+        ZoneArea::Circle { centre, radius_m } => vec![circle_polygon(*centre, *radius_m, 72)],
+    }
+}
+
+/// A geodesic circle of `radius_m` metres around `centre` as a polygon with `segments`
+/// vertices (at least 8), in lon/lat degrees.
+pub fn circle_polygon(centre: LonLat, radius_m: f64, segments: usize) -> Polygon<f64> {
+    let n = segments.max(8);
+    let c = Point::new(centre.lon, centre.lat);
+    let mut ring: Vec<(f64, f64)> = (0..n)
+        .map(|i| {
+            let p = Geodesic.destination(c, 360.0 * i as f64 / n as f64, radius_m);
+            (p.x(), p.y())
+        })
+        .collect();
+    ring.push(ring[0]);
+    Polygon::new(LineString::from(ring), vec![])
 }
 
 /// A day of the week.
@@ -125,5 +159,19 @@ impl Zone {
     /// Whether the zone has no time limits.
     pub fn is_permanent(&self) -> bool {
         self.periods.is_empty()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn circles_become_polygons() {
+        let p = circle_polygon(LonLat::new(103.8, 1.3), 1_000.0, 36);
+        assert_eq!(p.exterior().0.len(), 37);
+        let c = p.exterior().0[0];
+        let d = LonLat::new(103.8, 1.3).geodesic_distance_m(LonLat::new(c.x, c.y));
+        assert!((d - 1_000.0).abs() < 1e-6, "{d}");
     }
 }

@@ -14,8 +14,13 @@ mod geom;
 mod map;
 mod plot;
 mod style;
+mod ticks;
 
-pub use map::{MapInput, MapOptions, ZoneLayer, circle_polygon, render_map, zone_area_polygons};
+use plotters::backend::SVGBackend;
+use plotters::coord::Shift;
+use plotters::drawing::DrawingArea;
+
+pub use map::{MapInput, MapOptions, ZoneLayer, render_map};
 pub use plot::{PlotOptions, Point, Series, render_line_plot};
 
 /// Why a map or plot could not be drawn.
@@ -30,4 +35,12 @@ pub enum RenderError {
     /// The drawing backend failed.
     #[error("drawing failed: {0}")]
     Drawing(String),
+}
+
+/// The SVG canvas both renderers draw on.
+type Area<'b> = DrawingArea<SVGBackend<'b>, Shift>;
+
+/// A drawing backend failure as a [`RenderError`].
+fn drawing_err<E: std::fmt::Display>(e: E) -> RenderError {
+    RenderError::Drawing(e.to_string())
 }

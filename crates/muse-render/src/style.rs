@@ -1,4 +1,4 @@
-//! Colours, fonts and number formatting shared by the renderers.
+//! Colours and fonts shared by the renderers (number formats are in `ticks`).
 
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::{Color, FontDesc, FontFamily, FontStyle, RGBColor, TextStyle};
@@ -105,22 +105,6 @@ pub(crate) fn text_width(s: &str, px: f64, bold: bool) -> f64 {
     s.chars().count() as f64 * px * em
 }
 
-/// A number for a legend: at most three significant decimals, no trailing zeros.
-pub(crate) fn fmt_num(v: f64) -> String {
-    let s = if v.abs() >= 100.0 {
-        format!("{v:.0}")
-    } else if v.abs() >= 10.0 {
-        format!("{v:.1}")
-    } else {
-        format!("{v:.2}")
-    };
-    if s.contains('.') {
-        s.trim_end_matches('0').trim_end_matches('.').to_owned()
-    } else {
-        s
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -146,13 +130,5 @@ mod tests {
             assert_eq!(plotters_size(exact) / 1.24, exact);
         }
         assert_eq!(exact_px(14.0), 14.0);
-    }
-
-    #[test]
-    fn numbers() {
-        assert_eq!(fmt_num(0.0), "0");
-        assert_eq!(fmt_num(2.5), "2.5");
-        assert_eq!(fmt_num(12.25), "12.2");
-        assert_eq!(fmt_num(1234.4), "1234");
     }
 }

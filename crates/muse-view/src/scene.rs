@@ -277,7 +277,7 @@ fn scene_zone(a: &Airspace, z: &Zone, t0: i64, end: i64) -> Result<SceneZone, Vi
         area: z
             .area
             .as_ref()
-            .map(muse_render::zone_area_polygons)
+            .map(muse_model::zone_area_polygons)
             .unwrap_or_default()
             .iter()
             .map(polygon_rings)
