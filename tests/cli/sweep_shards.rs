@@ -8,8 +8,6 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 // Only the scratch folder is used here.
-#[allow(dead_code)]
-mod support;
 
 const SWEEP: &[&str] = &[
     "sweep", "--counts", "100,250", "--reps", "3", "--vary", "zones",
@@ -55,7 +53,7 @@ fn refused(args: &[&str], dir: &Path, needle: &str) {
 
 #[test]
 fn three_shards_merge_into_the_files_of_one_machine() {
-    let dir = support::scratch_dir("sweep_shards");
+    let dir = crate::support::scratch_dir("sweep_shards");
     std::fs::create_dir_all(&dir).expect("scratch dir");
     ok(&[SWEEP, &["--out", "whole"]].concat(), &dir);
     shards(SWEEP, 3, "s", &dir);
@@ -64,7 +62,7 @@ fn three_shards_merge_into_the_files_of_one_machine() {
         &dir,
     );
     for file in ["sweep.csv", "sweep_summary.csv"] {
-        support::csv::same_untimed(&dir.join("whole"), &dir.join("merged"), file);
+        crate::support::csv::same_untimed(&dir.join("whole"), &dir.join("merged"), file);
     }
     for plot in [
         "sweep_runtime.svg",
@@ -130,7 +128,7 @@ const LEAD_SWEEP: &[&str] = &[
 
 #[test]
 fn an_announcement_lead_sweep_shards_and_merges_too() {
-    let dir = support::scratch_dir("sweep_shards_lead");
+    let dir = crate::support::scratch_dir("sweep_shards_lead");
     std::fs::create_dir_all(&dir).expect("scratch dir");
     ok(&[LEAD_SWEEP, &["--out", "whole"]].concat(), &dir);
     shards(LEAD_SWEEP, 3, "s", &dir);
@@ -140,7 +138,7 @@ fn an_announcement_lead_sweep_shards_and_merges_too() {
     );
     assert!(merged.contains("merged 3 shards, 16 runs"), "{merged}");
     for file in ["announce_lead.csv", "announce_lead_summary.csv"] {
-        support::csv::same_untimed(&dir.join("whole"), &dir.join("merged"), file);
+        crate::support::csv::same_untimed(&dir.join("whole"), &dir.join("merged"), file);
     }
     for plot in [
         "announce_lead_success.svg",
@@ -189,7 +187,7 @@ const SMALL_FLAGS: &[&str] = &[
 
 /// A scratch folder with the small study in `studies/` and its zone file.
 fn small_study(name: &str) -> std::path::PathBuf {
-    let dir = support::scratch_dir(name);
+    let dir = crate::support::scratch_dir(name);
     std::fs::create_dir_all(dir.join("studies")).expect("scratch dir");
     let zones = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/singapore-77");
     std::fs::copy(
@@ -238,7 +236,7 @@ fn a_study_runs_whole_or_in_shards_and_is_checked_against_its_results() {
         "default --out is out/STUDY"
     );
     ok(&[SMALL_FLAGS, &["--out", "by-flags"]].concat(), &dir);
-    support::csv::same_untimed(&dir.join("published"), &dir.join("by-flags"), "sweep.csv");
+    crate::support::csv::same_untimed(&dir.join("published"), &dir.join("by-flags"), "sweep.csv");
 
     shards(&[&study[..], &["--threads", "1"]].concat(), 2, "t", &dir);
     let merged = ok(&["sweep", "merge", "t0", "t1", "--out", "merged"], &dir);
@@ -247,7 +245,7 @@ fn a_study_runs_whole_or_in_shards_and_is_checked_against_its_results() {
         "{merged}"
     );
     assert!(merged.contains("reproduces the published"), "{merged}");
-    support::csv::same_untimed(&dir.join("published"), &dir.join("merged"), "sweep.csv");
+    crate::support::csv::same_untimed(&dir.join("published"), &dir.join("merged"), "sweep.csv");
 
     // A published table that does not match is reported, with a non-zero exit.
     let summary = dir.join("published/sweep_summary.csv");
@@ -272,7 +270,7 @@ fn a_study_runs_whole_or_in_shards_and_is_checked_against_its_results() {
 #[test]
 fn the_paper_study_reproduces_its_published_results() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let out = support::scratch_dir("paper_study");
+    let out = crate::support::scratch_dir("paper_study");
     let printed = ok(
         &[
             "sweep",
@@ -292,7 +290,7 @@ fn the_paper_study_reproduces_its_published_results() {
 #[test]
 fn a_shard_killed_with_sigkill_leaves_no_file_and_is_simply_rerun() {
     use std::os::unix::process::ExitStatusExt as _;
-    let dir = support::scratch_dir("sweep_shards_kill");
+    let dir = crate::support::scratch_dir("sweep_shards_kill");
     std::fs::create_dir_all(&dir).expect("scratch dir");
     // Days of 3,000 requests with battery swaps and no deadline take seconds each to plan:
     // shard 0 is certainly still running when it is killed.

@@ -8,8 +8,6 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 // Only the scratch folder and the CSV comparison are used here.
-#[allow(dead_code)]
-mod support;
 
 /// A small sweep: 2 variants × 2 counts × 3 repetitions = 12 runs.
 const SWEEP: &[&str] = &[
@@ -56,7 +54,7 @@ fn whole(dir: &Path) {
 
 #[test]
 fn the_local_script_runs_shards_as_processes_and_merges_them() {
-    let dir = support::scratch_dir("deploy_local");
+    let dir = crate::support::scratch_dir("deploy_local");
     std::fs::create_dir_all(&dir).expect("scratch dir");
     whole(&dir);
     let args = [&["4", "2", "sharded", "--"], SWEEP].concat();
@@ -72,7 +70,7 @@ fn the_local_script_runs_shards_as_processes_and_merges_them() {
         assert!(text.contains(&format!("shard {k}/4: ")), "{text}");
     }
     for file in ["sweep.csv", "sweep_summary.csv"] {
-        support::csv::same_untimed(&dir.join("whole"), &dir.join("sharded/merged"), file);
+        crate::support::csv::same_untimed(&dir.join("whole"), &dir.join("sharded/merged"), file);
     }
     // A shard that fails stops the run before the merge, with a non-zero exit.
     let bad = [&["2", "1", "bad", "--"], SWEEP, &["--reps", "0"]].concat();
@@ -84,7 +82,7 @@ fn the_local_script_runs_shards_as_processes_and_merges_them() {
 
 #[test]
 fn the_slurm_scripts_run_each_array_task_and_merge() {
-    let dir = support::scratch_dir("deploy_slurm");
+    let dir = crate::support::scratch_dir("deploy_slurm");
     std::fs::create_dir_all(&dir).expect("scratch dir");
     whole(&dir);
     let n = 3;
@@ -117,6 +115,6 @@ fn the_slurm_scripts_run_each_array_task_and_merge() {
     let (ok, text) = run("deploy/slurm/merge.sbatch", &["results"], &dir, &[]);
     assert!(ok, "merge.sbatch failed:\n{text}");
     for file in ["sweep.csv", "sweep_summary.csv"] {
-        support::csv::same_untimed(&dir.join("whole"), &dir.join("results/merged"), file);
+        crate::support::csv::same_untimed(&dir.join("whole"), &dir.join("results/merged"), file);
     }
 }

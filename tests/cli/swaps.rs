@@ -3,8 +3,7 @@
 
 use serde_json::{Value, json};
 
-mod support;
-use support::{scratch_dir, start};
+use crate::support::{scratch_dir, start};
 
 fn muse(args: &[&str]) -> std::process::Output {
     std::process::Command::new(env!("CARGO_BIN_EXE_muse"))

@@ -46,9 +46,7 @@ use std::process::Command;
 
 use serde_json::Value;
 
-#[allow(dead_code)]
-mod support;
-use support::{scratch_dir, start};
+use crate::support::{scratch_dir, start};
 
 /// The reference, relative to the repository root.
 const REFERENCE: &str = "docs/reference.md";
