@@ -170,6 +170,22 @@ impl WorldArgs {
     }
 }
 
+impl World {
+    /// Refuses zones with a `withdrawn` instant (a service listing's): `command` plans, and
+    /// planning replays zone announcements, never withdrawals.
+    pub fn refuse_withdrawn(&self, command: &str) -> anyhow::Result<()> {
+        match self.zones.iter().find(|z| z.withdrawn.is_some()) {
+            Some(z) => anyhow::bail!(
+                "--zones: zone `{}` was withdrawn (`withdrawn`): `muse {command}` cannot plan \
+                 with a withdrawn zone; leave it out (only `muse verify` and `muse view` read \
+                 withdrawals)",
+                z.id
+            ),
+            None => Ok(()),
+        }
+    }
+}
+
 /// Cruise speed and battery.
 #[derive(Debug, Args, Clone, Copy)]
 pub struct RangeArgs {

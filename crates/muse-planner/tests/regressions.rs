@@ -64,7 +64,7 @@ fn b_closed(a: &Airspace) -> Closures {
         area: None,
         node_ids: vec!["B".into()],
         edge_ids: vec![],
-        announced: None,
+        announced: None, withdrawn: None,
         periods: vec![Period {
             start: Some(Instant(0)),
             end: Some(Instant(25_000)),

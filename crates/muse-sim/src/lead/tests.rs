@@ -22,7 +22,7 @@ fn zone_b() -> Zone {
         area: None,
         node_ids: vec!["B".into()],
         edge_ids: vec![],
-        announced: None,
+        announced: None, withdrawn: None,
         periods: vec![Period {
             start: Some(min(600)),
             end: Some(min(630)),
