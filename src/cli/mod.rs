@@ -7,6 +7,7 @@ mod demand;
 mod load;
 mod plan;
 mod progress;
+mod recorded;
 mod serve;
 mod simulate;
 mod study;
@@ -86,8 +87,8 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Serve(args) => serve::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Sweep(args) => sweep::run(&args, &own("sweep")),
-        Command::Verify(args) => verify::run(&args),
-        Command::View(args) => view::run(&args),
+        Command::Verify(args) => verify::run(&args, &own("verify")),
+        Command::View(args) => view::run(&args, &own("view")),
     }
 }
 

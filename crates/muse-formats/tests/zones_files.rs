@@ -208,7 +208,8 @@ fn cbd_zone() -> Zone {
         )]))),
         node_ids: vec![],
         edge_ids: vec![],
-        announced: None, withdrawn: None,
+        announced: None,
+        withdrawn: None,
         periods: vec![Period {
             start: None,
             end: None,
@@ -336,7 +337,8 @@ fn arb_zone() -> impl Strategy<Value = Zone> {
                     area,
                     node_ids,
                     edge_ids,
-                    announced: announced.map(Instant), withdrawn: None,
+                    announced: announced.map(Instant),
+                    withdrawn: None,
                     periods,
                 }
             },

@@ -126,7 +126,8 @@ pub fn cbd_zone() -> Result<Zone, ScenarioError> {
         area: Some(ZoneArea::Polygons(downtown_core()?)),
         node_ids: Vec::new(),
         edge_ids: Vec::new(),
-        announced: None, withdrawn: None,
+        announced: None,
+        withdrawn: None,
         periods: vec![Period {
             start: None,
             end: None,

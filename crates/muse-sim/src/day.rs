@@ -266,4 +266,25 @@ mod tests {
             Instant(600 * 60_000) - day
         );
     }
+
+    #[test]
+    fn a_withdrawn_zone_is_refused() {
+        let zone = Zone {
+            id: "W".into(),
+            name: String::new(),
+            restriction: String::new(),
+            area: None,
+            node_ids: vec!["B".into()],
+            edge_ids: vec![],
+            periods: vec![],
+            announced: Some(Instant(0)),
+            withdrawn: Some(Instant(60_000)),
+        };
+        let err = plan_requests(&pair(), &[zone], FlightParams::default(), vec![], |_| {})
+            .expect_err("withdrawals are not replayed");
+        assert!(
+            matches!(&err, DayError::Withdrawn(id) if id == "W"),
+            "{err}"
+        );
+    }
 }

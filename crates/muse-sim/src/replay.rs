@@ -159,7 +159,8 @@ pub(crate) mod example {
             area: None,
             node_ids: vec!["B".into()],
             edge_ids: vec![],
-            announced: Some(min(540)), withdrawn: None,
+            announced: Some(min(540)),
+            withdrawn: None,
             periods: vec![Period {
                 start: Some(min(600)),
                 end: Some(min(610)),

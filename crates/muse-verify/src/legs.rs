@@ -17,7 +17,7 @@ use std::ops::Range;
 
 use muse_model::{Airspace, FlightParams, NodeId, Stay, UtcOffset};
 
-use crate::{Ending, Flight, Rule, Violation, dur, edge_of, node_name, stamp, single, span};
+use crate::{Ending, Flight, Rule, Violation, dur, edge_of, node_name, single, span, stamp};
 
 /// The legs of `path`, as ranges of stay indices, in order (none for an empty path).
 pub(crate) fn split(airspace: &Airspace, path: &[Stay]) -> Vec<Range<usize>> {
@@ -560,7 +560,8 @@ mod tests {
         assert_eq!(rules(&v), [Rule::Path]);
         assert_eq!(v[0].element, "B-C");
         assert!(
-            v[0].detail.starts_with("leg 2: departs `B` at 1970-01-01T00:00:40.000+00:00"),
+            v[0].detail
+                .starts_with("leg 2: departs `B` at 1970-01-01T00:00:40.000+00:00"),
             "{}",
             v[0]
         );
@@ -612,10 +613,20 @@ mod tests {
         assert_eq!(both(through(35_000)), []);
         let v = both(through(14_999));
         assert_eq!(rules(&v), [Rule::Node]);
-        assert!(v[0].detail.contains("[1970-01-01T00:00:10.000+00:00, 1970-01-01T00:00:10.000+00:00]"), "{}", v[0]);
+        assert!(
+            v[0].detail
+                .contains("[1970-01-01T00:00:10.000+00:00, 1970-01-01T00:00:10.000+00:00]"),
+            "{}",
+            v[0]
+        );
         let v = both(through(35_001));
         assert_eq!(rules(&v), [Rule::Node]);
-        assert!(v[0].detail.contains("[1970-01-01T00:00:40.000+00:00, 1970-01-01T00:00:40.000+00:00]"), "{}", v[0]);
+        assert!(
+            v[0].detail
+                .contains("[1970-01-01T00:00:40.000+00:00, 1970-01-01T00:00:40.000+00:00]"),
+            "{}",
+            v[0]
+        );
 
         // A closure of B while the drone is on the ground there: nothing to break.
         let zone = closures(&["B"], &[], 11_000, 40_000);
@@ -629,6 +640,11 @@ mod tests {
         let zone = closures(&["B"], &[], 11_000, 40_001);
         let v = verify(&a, &zone, &pr, &[Flight::new("f0", &r, &p)]);
         assert_eq!(rules(&v), [Rule::Zone]);
-        assert!(v[0].detail.contains("stay [1970-01-01T00:00:40.000+00:00, 1970-01-01T00:00:40.000+00:00]"), "{}", v[0]);
+        assert!(
+            v[0].detail
+                .contains("stay [1970-01-01T00:00:40.000+00:00, 1970-01-01T00:00:40.000+00:00]"),
+            "{}",
+            v[0]
+        );
     }
 }

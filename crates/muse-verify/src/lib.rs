@@ -845,7 +845,8 @@ pub(crate) mod tests {
             area: None,
             node_ids: nodes.iter().map(|s| (*s).to_string()).collect(),
             edge_ids: edges.iter().map(|s| (*s).to_string()).collect(),
-            announced: None, withdrawn: None,
+            announced: None,
+            withdrawn: None,
             periods: vec![Period {
                 start: Some(Instant(start)),
                 end: Some(Instant(end)),
@@ -874,7 +875,12 @@ pub(crate) mod tests {
             (v[0].element.as_str(), v[0].flights.as_slice()),
             ("B", ["f0".to_string()].as_slice())
         );
-        assert!(v[0].detail.contains("stay [1970-01-01T00:00:15.000+00:00, 1970-01-01T00:00:20.000+00:00]"), "{}", v[0]);
+        assert!(
+            v[0].detail
+                .contains("stay [1970-01-01T00:00:15.000+00:00, 1970-01-01T00:00:20.000+00:00]"),
+            "{}",
+            v[0]
+        );
         assert_eq!(check_with(&pr, &z, &[at_b(15_000, 4_999)]), []);
         // Hovering across the whole window.
         assert_eq!(

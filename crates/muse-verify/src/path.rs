@@ -7,7 +7,7 @@ use muse_model::{Airspace, FlightParams, UtcOffset};
 
 use crate::legs::{check_legs, prefix, split};
 use crate::{
-    Ending, Flight, Rule, Violation, dur, edge_of, node_name, stamp, single, traversal_time,
+    Ending, Flight, Rule, Violation, dur, edge_of, node_name, single, stamp, traversal_time,
 };
 
 /// Path rules of one flight, the rules of its legs, then its battery and ground-delay rules.

@@ -1,11 +1,9 @@
 //! The rules between flights: node separation and edge separation (SPEC §3), checked per
 //! element on occupations sorted by start.
 
-use muse_model::{
-    Airspace, EdgeId, EdgeRule, FlightParams, Instant, NodeId, Plan, UtcOffset,
-};
+use muse_model::{Airspace, EdgeId, EdgeRule, FlightParams, Instant, NodeId, Plan, UtcOffset};
 
-use crate::{Flight, Rule, Violation, dur, edge_of, node_name, stamp, span, traversal_time};
+use crate::{Flight, Rule, Violation, dur, edge_of, node_name, span, stamp, traversal_time};
 
 /// A stay `[start, end]` at a node, or a traversal `[start, end]` of an edge.
 #[derive(Clone, Copy, Debug)]

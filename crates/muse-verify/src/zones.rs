@@ -4,7 +4,7 @@ use muse_airspace::announced::Announced;
 use muse_airspace::closures::{Closures, Window};
 use muse_model::{Airspace, FlightParams, Instant, UtcOffset};
 
-use crate::{Ending, Flight, Rule, Violation, edge_of, node_name, stamp, span, traversal_time};
+use crate::{Ending, Flight, Rule, Violation, edge_of, node_name, span, stamp, traversal_time};
 
 /// Whether an occupation `[a, d]` shares an instant with the window `[start, end)`:
 /// it is allowed only when `d < start` or `a >= end` (SPEC §4).

@@ -430,7 +430,8 @@ mod fixtures {
             node_ids: vec![],
             edge_ids: vec![],
             periods,
-            announced: None, withdrawn: None,
+            announced: None,
+            withdrawn: None,
         }
     }
 

@@ -198,7 +198,8 @@ impl Instance {
                 area: None,
                 node_ids: Vec::new(),
                 edge_ids: Vec::new(),
-                announced: None, withdrawn: None,
+                announced: None,
+                withdrawn: None,
                 periods: vec![Period {
                     start: Some(Instant(window.0)),
                     end: Some(Instant(window.1)),

@@ -22,7 +22,8 @@ fn zone_b() -> Zone {
         area: None,
         node_ids: vec!["B".into()],
         edge_ids: vec![],
-        announced: None, withdrawn: None,
+        announced: None,
+        withdrawn: None,
         periods: vec![Period {
             start: Some(min(600)),
             end: Some(min(630)),

@@ -99,7 +99,8 @@ impl<'a> LeadWorld<'a> {
             return Err(LeadError::NothingToAnnounce);
         }
         let unannounced = |z: &Zone| Zone {
-            announced: None, withdrawn: None,
+            announced: None,
+            withdrawn: None,
             ..z.clone()
         };
         let base: Vec<Zone> = base.iter().map(unannounced).collect();
