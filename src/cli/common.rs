@@ -6,6 +6,8 @@ use anyhow::Context as _;
 use clap::Args;
 use clap::builder::PossibleValuesParser;
 use muse_model::{Airspace, Millis, Speed, UtcOffset, Zone};
+use muse_sim::metrics::WorldRecord;
+use muse_sim::metrics::recorded::SyntheticRecord;
 
 use super::ranges;
 
@@ -98,6 +100,8 @@ pub struct World {
     pub date: jiff::civil::Date,
     /// The scenario's UTC offset.
     pub offset: UtcOffset,
+    /// Where the airspace and zones came from, as `summary.json` records it.
+    pub record: WorldRecord,
 }
 
 impl WorldArgs {
@@ -173,6 +177,7 @@ impl WorldArgs {
             all
         };
         let day = scenario.unwrap_or(default);
+        let record = self.record()?;
         Ok(World {
             airspace_source,
             airspace,
@@ -182,7 +187,63 @@ impl WorldArgs {
             title,
             date: day.date,
             offset: day.offset,
+            record,
         })
+    }
+
+    /// What `summary.json` records of these arguments: files as absolute paths, so that a
+    /// run can be checked again from another folder.
+    pub fn record(&self) -> anyhow::Result<WorldRecord> {
+        let absolute = |path: &std::path::Path| {
+            std::fs::canonicalize(path)
+                .or_else(|_| std::path::absolute(path))
+                .map(|p| p.display().to_string())
+                .with_context(|| format!("the absolute path of {}", path.display()))
+        };
+        let zones = if self.zones.is_empty() {
+            None
+        } else if self.zones.iter().any(|z| z.as_os_str() == "none") {
+            Some(Vec::new())
+        } else {
+            Some(
+                self.zones
+                    .iter()
+                    .map(|z| absolute(z))
+                    .collect::<anyhow::Result<_>>()?,
+            )
+        };
+        Ok(WorldRecord {
+            scenario: (self.airspace.is_none() && self.synthetic.is_none()).then(|| {
+                self.scenario
+                    .clone()
+                    .unwrap_or_else(|| muse_scenario::SINGAPORE_77.to_owned())
+            }),
+            airspace: self.airspace.as_deref().map(absolute).transpose()?,
+            synthetic: self.synthetic_spec().map(|s| SyntheticRecord {
+                layout: s.layout.to_string(),
+                nodes: s.nodes,
+                spacing_m: s.spacing_m,
+                station_share: s.station_share,
+                seed: s.seed,
+            }),
+            zones,
+        })
+    }
+}
+
+impl World {
+    /// Refuses zones with a `withdrawn` instant (a service listing's): `command` plans, and
+    /// planning replays zone announcements, never withdrawals.
+    pub fn refuse_withdrawn(&self, command: &str) -> anyhow::Result<()> {
+        match self.zones.iter().find(|z| z.withdrawn.is_some()) {
+            Some(z) => anyhow::bail!(
+                "--zones: zone `{}` was withdrawn (`withdrawn`): `muse {command}` cannot plan \
+                 with a withdrawn zone; leave it out (only `muse verify` and `muse view` read \
+                 withdrawals)",
+                z.id
+            ),
+            None => Ok(()),
+        }
     }
 }
 

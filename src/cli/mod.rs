@@ -9,6 +9,7 @@ mod output;
 mod plan;
 mod progress;
 mod ranges;
+mod recorded;
 mod serve;
 mod simulate;
 mod study;
@@ -88,8 +89,8 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Serve(args) => serve::run(&args),
         Command::Simulate(args) => simulate::run(&args),
         Command::Sweep(args) => sweep::run(&args, &own("sweep")),
-        Command::Verify(args) => verify::run(&args),
-        Command::View(args) => view::run(&args),
+        Command::Verify(args) => verify::run(&args, &own("verify")),
+        Command::View(args) => view::run(&args, &own("view")),
     }
 }
 

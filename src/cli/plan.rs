@@ -5,8 +5,11 @@ use std::process::ExitCode;
 
 use anyhow::Context as _;
 use clap::Args;
+use muse_formats::flights_csv::write_flights_csv;
 use muse_formats::plans::{ChangeNote, PlanRecord, write_plan_line};
 use muse_formats::requests::{LocalDay, read_requests_file};
+use muse_formats::stays_csv::write_stays_csv;
+use muse_model::{Instant, Millis};
 use muse_sim::day::{DayRun, plan_requests};
 use muse_sim::demand::BookingLead;
 use muse_sim::metrics::{Provenance, ReplanSummary, RunItem, Summary};
@@ -24,15 +27,19 @@ pub struct PlanArgs {
     world: WorldArgs,
     #[command(flatten)]
     flight: FlightArgs,
-    /// Output folder for `plans.jsonl` and `summary.json`.
+    /// Output folder for `plans.jsonl`, `summary.json`, `flights.csv` and `stays.csv`.
     #[arg(long, value_name = "DIR", default_value = "out")]
     out: PathBuf,
+    /// Do not write the tables `flights.csv` and `stays.csv`.
+    #[arg(long)]
+    no_csv: bool,
 }
 
 /// Runs `muse plan`.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     let params = args.flight.params()?;
     let world = args.world.load()?;
+    world.refuse_withdrawn("plan")?;
     let day = LocalDay {
         date: world.date,
         offset: world.offset,
@@ -52,7 +59,8 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         requests: args.requests.display().to_string(),
         seed: None,
     };
-    let (summary, _) = write_outputs(&world, &run, &params, provenance, None, out.path())?;
+    let tables = !args.no_csv;
+    let (summary, _) = write_outputs(&world, &run, &params, provenance, None, tables, out.path())?;
     out.commit()?;
     if let Some(r) = &summary.replanning {
         println!("{}", replanning_line(r));
@@ -70,8 +78,8 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Writes `plans.jsonl` and `summary.json` for a planned day into `out`; returns the summary
-/// and the records written.
+/// Writes `plans.jsonl` and `summary.json` (and, with `tables`, `flights.csv` and
+/// `stays.csv`) for a planned day into `out`; returns the summary and the records written.
 /// `booking_lead` is the lead of generated demand, recorded in the summary's parameters
 /// (`None` for requests read from a file).
 pub fn write_outputs(
@@ -80,6 +88,7 @@ pub fn write_outputs(
     params: &muse_model::FlightParams,
     provenance: Provenance,
     booking_lead: Option<BookingLead>,
+    tables: bool,
     out: &std::path::Path,
 ) -> anyhow::Result<(Summary, Vec<PlanRecord>)> {
     let a = &world.airspace;
@@ -120,7 +129,8 @@ pub fn write_outputs(
             free_flow: o.free_flow,
             expanded: o.expanded,
         });
-    let mut summary = Summary::compute(items, params, run.planner_wall, provenance);
+    let mut summary = Summary::compute(items, params, run.planner_wall, provenance)
+        .with_world(world.record.clone());
     if let Some(lead) = booking_lead {
         summary = summary.with_booking_lead(lead);
     }
@@ -130,6 +140,17 @@ pub fn write_outputs(
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     write_atomically(&out.join("plans.jsonl"), &text)?;
     write_atomically(&out.join("summary.json"), &summary.to_json())?;
+    if tables {
+        let midnight = Instant::at_local(world.date, Millis::ZERO, world.offset);
+        write_atomically(
+            &out.join("flights.csv"),
+            &write_flights_csv(&records, a, world.offset, midnight),
+        )?;
+        write_atomically(
+            &out.join("stays.csv"),
+            &write_stays_csv(&records, a, world.offset, midnight),
+        )?;
+    }
     Ok((summary, records))
 }
 

@@ -118,6 +118,7 @@ pub struct ServeArgs {
 pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     let params = args.flight.params()?;
     let world = args.world.load()?;
+    world.refuse_withdrawn("serve")?;
     let clock = match &args.clock {
         None => Clock::system(),
         Some(text) => Clock::starting_at(

@@ -13,7 +13,7 @@ use muse_model::Request;
 use muse_sim::day::{DayRun, plan_requests};
 use muse_sim::demand::generate;
 use muse_sim::metrics::{Provenance, Summary};
-use muse_verify::{Flight, verify_known};
+use muse_verify::{Flight, verify_known_in};
 
 use super::common::{FlightArgs, World, WorldArgs, render_world_map, write_atomically};
 use super::demand::DemandArgs;
@@ -42,12 +42,16 @@ pub struct SimulateArgs {
     /// folder holding files muse does not write is refused (docs/reference.md#outputs).
     #[arg(long, value_name = "DIR", default_value = "out")]
     out: PathBuf,
+    /// Do not write the tables `flights.csv` and `stays.csv`.
+    #[arg(long)]
+    no_csv: bool,
 }
 
 /// Runs `muse simulate`; exits 1 if the verifier finds a violation.
 pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
     let params = args.flight.params()?;
     let world = args.world.load()?;
+    world.refuse_withdrawn("simulate")?;
     let inputs = output::Inputs::new().world(&args.world);
     let inputs = match &args.requests {
         Some(path) => inputs.add("--requests", path),
@@ -95,7 +99,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         .enumerate()
         .filter_map(|(i, (r, o))| Flight::last(&r.id, r, o.result.as_ref().ok(), run.fate(i)))
         .collect();
-    let violations = verify_known(&world.airspace, &run.zones, &params, &flights);
+    let violations = verify_known_in(&world.airspace, &run.zones, &params, &flights, world.offset);
 
     let provenance = Provenance {
         airspace: world.airspace_source.clone(),
@@ -110,14 +114,29 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         &out.path().join("requests.csv"),
         &write_requests(&owned, &world.airspace, world.offset),
     )?;
-    let (summary, records) =
-        write_outputs(&world, &run, &params, provenance, booking_lead, out.path())?;
+    let tables = !args.no_csv;
+    let (summary, records) = write_outputs(
+        &world,
+        &run,
+        &params,
+        provenance,
+        booking_lead,
+        tables,
+        out.path(),
+    )?;
     write_maps(&world, &run, &flights, &records, &summary, out.path())?;
     out.commit()?;
 
     print!(
         "{}",
-        report(&world, &summary, &source, violations.len(), &args.out)
+        report(
+            &world,
+            &summary,
+            &source,
+            violations.len(),
+            tables,
+            &args.out
+        )
     );
     for v in violations.iter().take(20) {
         println!("  {v}");
@@ -196,6 +215,7 @@ fn report(
     s: &Summary,
     source: &str,
     violations: usize,
+    tables: bool,
     out: &std::path::Path,
 ) -> String {
     let mut o = String::new();
@@ -283,9 +303,14 @@ fn report(
         format!("FAILED, {violations} violation(s)")
     };
     let _ = writeln!(o, "  verified      {verdict}");
+    let tables = if tables {
+        "flights.csv, stays.csv, "
+    } else {
+        ""
+    };
     let _ = writeln!(
         o,
-        "  wrote         {}/{{requests.csv, plans.jsonl, summary.json, flights.geojson, map.svg, view.html}}",
+        "  wrote         {}/{{requests.csv, plans.jsonl, summary.json, {tables}flights.geojson, map.svg, view.html}}",
         out.display()
     );
     o

@@ -298,6 +298,7 @@ pub(super) fn spec_of(args: &SweepArgs) -> anyhow::Result<(World, SweepSpec)> {
     let swap_times = parse_swap_times(args.swap_min.as_deref().unwrap_or("2,5,10"))?;
     let base = args.flight.params()?;
     let world = args.world.load()?;
+    world.refuse_withdrawn("sweep")?;
     let counts = parse_counts(&args.counts)?;
     check_days(counts.len(), args.reps)?;
     let demand = args.demand.spec(&world, args.flight.range)?;

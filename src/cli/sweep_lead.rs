@@ -101,6 +101,13 @@ fn split_zones(
     if announce.is_empty() {
         anyhow::bail!("--announce-zones: the files hold no zone");
     }
+    if let Some(z) = announce.iter().find(|z| z.withdrawn.is_some()) {
+        anyhow::bail!(
+            "--announce-zones: zone `{}` was withdrawn (`withdrawn`): a sweep announces zones, \
+             it never withdraws them; leave the withdrawal out",
+            z.id
+        );
+    }
     let base = world
         .zones
         .iter()
@@ -172,6 +179,7 @@ impl LeadSweep {
     /// The sweep `args` describe.
     pub fn of(args: &SweepArgs) -> anyhow::Result<LeadSweep> {
         let world = args.world.load()?;
+        world.refuse_withdrawn("sweep")?;
         let (spec, booked) = spec(args, &world)?;
         let lead_world = spec
             .world(&world.airspace)

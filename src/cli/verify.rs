@@ -3,13 +3,14 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use clap::Args;
+use clap::{ArgMatches, Args};
 use muse_airspace::announced::KnownZones;
 use muse_formats::plans::{PlanEntry, PlanItem, read_plan_entries_file};
 use muse_model::{Millis, Request};
-use muse_verify::{Flight, verify_known};
+use muse_verify::{Flight, verify_known_in};
 
 use super::common::{FlightArgs, WorldArgs};
+use super::recorded;
 
 /// Arguments of `muse verify`.
 #[derive(Debug, Args)]
@@ -18,6 +19,10 @@ pub struct VerifyArgs {
     /// flight a line).
     #[arg(long, value_name = "FILE")]
     plans: PathBuf,
+    /// The run's summary, whose world and parameters to check with (each option given here
+    /// overrides its own). Default: `summary.json` beside the plans file, if there is one.
+    #[arg(long, value_name = "FILE")]
+    summary: Option<PathBuf>,
     #[command(flatten)]
     world: WorldArgs,
     #[command(flatten)]
@@ -41,9 +46,15 @@ const STATUSES: [&str; 6] = [
 /// 1 otherwise. Every line of the plans file is read: those of `muse plan` and `muse
 /// simulate`, and those of a service listing saved one flight a line (flights cancelled by
 /// their operator and rejected requests are read and counted, and fly nothing).
-pub fn run(args: &VerifyArgs) -> anyhow::Result<ExitCode> {
-    let params = args.flight.params()?;
-    let world = args.world.load()?;
+pub fn run(args: &VerifyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
+    let summary = recorded::find(&args.plans, args.summary.as_deref())?;
+    let mut notes = Vec::new();
+    let world_args = recorded::world_args(&args.world, matches, summary.as_ref(), &mut notes)?;
+    let params = recorded::flight_params(&args.flight, matches, summary.as_ref(), &mut notes)?;
+    let world = recorded::load_world(&world_args, summary.as_ref())?;
+    for line in recorded::said(&args.plans, summary.as_ref(), &world, Some(&params), &notes) {
+        eprintln!("{line}");
+    }
     let a = &world.airspace;
     let entries = read_plan_entries_file(&args.plans, a)?;
     let file = args.plans.display().to_string();
@@ -96,7 +107,7 @@ pub fn run(args: &VerifyArgs) -> anyhow::Result<ExitCode> {
         .min()
         .map_or(from, |n| n.min(from));
     let zones = KnownZones::resolve(a, &world.zones, from, to)?;
-    let violations = verify_known(a, &zones, &params, &flights);
+    let violations = verify_known_in(a, &zones, &params, &flights, world.offset);
     let read = lines_read(&entries);
     if violations.is_empty() {
         let changed = entries.iter().filter(|e| !e.changes().is_empty()).count();

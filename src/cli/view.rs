@@ -5,12 +5,12 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::Context as _;
-use clap::Args;
+use clap::{ArgMatches, Args};
 use muse_formats::plans::{OperatorCancellation, PlanItem, PlanRecord, read_plan_entries_file};
 use muse_model::{Instant, Millis};
 
 use super::common::{World, WorldArgs, write_atomically};
-use super::output;
+use super::{output, recorded};
 
 /// Arguments of `muse view`.
 #[derive(Debug, Args)]
@@ -18,8 +18,8 @@ pub struct ViewArgs {
     /// Plans file (JSON Lines, as written by `muse simulate` or `muse plan`).
     #[arg(long, value_name = "FILE")]
     plans: PathBuf,
-    /// The day's summary to show beside the map. Default: `summary.json` beside the plans
-    /// file, if there is one.
+    /// The day's summary: shown beside the map, and its world drawn (each option given here
+    /// overrides its own). Default: `summary.json` beside the plans file, if there is one.
     #[arg(long, value_name = "FILE")]
     summary: Option<PathBuf>,
     #[command(flatten)]
@@ -30,21 +30,23 @@ pub struct ViewArgs {
 }
 
 /// Runs `muse view`.
-pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
-    let summary_path = args.summary.clone().or_else(|| {
-        let beside = args.plans.with_file_name("summary.json");
-        beside.is_file().then_some(beside)
-    });
+pub fn run(args: &ViewArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
+    let found = recorded::find(&args.plans, args.summary.as_deref())?;
     let inputs = output::Inputs::new()
         .add("--plans", &args.plans)
         .world(&args.world);
-    let inputs = match &summary_path {
-        Some(path) if args.summary.is_some() => inputs.add("--summary", path),
-        Some(path) => inputs.add("the summary beside --plans", path),
+    let inputs = match &found {
+        Some(s) if args.summary.is_some() => inputs.add("--summary", &s.path),
+        Some(s) => inputs.add("the summary beside --plans", &s.path),
         None => inputs,
     };
     let out = output::file("--out", &args.out, &inputs)?;
-    let world = args.world.load()?;
+    let mut notes = Vec::new();
+    let world_args = recorded::world_args(&args.world, matches, found.as_ref(), &mut notes)?;
+    let world = recorded::load_world(&world_args, found.as_ref())?;
+    for line in recorded::said(&args.plans, found.as_ref(), &world, None, &notes) {
+        eprintln!("{line}");
+    }
     let mut records = Vec::new();
     let mut cancelled = Vec::new();
     for entry in read_plan_entries_file(&args.plans, &world.airspace)? {
@@ -53,13 +55,13 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
             PlanItem::CancelledByOperator(c) => cancelled.push(c),
         }
     }
-    let summary = match &summary_path {
-        Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("reading {}", path.display()))?;
+    let summary = match &found {
+        Some(s) => {
+            let text = std::fs::read_to_string(&s.path)
+                .with_context(|| format!("reading {}", s.path.display()))?;
             Some(
                 serde_json::from_str(&text)
-                    .with_context(|| format!("{}: not a JSON summary", path.display()))?,
+                    .with_context(|| format!("{}: not a JSON summary", s.path.display()))?,
             )
         }
         None => None,
@@ -72,7 +74,10 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<ExitCode> {
             "wrote {out} ({:.1} MB): {drawn} flights of {} requests{}; open it in a browser, no network needed",
             html.len() as f64 / 1e6,
             records.len() + cancelled.len(),
-            summary_path.map_or(String::new(), |p| format!(", summary from {}", p.display()))
+            found.map_or(String::new(), |s| format!(
+                ", summary from {}",
+                s.path.display()
+            ))
         ),
     );
     Ok(ExitCode::SUCCESS)

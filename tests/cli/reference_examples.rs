@@ -30,6 +30,7 @@
 //! | `study` | toml | `muse sweep --study FILE --dry-run` exits 0 |
 //! | `summary` | json | the members of `summary.json` of `muse simulate OPTIONS` |
 //! | `flights` | geojson | the members of `flights.geojson` of `muse simulate OPTIONS` |
+//! | `flights-table`, `stays-table` | csv | the header `muse plan` writes in `flights.csv` and `stays.csv`, and as many cells in every row |
 //! | `tokens` | toml | `muse_service::auth::Tokens::parse` |
 //! | `shard` | json | `muse_sim::shard::ShardFile::read` |
 //! | `sweep-runs`, `sweep-summary`, `lead-runs`, `lead-summary` | csv | the header `muse sweep` writes, and as many cells in every row |
@@ -67,6 +68,8 @@ enum Kind {
     Study,
     Summary,
     Flights,
+    FlightsTable,
+    StaysTable,
     Tokens,
     Shard,
     SweepRuns,
@@ -85,7 +88,7 @@ enum Kind {
 }
 
 impl Kind {
-    const ALL: [Kind; 22] = [
+    const ALL: [Kind; 24] = [
         Kind::Airspace,
         Kind::Zones,
         Kind::Requests,
@@ -93,6 +96,8 @@ impl Kind {
         Kind::Study,
         Kind::Summary,
         Kind::Flights,
+        Kind::FlightsTable,
+        Kind::StaysTable,
         Kind::Tokens,
         Kind::Shard,
         Kind::SweepRuns,
@@ -122,6 +127,8 @@ impl Kind {
             Kind::Study => ("study", &["toml"]),
             Kind::Summary => ("summary", JSON),
             Kind::Flights => ("flights", &["geojson"]),
+            Kind::FlightsTable => ("flights-table", CSV),
+            Kind::StaysTable => ("stays-table", CSV),
             Kind::Tokens => ("tokens", &["toml"]),
             Kind::Shard => ("shard", JSON),
             Kind::SweepRuns => ("sweep-runs", CSV),
@@ -498,6 +505,13 @@ fn check(scratch: &mut Scratch, example: &Example) -> Result<(), String> {
                 (Ok(_), _) | (_, Ok(_)) => Ok(()),
                 (Err(e), _) => Err(format!("{}: {e}", example.at())),
             }
+        }
+        Kind::FlightsTable => csv_with_header(
+            example,
+            &muse_formats::flights_csv::FLIGHTS_COLUMNS.join(","),
+        ),
+        Kind::StaysTable => {
+            csv_with_header(example, &muse_formats::stays_csv::STAYS_COLUMNS.join(","))
         }
         Kind::SweepRuns => csv_with_header(example, &muse_sim::sweep::runs_csv(&[])),
         Kind::SweepSummary => csv_with_header(example, &muse_sim::sweep::summary_csv(&[])),

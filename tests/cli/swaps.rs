@@ -96,8 +96,19 @@ fn simulate_with_swaps_plans_out_of_range_requests_and_verify_checks_the_legs() 
     let p = dir.join("plans.jsonl").display().to_string();
     let o = muse(&["verify", "--plans", &p, "--battery-swap-s", "300"]);
     assert!(o.status.success(), "{}", said(&o));
-    // Without swaps the same plans break the rules, and the verifier says which.
+    // The summary beside the plans gives the swaps: no option needed.
     let o = muse(&["verify", "--plans", &p]);
+    assert!(o.status.success(), "{}", said(&o));
+    // Without swaps (the default, with no summary beside the plans) the same plans break the
+    // rules, and the verifier says which.
+    let alone = dir.join("alone");
+    std::fs::create_dir_all(&alone).unwrap();
+    std::fs::copy(dir.join("plans.jsonl"), alone.join("plans.jsonl")).unwrap();
+    let o = muse(&[
+        "verify",
+        "--plans",
+        &alone.join("plans.jsonl").display().to_string(),
+    ]);
     assert!(!o.status.success());
     assert!(said(&o).contains("battery swaps are off"), "{}", said(&o));
     // A longer swap time than the plans kept is caught too.

@@ -220,3 +220,131 @@ async fn a_saved_listing_of_every_status_passes_muse_verify() {
     );
     let _ = std::fs::remove_dir_all(&data);
 }
+
+/// `GET /v1/zones` lists a withdrawn zone with its `withdrawn` instant, and `muse verify`
+/// honours it: a flight the service planned through the zone after its withdrawal passes.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_withdrawn_zone_binds_nothing_after_its_withdrawal() {
+    let data = scratch_dir("serve-verify-withdrawn");
+    let server = start(&data, &["--airspace", &testdata("line.geojson")]);
+    let base = server.base.clone();
+    let http = reqwest::Client::new();
+    let (_, health) = send(&http, reqwest::Method::GET, format!("{base}/healthz"), None).await;
+    let now = Instant::parse_rfc3339(health["now"].as_str().unwrap()).unwrap();
+    let (code, v) = send(
+        &http,
+        reqwest::Method::POST,
+        format!("{base}/v1/zones"),
+        Some(zone("ZB", "B", now)),
+    )
+    .await;
+    assert_eq!(code, 201, "{v}");
+    let (code, v) = send(
+        &http,
+        reqwest::Method::DELETE,
+        format!("{base}/v1/zones/ZB"),
+        None,
+    )
+    .await;
+    assert_eq!(code, 200, "{v}");
+    // A to C flies over B, whose closure (to 40 minutes ahead) no longer binds.
+    let departure = (now + Millis::from_secs(600)).to_rfc3339(UtcOffset::SINGAPORE);
+    let (code, v) = send(
+        &http,
+        reqwest::Method::POST,
+        format!("{base}/v1/flights"),
+        Some(json!({"id": "w1", "origin": "A", "destination": "C", "departure": departure})),
+    )
+    .await;
+    assert_eq!((code, v["status"].as_str()), (201, Some("planned")), "{v}");
+    assert!(
+        v["path"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|s| s["node"] == "B"),
+        "{v}"
+    );
+    let (_, list) = send(
+        &http,
+        reqwest::Method::GET,
+        format!("{base}/v1/flights"),
+        None,
+    )
+    .await;
+    let (_, zones) = send(
+        &http,
+        reqwest::Method::GET,
+        format!("{base}/v1/zones"),
+        None,
+    )
+    .await;
+    server.kill();
+    let feature = &zones["features"][0]["properties"];
+    assert!(feature["withdrawn"].is_string(), "{zones}");
+    std::fs::create_dir_all(&data).unwrap();
+    let (plans, zones_file) = (data.join("p.jsonl"), data.join("zones.geojson"));
+    let mut lines = String::new();
+    for f in list["flights"].as_array().unwrap() {
+        lines.push_str(&f.to_string());
+        lines.push('\n');
+    }
+    std::fs::write(&plans, lines).unwrap();
+    std::fs::write(&zones_file, zones.to_string()).unwrap();
+    let verify = |zones: &std::path::Path| {
+        Command::new(env!("CARGO_BIN_EXE_muse"))
+            .args(["verify", "--airspace", &testdata("line.geojson"), "--plans"])
+            .arg(&plans)
+            .arg("--zones")
+            .arg(zones)
+            .output()
+            .unwrap()
+    };
+    let o = verify(&zones_file);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success() && out.contains("1 announced during the day"),
+        "{out}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert_planning_refuses(&zones_file, &data.join("sim"));
+    // The same zone never withdrawn binds the flight: it is reported.
+    let mut kept = zones.clone();
+    kept["features"][0]["properties"]
+        .as_object_mut()
+        .unwrap()
+        .remove("withdrawn");
+    let kept_file = data.join("kept.geojson");
+    std::fs::write(&kept_file, kept.to_string()).unwrap();
+    let o = verify(&kept_file);
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(o.status.code(), Some(1), "{out}");
+    assert!(out.contains("zone `ZB`") && out.contains("w1"), "{out}");
+    let _ = std::fs::remove_dir_all(&data);
+}
+
+/// Planning commands replay announcements, never withdrawals: `muse simulate` refuses a zone
+/// listing with a withdrawn zone (exit 2, nothing written into `out`).
+fn assert_planning_refuses(zones_file: &std::path::Path, out: &std::path::Path) {
+    let o = Command::new(env!("CARGO_BIN_EXE_muse"))
+        .args([
+            "simulate",
+            "--count",
+            "5",
+            "--airspace",
+            &testdata("line.geojson"),
+        ])
+        .arg("--zones")
+        .arg(zones_file)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("zone `ZB` was withdrawn (`withdrawn`): `muse simulate` cannot plan"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}

@@ -52,7 +52,9 @@ pub struct KnownZones {
 
 impl KnownZones {
     /// Resolves `zones` over `[from, to)` (as [`resolve`]): zones without
-    /// [`Zone::announced`] into the base, each announced zone into its own layer.
+    /// [`Zone::announced`] into the base, each announced zone into its own layer, with its
+    /// [withdrawal](Zone::withdrawn) if it was withdrawn (a zone withdrawn but never announced,
+    /// which no file reader gives, is a layer known from the earliest instant).
     ///
     /// ```
     /// use muse_airspace::announced::KnownZones;
@@ -64,7 +66,7 @@ impl KnownZones {
     /// ).unwrap();
     /// let zone = |id: &str, announced| Zone {
     ///     id: id.into(), name: String::new(), restriction: String::new(), area: None,
-    ///     node_ids: vec!["S1".into()], edge_ids: vec![], announced,
+    ///     node_ids: vec!["S1".into()], edge_ids: vec![], announced, withdrawn: None,
     ///     periods: vec![Period { start: Some(Instant(1_000)), end: Some(Instant(2_000)), daily: vec![] }],
     /// };
     /// let known = KnownZones::resolve(&airspace, &[zone("A", None), zone("B", Some(Instant(500)))],
@@ -78,8 +80,9 @@ impl KnownZones {
         from: Instant,
         to: Instant,
     ) -> Result<Self, ClosureError> {
-        let (later, start): (Vec<&Zone>, Vec<&Zone>) =
-            zones.iter().partition(|z| z.announced.is_some());
+        let (later, start): (Vec<&Zone>, Vec<&Zone>) = zones
+            .iter()
+            .partition(|z| z.announced.is_some() || z.withdrawn.is_some());
         let start: Vec<Zone> = start.into_iter().cloned().collect();
         let base = resolve(airspace, &start, from, to)?;
         let mut announced = later
@@ -87,8 +90,8 @@ impl KnownZones {
             .map(|z| {
                 Ok(Announced {
                     zone: z.id.clone(),
-                    at: z.announced.expect("partitioned on `announced`"),
-                    withdrawn: None,
+                    at: z.announced.unwrap_or(Instant::TEXT_MIN),
+                    withdrawn: z.withdrawn,
                     closures: resolve(airspace, std::slice::from_ref(z), from, to)?,
                 })
             })

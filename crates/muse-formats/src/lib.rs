@@ -8,13 +8,17 @@
 //! - [`zones`]: no-fly zones in the ED-318 GeoJSON profile and ED-269 JSON;
 //! - [`requests`]: the requests CSV;
 //! - [`plans`]: plan output as JSON Lines;
-//! - [`flights`]: planned flights as time-stamped GeoJSON lines (QGIS, kepler.gl).
+//! - [`flights`]: planned flights as time-stamped GeoJSON lines (QGIS, kepler.gl);
+//! - [`flights_csv`]: one row per request, the plans file as a table;
+//! - [`stays_csv`]: one row per stay of every flight that flies.
 
 pub mod airspace_geojson;
 pub mod error;
 pub mod flights;
+pub mod flights_csv;
 pub mod plans;
 pub mod requests;
+pub mod stays_csv;
 pub mod zones;
 
 pub use error::{InputError, Location};

@@ -209,6 +209,7 @@ fn cbd_zone() -> Zone {
         node_ids: vec![],
         edge_ids: vec![],
         announced: None,
+        withdrawn: None,
         periods: vec![Period {
             start: None,
             end: None,
@@ -339,6 +340,7 @@ fn arb_zone() -> impl Strategy<Value = Zone> {
                     node_ids,
                     edge_ids,
                     announced: announced.map(Instant),
+                    withdrawn: None,
                     periods,
                 }
             },

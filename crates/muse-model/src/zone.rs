@@ -153,6 +153,10 @@ pub struct Zone {
     /// When the zone becomes known (SPEC §11): it binds every stay and traversal that begins
     /// at or after this instant, and none that begins before. `None`: known from the start.
     pub announced: Option<Instant>,
+    /// When an announced zone was withdrawn (SPEC §11, as a service lists it): from this
+    /// instant on it binds nothing, so it binds only the stays and traversals that begin in
+    /// `[announced, withdrawn)`. `None`: never withdrawn.
+    pub withdrawn: Option<Instant>,
 }
 
 impl Zone {

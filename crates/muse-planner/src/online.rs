@@ -493,6 +493,7 @@ mod tests {
             node_ids: vec!["B".into()],
             edge_ids: vec![],
             announced: None,
+            withdrawn: None,
             periods: vec![muse_model::Period {
                 start: Some(Instant(0)),
                 end: Some(Instant(3_600_000)),
@@ -569,6 +570,7 @@ mod tests {
             node_ids: vec!["B".into()],
             edge_ids: vec![],
             announced: None,
+            withdrawn: None,
             periods: vec![],
         };
         muse_airspace::closures::resolve(a, &[zone], Instant(0), Instant(86_400_000)).unwrap()

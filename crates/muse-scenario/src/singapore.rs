@@ -127,6 +127,7 @@ pub fn cbd_zone() -> Result<Zone, ScenarioError> {
         node_ids: Vec::new(),
         edge_ids: Vec::new(),
         announced: None,
+        withdrawn: None,
         periods: vec![Period {
             start: None,
             end: None,

@@ -11,8 +11,7 @@
 use std::collections::HashSet;
 
 use muse_formats::zones::{read_zones, write_ed318};
-use muse_model::{Instant, UtcOffset, Zone};
-use serde_json::Value;
+use muse_model::{Instant, Zone};
 
 /// A zone to announce, read from a request body.
 #[derive(Clone, Debug, PartialEq)]
@@ -138,47 +137,13 @@ impl ZoneBook {
     fn render(&mut self) {
         let mut all = self.base.clone();
         for a in &self.announced {
-            all.extend(a.zones.iter().cloned());
+            all.extend(a.zones.iter().map(|z| Zone {
+                withdrawn: a.withdrawn,
+                ..z.clone()
+            }));
         }
-        let mut text = write_ed318(&all);
-        for a in &self.announced {
-            let Some(at) = a.withdrawn else { continue };
-            for z in &a.zones {
-                // `write_ed318` writes each feature's identifier first in its properties and,
-                // further on, its `announced` date-time: ids are unique and JSON-escaped (the
-                // pattern occurs once), a date-time holds no quote.
-                let key = format!("\"identifier\": {},", Value::String(z.id.clone()));
-                let Some(start) = text.find(&key) else {
-                    continue;
-                };
-                let Some(at_announced) = text[start..].find("\"announced\": \"") else {
-                    continue;
-                };
-                let value = start + at_announced + "\"announced\": \"".len();
-                let Some(close) = text[value..].find('"') else {
-                    continue;
-                };
-                let end = value + close + 1;
-                text.insert_str(
-                    end,
-                    &format!(
-                        ",\n        \"withdrawn\": \"{}\"",
-                        at.to_rfc3339(zone_offset(z))
-                    ),
-                );
-            }
-        }
-        self.geojson = text;
+        self.geojson = write_ed318(&all);
     }
-}
-
-/// The offset `write_ed318` writes a zone's `announced` in: its first daily window's, else
-/// UTC.
-fn zone_offset(zone: &Zone) -> UtcOffset {
-    zone.periods
-        .iter()
-        .find_map(|p| p.daily.first())
-        .map_or(UtcOffset(0), |d| d.offset)
 }
 
 #[cfg(test)]

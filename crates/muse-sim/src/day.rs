@@ -22,6 +22,14 @@ pub enum DayError {
     /// Two announced zones share an id.
     #[error(transparent)]
     Announced(#[from] ZoneError),
+    /// A zone was withdrawn (SPEC §11, as a service lists it): a day is replayed with its
+    /// announcements, never its withdrawals, so it cannot be planned with such a zone.
+    #[error(
+        "zone `{0}` has a `withdrawn` instant: planning replays zone announcements, not \
+         withdrawals; leave the zone out, or give it without `withdrawn` (only `muse verify` \
+         and `muse view` read withdrawn zones)"
+    )]
+    Withdrawn(String),
 }
 
 /// The result of planning a day.
@@ -82,7 +90,8 @@ pub fn closure_range(requests: &[Request], params: &FlightParams) -> (Instant, I
 /// SPEC §5) on `airspace` with `zones`, each accepted plan reserved before the next request.
 /// When some zone carries an announcement instant, the day is [replayed](replay): each
 /// announcement is made at its instant between the requests and replans the flights it hits
-/// (SPEC §11). `progress` is called with the number of requests done.
+/// (SPEC §11). `progress` is called with the number of requests done. A zone with a
+/// [withdrawal](Zone::withdrawn) is refused ([`DayError::Withdrawn`]).
 pub fn plan_requests(
     airspace: &Airspace,
     zones: &[Zone],
@@ -90,6 +99,9 @@ pub fn plan_requests(
     mut requests: Vec<Request>,
     progress: impl FnMut(usize),
 ) -> Result<DayRun, DayError> {
+    if let Some(z) = zones.iter().find(|z| z.withdrawn.is_some()) {
+        return Err(DayError::Withdrawn(z.id.clone()));
+    }
     sort_for_planning(&mut requests);
     let (from, to) = closure_range(&requests, &params);
     let announced_from = zones
@@ -252,6 +264,27 @@ mod tests {
         assert_eq!(
             closure_range(&at_departure, &params).0,
             Instant(600 * 60_000) - day
+        );
+    }
+
+    #[test]
+    fn a_withdrawn_zone_is_refused() {
+        let zone = Zone {
+            id: "W".into(),
+            name: String::new(),
+            restriction: String::new(),
+            area: None,
+            node_ids: vec!["B".into()],
+            edge_ids: vec![],
+            periods: vec![],
+            announced: Some(Instant(0)),
+            withdrawn: Some(Instant(60_000)),
+        };
+        let err = plan_requests(&pair(), &[zone], FlightParams::default(), vec![], |_| {})
+            .expect_err("withdrawals are not replayed");
+        assert!(
+            matches!(&err, DayError::Withdrawn(id) if id == "W"),
+            "{err}"
         );
     }
 }

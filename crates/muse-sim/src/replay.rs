@@ -160,6 +160,7 @@ pub(crate) mod example {
             node_ids: vec!["B".into()],
             edge_ids: vec![],
             announced: Some(min(540)),
+            withdrawn: None,
             periods: vec![Period {
                 start: Some(min(600)),
                 end: Some(min(610)),

@@ -15,9 +15,9 @@
 
 use std::ops::Range;
 
-use muse_model::{Airspace, FlightParams, NodeId, Stay};
+use muse_model::{Airspace, FlightParams, NodeId, Stay, UtcOffset};
 
-use crate::{Ending, Flight, Rule, Violation, dur, edge_of, node_name, secs, single, span};
+use crate::{Ending, Flight, Rule, Violation, dur, edge_of, node_name, single, span, stamp};
 
 /// The legs of `path`, as ranges of stay indices, in order (none for an empty path).
 pub(crate) fn split(airspace: &Airspace, path: &[Stay]) -> Vec<Range<usize>> {
@@ -74,10 +74,11 @@ pub(crate) fn check_legs(
     flight: &Flight<'_>,
     legs: &[Range<usize>],
     out: &mut Vec<Violation>,
+    offset: UtcOffset,
 ) {
-    check_count(airspace, params, flight, legs, out);
-    check_chain(airspace, params, flight, legs, out);
-    check_shape(airspace, flight, legs, out);
+    check_count(airspace, params, flight, legs, out, offset);
+    check_chain(airspace, params, flight, legs, out, offset);
+    check_shape(airspace, flight, legs, out, offset);
 }
 
 /// More than one leg with swaps off, or more than `K` legs.
@@ -87,6 +88,7 @@ fn check_count(
     flight: &Flight<'_>,
     legs: &[Range<usize>],
     out: &mut Vec<Violation>,
+    offset: UtcOffset,
 ) {
     let n = legs.len();
     if n < 2 {
@@ -104,9 +106,9 @@ fn check_count(
                     "the plan has {n} legs (leg 1 lands at `{}` at {}, leg 2 takes off from `{}` \
                      at {}) but battery swaps are off: a trip is a single leg",
                     node_name(airspace, landing.node),
-                    secs(landing.depart),
+                    stamp(landing.depart, offset),
                     node_name(airspace, takeoff.node),
-                    secs(takeoff.arrive)
+                    stamp(takeoff.arrive, offset)
                 ),
             ));
         }
@@ -132,6 +134,7 @@ fn check_chain(
     flight: &Flight<'_>,
     legs: &[Range<usize>],
     out: &mut Vec<Violation>,
+    offset: UtcOffset,
 ) {
     let path = &flight.plan.path;
     for (k, pair) in legs.windows(2).enumerate() {
@@ -150,9 +153,9 @@ fn check_chain(
                      landed at `{here}` at {}; a leg must take off from the station where the \
                      previous one landed",
                     k + 2,
-                    secs(takeoff.arrive),
+                    stamp(takeoff.arrive, offset),
                     k + 1,
-                    secs(landing.depart)
+                    stamp(landing.depart, offset)
                 ),
             ));
             continue;
@@ -171,11 +174,11 @@ fn check_chain(
                     "the legs do not chain: leg {} takes off from `{here}` at {}, less than the \
                      battery swap time S = {} after leg {} landed there at {} (not before {})",
                     k + 2,
-                    secs(takeoff.arrive),
+                    stamp(takeoff.arrive, offset),
                     dur(swap.time),
                     k + 1,
-                    secs(landing.depart),
-                    secs(earliest)
+                    stamp(landing.depart, offset),
+                    stamp(earliest, offset)
                 ),
             ));
         }
@@ -193,6 +196,7 @@ fn check_shape(
     flight: &Flight<'_>,
     legs: &[Range<usize>],
     out: &mut Vec<Violation>,
+    offset: UtcOffset,
 ) {
     let path = &flight.plan.path;
     let n = legs.len();
@@ -215,7 +219,7 @@ fn check_shape(
                 from.clone(),
                 format!(
                     "{name} has a single stay, at `{from}` {}: a leg must fly at least one edge",
-                    span(first.arrive, first.depart)
+                    span(first.arrive, first.depart, offset)
                 ),
             );
             continue;
@@ -227,8 +231,8 @@ fn check_shape(
                     format!(
                         "{name} must end at landing: its last stay, at `{to}`, arrives at {} and \
                          departs at {}",
-                        secs(last.arrive),
-                        secs(last.depart)
+                        stamp(last.arrive, offset),
+                        stamp(last.depart, offset)
                     ),
                 );
             }
@@ -376,8 +380,8 @@ mod tests {
         assert_eq!(rules(&v), [Rule::Swap]);
         assert_eq!(
             v[0].to_string(),
-            "swap rule violated by f0: the plan has 2 legs (leg 1 lands at `B` at 10.000s, \
-             leg 2 takes off from `B` at 40.000s) but battery swaps are off: a trip is a single leg"
+            "swap rule violated by f0: the plan has 2 legs (leg 1 lands at `B` at 1970-01-01T00:00:10.000+00:00, \
+             leg 2 takes off from `B` at 1970-01-01T00:00:40.000+00:00) but battery swaps are off: a trip is a single leg"
         );
     }
 
@@ -408,8 +412,8 @@ mod tests {
         assert_eq!(
             v[0].to_string(),
             "swap rule violated by f0 at `B`: the legs do not chain: leg 2 takes off from `B` at \
-             39.999s, less than the battery swap time S = 30.000s after leg 1 landed there at \
-             10.000s (not before 40.000s)"
+             1970-01-01T00:00:39.999+00:00, less than the battery swap time S = 30.000s after leg 1 landed there at \
+             1970-01-01T00:00:10.000+00:00 (not before 1970-01-01T00:00:40.000+00:00)"
         );
         // Taking off before landing, in the third leg.
         let mut p = three_legs(&a);
@@ -421,7 +425,7 @@ mod tests {
         assert_eq!(rules(&v), [Rule::Swap]);
         assert!(
             v[0].detail
-                .contains("leg 3 takes off from `D` at 5.000s, less than"),
+                .contains("leg 3 takes off from `D` at 1970-01-01T00:00:05.000+00:00, less than"),
             "{}",
             v[0]
         );
@@ -443,7 +447,7 @@ mod tests {
         assert_eq!(
             v[0].to_string(),
             "swap rule violated by f0 at `D`: the legs do not chain: leg 2 takes off from `D` \
-             at 50.000s, but leg 1 landed at `C` at 20.000s; a leg must take off from the \
+             at 1970-01-01T00:00:50.000+00:00, but leg 1 landed at `C` at 1970-01-01T00:00:20.000+00:00; a leg must take off from the \
              station where the previous one landed"
         );
     }
@@ -466,8 +470,8 @@ mod tests {
         assert_eq!(rules(&v), [Rule::Battery]);
         assert_eq!(
             v[0].to_string(),
-            "battery rule violated by f0: leg 2: airborne 16.000s (take-off 40.000s, landing \
-             56.000s), more than T_max = 15.000s"
+            "battery rule violated by f0: leg 2: airborne 16.000s (take-off 1970-01-01T00:00:40.000+00:00, landing \
+             1970-01-01T00:00:56.000+00:00), more than T_max = 15.000s"
         );
     }
 
@@ -489,7 +493,7 @@ mod tests {
         assert_eq!(
             v[0].to_string(),
             "path rule violated by f0 at `B`: leg 1 must end at landing: its last stay, at `B`, \
-             arrives at 10.000s and departs at 13.000s"
+             arrives at 1970-01-01T00:00:10.000+00:00 and departs at 1970-01-01T00:00:13.000+00:00"
         );
         // Landing at a waypoint.
         let p = legs(
@@ -531,7 +535,7 @@ mod tests {
         assert_eq!(rules(&v), [Rule::Path]);
         assert_eq!(
             v[0].detail,
-            "leg 2 has a single stay, at `B` [40.000s, 40.000s]: a leg must fly at least one edge"
+            "leg 2 has a single stay, at `B` [1970-01-01T00:00:40.000+00:00, 1970-01-01T00:00:40.000+00:00]: a leg must fly at least one edge"
         );
         // The last leg back to the station it took off from, at the destination.
         let p = legs(
@@ -556,7 +560,8 @@ mod tests {
         assert_eq!(rules(&v), [Rule::Path]);
         assert_eq!(v[0].element, "B-C");
         assert!(
-            v[0].detail.starts_with("leg 2: departs `B` at 40.000s"),
+            v[0].detail
+                .starts_with("leg 2: departs `B` at 1970-01-01T00:00:40.000+00:00"),
             "{}",
             v[0]
         );
@@ -608,10 +613,20 @@ mod tests {
         assert_eq!(both(through(35_000)), []);
         let v = both(through(14_999));
         assert_eq!(rules(&v), [Rule::Node]);
-        assert!(v[0].detail.contains("[10.000s, 10.000s]"), "{}", v[0]);
+        assert!(
+            v[0].detail
+                .contains("[1970-01-01T00:00:10.000+00:00, 1970-01-01T00:00:10.000+00:00]"),
+            "{}",
+            v[0]
+        );
         let v = both(through(35_001));
         assert_eq!(rules(&v), [Rule::Node]);
-        assert!(v[0].detail.contains("[40.000s, 40.000s]"), "{}", v[0]);
+        assert!(
+            v[0].detail
+                .contains("[1970-01-01T00:00:40.000+00:00, 1970-01-01T00:00:40.000+00:00]"),
+            "{}",
+            v[0]
+        );
 
         // A closure of B while the drone is on the ground there: nothing to break.
         let zone = closures(&["B"], &[], 11_000, 40_000);
@@ -625,6 +640,11 @@ mod tests {
         let zone = closures(&["B"], &[], 11_000, 40_001);
         let v = verify(&a, &zone, &pr, &[Flight::new("f0", &r, &p)]);
         assert_eq!(rules(&v), [Rule::Zone]);
-        assert!(v[0].detail.contains("stay [40.000s, 40.000s]"), "{}", v[0]);
+        assert!(
+            v[0].detail
+                .contains("stay [1970-01-01T00:00:40.000+00:00, 1970-01-01T00:00:40.000+00:00]"),
+            "{}",
+            v[0]
+        );
     }
 }

@@ -95,7 +95,9 @@ use zones::zone_rule;
 use muse_airspace::announced::{Announced, KnownZones};
 use muse_airspace::closures::Closures;
 use muse_model::plan::Fate;
-use muse_model::{Airspace, EdgeId, FlightParams, Instant, Millis, NodeId, Plan, Request};
+use muse_model::{
+    Airspace, EdgeId, FlightParams, Instant, Millis, NodeId, Plan, Request, UtcOffset,
+};
 
 /// One flight to check: its request and its plan.
 #[derive(Clone, Copy, Debug)]
@@ -234,7 +236,8 @@ pub struct Violation {
     /// The node or edge id concerned; empty when the violation concerns a flight as a whole
     /// (battery, ground delay, empty plan).
     pub element: String,
-    /// What is wrong, with the times involved (seconds since the epoch, to the millisecond).
+    /// What is wrong, with the instants involved as RFC 3339 timestamps with milliseconds (in
+    /// UTC, or in the offset given to [`verify_known_in`]) and durations in seconds.
     pub detail: String,
 }
 
@@ -247,13 +250,15 @@ pub struct Violation {
 /// otherwise ignored; stays and traversals of a malformed plan are still checked against the
 /// other rules wherever they are well defined (a traversal is taken to start at the departure
 /// from its first node and to last `w(e)`).
+///
+/// Violations give their instants in UTC ([`verify_known_in`] writes them in another offset).
 pub fn verify(
     airspace: &Airspace,
     closures: &Closures,
     params: &FlightParams,
     flights: &[Flight<'_>],
 ) -> Vec<Violation> {
-    check(airspace, closures, &[], params, flights)
+    check(airspace, closures, &[], params, flights, UtcOffset(0))
 }
 
 /// [`verify`] with zones announced during the day (SPEC §11): the zones known from the start
@@ -267,7 +272,7 @@ pub fn verify(
 /// let airspace = Airspace::line(&[1_000.0]);
 /// // A-B closed from 60 s, announced at 30 s.
 /// let zone = Zone { id: "Z".into(), name: String::new(), restriction: String::new(), area: None,
-///     node_ids: vec![], edge_ids: vec!["A-B".into()], announced: Some(Instant(30_000)),
+///     node_ids: vec![], edge_ids: vec!["A-B".into()], announced: Some(Instant(30_000)), withdrawn: None,
 ///     periods: vec![Period { start: Some(Instant(60_000)), end: None, daily: vec![] }] };
 /// let known = KnownZones::resolve(&airspace, &[zone], Instant(0), Instant(86_400_000)).unwrap();
 /// let r = |t| Request { id: "r".into(), origin: NodeId(0), destination: NodeId(1),
@@ -288,7 +293,45 @@ pub fn verify_known(
     params: &FlightParams,
     flights: &[Flight<'_>],
 ) -> Vec<Violation> {
-    check(airspace, &zones.base, &zones.announced, params, flights)
+    verify_known_in(airspace, zones, params, flights, UtcOffset(0))
+}
+
+/// [`verify_known`] with the instants of the violations written in `offset` (the world's:
+/// the offset every file of the run gives its times in) rather than in UTC.
+///
+/// ```
+/// use muse_airspace::announced::KnownZones;
+/// use muse_airspace::closures::Closures;
+/// use muse_model::{Airspace, FlightParams, Instant, NodeId, Plan, Request, Stay, UtcOffset};
+/// use muse_verify::{Flight, verify_known_in};
+/// let airspace = Airspace::line(&[1_000.0]);
+/// let r = Request { id: "r".into(), origin: NodeId(0), destination: NodeId(1),
+///                   departure: Instant(0), submitted: Instant(0) };
+/// // Lands at B a second early: 1 km takes 120 s at 30 km/h.
+/// let p = Plan { path: vec![
+///     Stay { node: NodeId(0), arrive: Instant(0), depart: Instant(0) },
+///     Stay { node: NodeId(1), arrive: Instant(119_000), depart: Instant(119_000) },
+/// ] };
+/// let zones = KnownZones { base: Closures::none(&airspace), announced: vec![] };
+/// let v = verify_known_in(&airspace, &zones, &FlightParams::default(),
+///                         &[Flight::new("r", &r, &p)], UtcOffset::SINGAPORE);
+/// assert!(v[0].detail.contains("departs `A` at 1970-01-01T08:00:00.000+08:00"), "{}", v[0]);
+/// ```
+pub fn verify_known_in(
+    airspace: &Airspace,
+    zones: &KnownZones,
+    params: &FlightParams,
+    flights: &[Flight<'_>],
+    offset: UtcOffset,
+) -> Vec<Violation> {
+    check(
+        airspace,
+        &zones.base,
+        &zones.announced,
+        params,
+        flights,
+        offset,
+    )
 }
 
 fn check(
@@ -297,12 +340,13 @@ fn check(
     announced: &[Announced],
     params: &FlightParams,
     flights: &[Flight<'_>],
+    offset: UtcOffset,
 ) -> Vec<Violation> {
     let mut out = Vec::new();
     let mut stays: Vec<Vec<Occupation>> = vec![Vec::new(); airspace.node_count()];
     let mut traversals: Vec<Vec<Occupation>> = vec![Vec::new(); airspace.edge_count()];
     for (index, flight) in flights.iter().enumerate() {
-        check_flight(airspace, params, flight, &mut out);
+        check_flight(airspace, params, flight, &mut out, offset);
         collect(
             airspace,
             params,
@@ -313,13 +357,31 @@ fn check(
         );
     }
     for (n, list) in stays.iter_mut().enumerate() {
-        node_rule(airspace, params, flights, NodeId(n as u32), list, &mut out);
+        node_rule(
+            airspace,
+            params,
+            flights,
+            NodeId(n as u32),
+            list,
+            &mut out,
+            offset,
+        );
     }
     for (e, list) in traversals.iter_mut().enumerate() {
-        edge_rule(airspace, params, flights, EdgeId(e as u32), list, &mut out);
+        edge_rule(
+            airspace,
+            params,
+            flights,
+            EdgeId(e as u32),
+            list,
+            &mut out,
+            offset,
+        );
     }
     for flight in flights {
-        zone_rule(airspace, closures, announced, params, flight, &mut out);
+        zone_rule(
+            airspace, closures, announced, params, flight, &mut out, offset,
+        );
     }
     out
 }
@@ -333,20 +395,21 @@ fn at(element: &str) -> String {
     }
 }
 
-/// Formats an instant as seconds with three decimals, exactly.
-fn secs(t: Instant) -> String {
-    let sign = if t.0 < 0 { "-" } else { "" };
-    let ms = t.0.unsigned_abs();
-    format!("{sign}{}.{:03}s", ms / 1000, ms % 1000)
+/// Writes an instant as RFC 3339 in `offset`, with milliseconds (as every file MUSE writes).
+fn stamp(t: Instant, offset: UtcOffset) -> String {
+    t.to_rfc3339(offset)
 }
 
 /// Formats a duration as seconds with three decimals, exactly.
 fn dur(d: Millis) -> String {
-    secs(Instant(d.0))
+    let sign = if d.0 < 0 { "-" } else { "" };
+    let ms = d.0.unsigned_abs();
+    format!("{sign}{}.{:03}s", ms / 1000, ms % 1000)
 }
 
-fn span(a: Instant, b: Instant) -> String {
-    format!("[{}, {}]", secs(a), secs(b))
+/// `[a, b]`, both instants as [`stamp`] writes them.
+fn span(a: Instant, b: Instant, offset: UtcOffset) -> String {
+    format!("[{}, {}]", stamp(a, offset), stamp(b, offset))
 }
 
 fn node_name(airspace: &Airspace, n: NodeId) -> String {
@@ -556,7 +619,7 @@ pub(crate) mod tests {
         assert_eq!(rules(&v), [Rule::Path]);
         assert!(
             v[0].detail
-                .contains("stay 1 arrives at 10.000s after it departs at 9.999s"),
+                .contains("stay 1 arrives at 1970-01-01T00:00:10.000+00:00 after it departs at 1970-01-01T00:00:09.999+00:00"),
             "{}",
             v[0]
         );
@@ -602,7 +665,7 @@ pub(crate) mod tests {
         assert_eq!(v[0].element, "B");
         assert!(
             v[0].detail
-                .contains("[10.000s, 13.000s] and [17.999s, 17.999s]"),
+                .contains("[1970-01-01T00:00:10.000+00:00, 1970-01-01T00:00:13.000+00:00] and [1970-01-01T00:00:17.999+00:00, 1970-01-01T00:00:17.999+00:00]"),
             "{}",
             v[0]
         );
@@ -783,6 +846,7 @@ pub(crate) mod tests {
             node_ids: nodes.iter().map(|s| (*s).to_string()).collect(),
             edge_ids: edges.iter().map(|s| (*s).to_string()).collect(),
             announced: None,
+            withdrawn: None,
             periods: vec![Period {
                 start: Some(Instant(start)),
                 end: Some(Instant(end)),
@@ -811,7 +875,12 @@ pub(crate) mod tests {
             (v[0].element.as_str(), v[0].flights.as_slice()),
             ("B", ["f0".to_string()].as_slice())
         );
-        assert!(v[0].detail.contains("stay [15.000s, 20.000s]"), "{}", v[0]);
+        assert!(
+            v[0].detail
+                .contains("stay [1970-01-01T00:00:15.000+00:00, 1970-01-01T00:00:20.000+00:00]"),
+            "{}",
+            v[0]
+        );
         assert_eq!(check_with(&pr, &z, &[at_b(15_000, 4_999)]), []);
         // Hovering across the whole window.
         assert_eq!(
@@ -852,16 +921,66 @@ pub(crate) mod tests {
         assert_eq!(rules(&v), [Rule::Node]);
         assert_eq!(
             v[0].to_string(),
-            "node rule violated by f0, f1 at `B`: stays [10.000s, 13.000s] and [17.000s, 17.000s] are less than tau = 5.000s apart"
+            "node rule violated by f0, f1 at `B`: stays [1970-01-01T00:00:10.000+00:00, 1970-01-01T00:00:13.000+00:00] and [1970-01-01T00:00:17.000+00:00, 1970-01-01T00:00:17.000+00:00] are less than tau = 5.000s apart"
         );
-        assert_eq!(secs(Instant(-1_500)), "-1.500s");
+        assert_eq!(dur(Millis(-1_500)), "-1.500s");
         let a = airspace();
         let late = plan(&a, 0, &[("A", 0), ("B", 95_000), ("C", 0)]);
         let v = check(&params(), &[late]);
         assert_eq!(
             v[0].to_string(),
-            "battery rule violated by f0: airborne 115.000s (take-off 0.000s, landing 115.000s), \
+            "battery rule violated by f0: airborne 115.000s (take-off 1970-01-01T00:00:00.000+00:00, landing 1970-01-01T00:01:55.000+00:00), \
              more than T_max = 100.000s"
         );
+    }
+
+    #[test]
+    fn a_withdrawn_zone_binds_only_what_begins_before_its_withdrawal() {
+        // `B` closed from 0 to 100 s by a zone announced at 1 s and withdrawn at 50 s (SPEC §11).
+        let a = airspace();
+        let zone = Zone {
+            id: "W".into(),
+            name: String::new(),
+            restriction: String::new(),
+            area: None,
+            node_ids: vec!["B".into()],
+            edge_ids: vec![],
+            announced: Some(Instant(1_000)),
+            withdrawn: Some(Instant(50_000)),
+            periods: vec![Period {
+                start: Some(Instant(0)),
+                end: Some(Instant(100_000)),
+                daily: vec![],
+            }],
+        };
+        let known = KnownZones::resolve(&a, &[zone], Instant(0), Instant(86_400_000)).unwrap();
+        assert_eq!(known.announced[0].withdrawn, Some(Instant(50_000)));
+        let through_b = |arrive: i64| plan(&a, arrive - W, &[("A", 0), ("B", 0), ("C", 0)]);
+        let check = |p: &Plan| {
+            let r = request(&a, p, p.takeoff().0);
+            verify_known_in(
+                &a,
+                &known,
+                &params(),
+                &[Flight::new("f", &r, p)],
+                UtcOffset::SINGAPORE,
+            )
+        };
+        // At `B` while the zone is in force: a violation, its instants in the offset given.
+        let v = check(&through_b(49_999));
+        assert_eq!(rules(&v), [Rule::Zone]);
+        assert!(
+            v[0].detail.contains(
+                "stay [1970-01-01T08:00:49.999+08:00, 1970-01-01T08:00:49.999+08:00] shares an \
+                 instant with the closure [1970-01-01T08:00:00.000+08:00, \
+                 1970-01-01T08:01:40.000+08:00) of zone `W` announced at \
+                 1970-01-01T08:00:01.000+08:00"
+            ),
+            "{}",
+            v[0]
+        );
+        // From its withdrawal on, the window still open binds nothing.
+        assert_eq!(check(&through_b(50_000)), []);
+        assert_eq!(check(&through_b(90_000)), []);
     }
 }

@@ -3,11 +3,11 @@
 
 use std::ops::Range;
 
-use muse_model::{Airspace, FlightParams};
+use muse_model::{Airspace, FlightParams, UtcOffset};
 
 use crate::legs::{check_legs, prefix, split};
 use crate::{
-    Ending, Flight, Rule, Violation, dur, edge_of, node_name, secs, single, traversal_time,
+    Ending, Flight, Rule, Violation, dur, edge_of, node_name, single, stamp, traversal_time,
 };
 
 /// Path rules of one flight, the rules of its legs, then its battery and ground-delay rules.
@@ -16,6 +16,7 @@ pub(crate) fn check_flight(
     params: &FlightParams,
     flight: &Flight<'_>,
     out: &mut Vec<Violation>,
+    offset: UtcOffset,
 ) {
     let one = |rule, element: String, detail: String| single(rule, flight, element, detail);
     let path = &flight.plan.path;
@@ -77,15 +78,15 @@ pub(crate) fn check_flight(
                 node_name(airspace, stay.node),
                 format!(
                     "stay {i} arrives at {} after it departs at {}",
-                    secs(stay.arrive),
-                    secs(stay.depart)
+                    stamp(stay.arrive, offset),
+                    stamp(stay.depart, offset)
                 ),
             ));
         }
     }
     let legs = split(airspace, path);
-    check_hops(airspace, params, flight, &legs, out);
-    check_legs(airspace, params, flight, &legs, out);
+    check_hops(airspace, params, flight, &legs, out, offset);
+    check_legs(airspace, params, flight, &legs, out, offset);
     if last.depart != last.arrive {
         let what = if stranded {
             "a committed part must end with its arrival"
@@ -97,12 +98,12 @@ pub(crate) fn check_flight(
             node_name(airspace, last.node),
             format!(
                 "{what}: it arrives at {} and departs at {}",
-                secs(last.arrive),
-                secs(last.depart)
+                stamp(last.arrive, offset),
+                stamp(last.depart, offset)
             ),
         ));
     }
-    check_times(params, flight, &legs, out);
+    check_times(params, flight, &legs, out, offset);
 }
 
 /// Path rules between consecutive stays of each leg: joined by an edge,
@@ -113,6 +114,7 @@ fn check_hops(
     flight: &Flight<'_>,
     legs: &[Range<usize>],
     out: &mut Vec<Violation>,
+    offset: UtcOffset,
 ) {
     let one = |rule, element: String, detail: String| single(rule, flight, element, detail);
     let path = &flight.plan.path;
@@ -141,11 +143,11 @@ fn check_hops(
                         "{prefix}departs `{}` at {} and arrives at `{}` at {}; the traversal \
                          takes {}, so the arrival must be {}",
                         node_name(airspace, x.node),
-                        secs(x.depart),
+                        stamp(x.depart, offset),
                         node_name(airspace, y.node),
-                        secs(y.arrive),
+                        stamp(y.arrive, offset),
                         dur(w),
-                        secs(x.depart + w)
+                        stamp(x.depart + w, offset)
                     ),
                 ));
             }
@@ -159,6 +161,7 @@ fn check_times(
     flight: &Flight<'_>,
     legs: &[Range<usize>],
     out: &mut Vec<Violation>,
+    offset: UtcOffset,
 ) {
     let one = |rule, detail: String| Violation {
         rule,
@@ -176,8 +179,8 @@ fn check_times(
                 format!(
                     "{prefix}airborne {} (take-off {}, landing {}), more than T_max = {}",
                     dur(landing - takeoff),
-                    secs(takeoff),
-                    secs(landing),
+                    stamp(takeoff, offset),
+                    stamp(landing, offset),
                     dur(params.max_flight)
                 ),
             ));
@@ -191,9 +194,9 @@ fn check_times(
                 Rule::Deadline,
                 format!(
                     "lands at {}, later than {} (departure {} + the delivery deadline {})",
-                    secs(landing),
-                    secs(request.departure + m),
-                    secs(request.departure),
+                    stamp(landing, offset),
+                    stamp(request.departure + m, offset),
+                    stamp(request.departure, offset),
                     dur(m)
                 ),
             ));
@@ -206,10 +209,10 @@ fn check_times(
             Rule::GroundDelay,
             format!(
                 "take-off at {} is outside [{}, {}] (departure {}, G_max = {})",
-                secs(takeoff),
-                secs(request.departure),
-                secs(latest),
-                secs(request.departure),
+                stamp(takeoff, offset),
+                stamp(request.departure, offset),
+                stamp(latest, offset),
+                stamp(request.departure, offset),
                 dur(params.max_ground_delay)
             ),
         ));

@@ -1,9 +1,9 @@
 //! The rules between flights: node separation and edge separation (SPEC §3), checked per
 //! element on occupations sorted by start.
 
-use muse_model::{Airspace, EdgeId, EdgeRule, FlightParams, Instant, NodeId, Plan};
+use muse_model::{Airspace, EdgeId, EdgeRule, FlightParams, Instant, NodeId, Plan, UtcOffset};
 
-use crate::{Flight, Rule, Violation, dur, edge_of, node_name, secs, span, traversal_time};
+use crate::{Flight, Rule, Violation, dur, edge_of, node_name, span, stamp, traversal_time};
 
 /// A stay `[start, end]` at a node, or a traversal `[start, end]` of an edge.
 #[derive(Clone, Copy, Debug)]
@@ -69,6 +69,7 @@ pub(crate) fn node_rule(
     n: NodeId,
     list: &mut [Occupation],
     out: &mut Vec<Violation>,
+    offset: UtcOffset,
 ) {
     let tau = params.node_separation;
     sort(list);
@@ -84,8 +85,8 @@ pub(crate) fn node_rule(
                 element: node_name(airspace, n),
                 detail: format!(
                     "stays {} and {} are less than tau = {} apart",
-                    span(x.start, x.end),
-                    span(y.start, y.end),
+                    span(x.start, x.end, offset),
+                    span(y.start, y.end, offset),
                     dur(tau)
                 ),
             });
@@ -101,6 +102,7 @@ pub(crate) fn edge_rule(
     e: EdgeId,
     list: &mut [Occupation],
     out: &mut Vec<Violation>,
+    offset: UtcOffset,
 ) {
     sort(list);
     let edge = airspace.edge(e);
@@ -131,8 +133,8 @@ pub(crate) fn edge_rule(
                     format!(
                         "same-direction traversals ({}) enter at {} and {}, less than the headway {} apart",
                         direction(x),
-                        secs(x.start),
-                        secs(y.start),
+                        stamp(x.start, offset),
+                        stamp(y.start, offset),
                         dur(h)
                     )
                 }
@@ -142,9 +144,9 @@ pub(crate) fn edge_rule(
                     }
                     format!(
                         "traversals {} ({}) and {} ({}) overlap",
-                        span(x.start, x.end),
+                        span(x.start, x.end, offset),
                         direction(x),
-                        span(y.start, y.end),
+                        span(y.start, y.end, offset),
                         direction(y)
                     )
                 }

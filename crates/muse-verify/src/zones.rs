@@ -2,9 +2,9 @@
 
 use muse_airspace::announced::Announced;
 use muse_airspace::closures::{Closures, Window};
-use muse_model::{Airspace, FlightParams, Instant};
+use muse_model::{Airspace, FlightParams, Instant, UtcOffset};
 
-use crate::{Ending, Flight, Rule, Violation, edge_of, node_name, secs, span, traversal_time};
+use crate::{Ending, Flight, Rule, Violation, edge_of, node_name, span, stamp, traversal_time};
 
 /// Whether an occupation `[a, d]` shares an instant with the window `[start, end)`:
 /// it is allowed only when `d < start` or `a >= end` (SPEC §4).
@@ -21,6 +21,7 @@ pub(crate) fn zone_rule(
     params: &FlightParams,
     flight: &Flight<'_>,
     out: &mut Vec<Violation>,
+    offset: UtcOffset,
 ) {
     let mut push = |element: String, what: &str, a: Instant, d: Instant, w: Window, by: &str| {
         out.push(Violation {
@@ -29,9 +30,9 @@ pub(crate) fn zone_rule(
             element,
             detail: format!(
                 "{what} {} shares an instant with the closure [{}, {}){by}",
-                span(a, d),
-                secs(w.start),
-                secs(w.end)
+                span(a, d, offset),
+                stamp(w.start, offset),
+                stamp(w.end, offset)
             ),
         });
     };
@@ -42,7 +43,7 @@ pub(crate) fn zone_rule(
             announced.iter().filter(move |a| a.binds(t)).map(|a| {
                 (
                     &a.closures,
-                    format!(" of zone `{}` announced at {}", a.zone, secs(a.at)),
+                    format!(" of zone `{}` announced at {}", a.zone, stamp(a.at, offset)),
                 )
             }),
         )

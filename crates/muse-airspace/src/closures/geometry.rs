@@ -45,7 +45,7 @@ use super::ClosureError;
 /// let zone = Zone {
 ///     id: "Z".into(), name: String::new(), restriction: "PROHIBITED".into(),
 ///     area: Some(ZoneArea::Polygons(square.into())),
-///     node_ids: vec![], edge_ids: vec![], periods: vec![], announced: None,
+///     node_ids: vec![], edge_ids: vec![], periods: vec![], announced: None, withdrawn: None,
 /// };
 /// let (nodes, edges) = closed_elements(&airspace, &zone).unwrap();
 /// assert!(nodes.is_empty());

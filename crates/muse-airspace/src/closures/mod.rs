@@ -168,7 +168,7 @@ impl Closures {
     /// ).unwrap();
     /// let closing = |id: &str, start: i64, end: i64| Zone {
     ///     id: id.into(), name: String::new(), restriction: "PROHIBITED".into(), area: None,
-    ///     node_ids: vec!["S001".into()], edge_ids: vec![], announced: None,
+    ///     node_ids: vec!["S001".into()], edge_ids: vec![], announced: None, withdrawn: None,
     ///     periods: vec![Period { start: Some(Instant(start)), end: Some(Instant(end)),
     ///                            daily: vec![] }],
     /// };
@@ -315,7 +315,7 @@ pub enum ClosureError {
 /// ).unwrap();
 /// let zone = Zone {
 ///     id: "CBD".into(), name: String::new(), restriction: "PROHIBITED".into(), area: None,
-///     node_ids: vec!["S001".into()], edge_ids: vec![], announced: None,
+///     node_ids: vec!["S001".into()], edge_ids: vec![], announced: None, withdrawn: None,
 ///     periods: vec![Period { start: None, end: None, daily: vec![DailyWindow {
 ///         days: Weekday::ALL.to_vec(), start: Millis::from_secs(10 * 3600),
 ///         end: Millis::from_secs(12 * 3600), offset: UtcOffset::SINGAPORE,
@@ -431,6 +431,7 @@ mod fixtures {
             edge_ids: vec![],
             periods,
             announced: None,
+            withdrawn: None,
         }
     }
 

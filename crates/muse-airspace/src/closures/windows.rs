@@ -24,7 +24,7 @@ pub const MAX_RANGE_DAYS: i64 = 36_525;
 /// let t = |s: &str| Instant::parse_rfc3339(s).unwrap();
 /// let zone = Zone {
 ///     id: "Z".into(), name: String::new(), restriction: String::new(), area: None,
-///     node_ids: vec![], edge_ids: vec![], announced: None,
+///     node_ids: vec![], edge_ids: vec![], announced: None, withdrawn: None,
 ///     periods: vec![Period { start: Some(t("2026-01-05T09:00:00Z")), end: None, daily: vec![] }],
 /// };
 /// let w = zone_windows(&zone, t("2026-01-05T00:00:00Z"), t("2026-01-06T00:00:00Z")).unwrap();

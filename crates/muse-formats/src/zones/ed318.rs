@@ -149,12 +149,13 @@ fn circle_extent(ctx: &Ctx<'_>, v: &Value, field: &str) -> Result<f64, InputErro
 /// Per zone: `identifier`, `name` (as the ED-318 list `[{"text", "lang": "en"}]`, omitted when
 /// empty), `type` (the zone's restriction), `variant: "COMMON"`, `limitedApplicability` (omitted
 /// for a permanent zone), the MUSE extensions `announced` (omitted for a zone known from the
-/// start) and `nodes` / `edges` (omitted when empty); the geometry is a `Polygon`, a
+/// start), `withdrawn` (omitted unless the zone was withdrawn) and `nodes` / `edges` (omitted
+/// when empty); the geometry is a `Polygon`, a
 /// `MultiPolygon`, a `Point` with a circle `extent` (radius in metres), or `null` for a zone
 /// with explicit elements only. Date-times are written in the offset of the period's first
-/// daily window (UTC when it has none; `announced` in the offset of the zone's first daily
-/// window, else UTC), clock times as `HH:MM:SS[.mmm]` with their offset, all seven days as
-/// `["ANY"]`, and a daily window that ends the next day with `"overnight": true`.
+/// daily window (UTC when it has none; `announced` and `withdrawn` in the offset of the zone's
+/// first daily window, else UTC), clock times as `HH:MM:SS[.mmm]` with their offset, all seven
+/// days as `["ANY"]`, and a daily window that ends the next day with `"overnight": true`.
 ///
 /// What is written is each zone's [`normalize`]d form: coordinates rounded to 7 decimals of a
 /// degree (about 1 cm, see [`COORDINATE_DECIMALS`](super::COORDINATE_DECIMALS)), days sorted,
@@ -176,7 +177,7 @@ fn circle_extent(ctx: &Ctx<'_>, v: &Value, field: &str) -> Result<f64, InputErro
 ///         (x: 103.84, y: 1.27), (x: 103.86, y: 1.27), (x: 103.86, y: 1.29), (x: 103.84, y: 1.27)
 ///     ].into())),
 ///     node_ids: vec![],
-///     announced: None,
+///     announced: None, withdrawn: None,
 ///     edge_ids: vec![],
 ///     periods: vec![Period {
 ///         start: None,
@@ -232,6 +233,8 @@ struct PropertiesOut<'a> {
     limited_applicability: Vec<PeriodOut>,
     #[serde(skip_serializing_if = "Option::is_none")]
     announced: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    withdrawn: Option<String>,
     #[serde(skip_serializing_if = "<[String]>::is_empty")]
     nodes: &'a [String],
     #[serde(skip_serializing_if = "<[String]>::is_empty")]
@@ -306,6 +309,7 @@ fn feature_out(zone: &Zone) -> FeatureOut<'_> {
             variant: "COMMON",
             limited_applicability: zone.periods.iter().map(period_out).collect(),
             announced: zone.announced.map(|t| t.to_rfc3339(zone_offset(zone))),
+            withdrawn: zone.withdrawn.map(|t| t.to_rfc3339(zone_offset(zone))),
             nodes: &zone.node_ids,
             edges: &zone.edge_ids,
         },

@@ -230,6 +230,7 @@ pub(super) fn assemble(
         edge_ids,
         periods,
         announced,
+        withdrawn,
     } = common;
     if areas.len() <= 1 {
         return Ok(vec![Zone {
@@ -241,6 +242,7 @@ pub(super) fn assemble(
             edge_ids,
             periods,
             announced,
+            withdrawn,
         }]);
     }
     Ok(areas
@@ -255,6 +257,7 @@ pub(super) fn assemble(
             edge_ids: if k == 0 { edge_ids.clone() } else { Vec::new() },
             periods: periods.clone(),
             announced,
+            withdrawn,
         })
         .collect())
 }

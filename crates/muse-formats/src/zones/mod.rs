@@ -14,7 +14,7 @@
 //!   `PROHIBITED`, `REQ_AUTHORISATION`, …, see [`ZONE_TYPES`]): kept as text (MUSE closes
 //!   the airspace whatever it says; `PROHIBITED` when neither is given);
 //! - `properties.limitedApplicability` (or `applicability`): time periods, see below;
-//! - `properties.announced` (MUSE extension, SPEC §11): see below;
+//! - `properties.announced`, `properties.withdrawn` (MUSE extensions, SPEC §11): see below;
 //! - `geometry`: `Polygon`, `MultiPolygon`, a `Point` with an `extent`
 //!   `{"subType": "Circle", "radius": <metres>}` (the extent may sit on the geometry, the
 //!   feature or the properties; an optional `uom` / `uomDimensions` of `M`, `FT` or `NM`
@@ -23,7 +23,7 @@
 //! # ED-269 JSON
 //!
 //! An object with a `features` or `UASZoneList` array of zones (or a bare array). Per zone:
-//! `identifier`, `name`, `restriction`, `applicability`, `announced` (see below) and
+//! `identifier`, `name`, `restriction`, `applicability`, `announced`, `withdrawn` (see below) and
 //! `geometry`: a list of volumes whose `horizontalProjection` is `{"type": "Polygon", "coordinates": [[[lon, lat], …]]}` or
 //! `{"type": "Circle", "center": [lon, lat], "radius": r}`, `r` in the volume's
 //! `uomDimensions` (`M` by default, or `FT`).
@@ -54,6 +54,10 @@
 //!   zone becomes known during the day; it binds flights from that instant on. Without it (or
 //!   with `null`) the zone is known from the start. A value that is not such a date-time (no
 //!   offset, finer than a millisecond, not a string) is an error on field `announced`.
+//! - MUSE extension (SPEC §11, written by the service's `GET /v1/zones`): `withdrawn`, an RFC
+//!   3339 date-time, is when an announced zone was withdrawn; from then on it binds nothing
+//!   (it binds the stays and traversals that begin in `[announced, withdrawn)`). It needs
+//!   `announced` and may not be before it; `null` means not withdrawn.
 //! - A zone whose areas cannot be one [`ZoneArea`] (several circles, or circles and polygons,
 //!   e.g. an ED-269 zone with several volumes) becomes one zone per area, with ids
 //!   `ID#1`, `ID#2`, … (all polygons of a zone form one area).
@@ -183,7 +187,7 @@ pub fn read_zones_file(path: &Path) -> Result<Vec<Zone>, InputError> {
 /// let zone = Zone {
 ///     id: "Z".into(), name: String::new(), restriction: "PROHIBITED".into(),
 ///     area: Some(ZoneArea::Circle { centre: LonLat::new(103.812_345_678, 1.3), radius_m: 50.0 }),
-///     node_ids: vec![], edge_ids: vec![], periods: vec![], announced: None,
+///     node_ids: vec![], edge_ids: vec![], periods: vec![], announced: None, withdrawn: None,
 /// };
 /// let Some(ZoneArea::Circle { centre, .. }) = normalize(&zone).area else { unreachable!() };
 /// assert_eq!(centre.lon, 103.812_345_7);

@@ -1,5 +1,5 @@
 //! The properties every zone has, whatever the format: name, restriction, time periods,
-//! announcement instant and the explicit node and edge lists.
+//! announcement and withdrawal instants and the explicit node and edge lists.
 
 use muse_model::{Instant, Period};
 use serde_json::{Map, Value};
@@ -28,10 +28,12 @@ pub(super) struct Common {
     pub(super) edge_ids: Vec<String>,
     pub(super) periods: Vec<Period>,
     pub(super) announced: Option<Instant>,
+    pub(super) withdrawn: Option<Instant>,
 }
 
-/// Reads name, restriction (the first of `restriction_keys` present), periods and the explicit
-/// node and edge lists from a zone object (ED-318 `properties` or an ED-269 zone).
+/// Reads name, restriction (the first of `restriction_keys` present), periods, the
+/// announcement and withdrawal instants and the explicit node and edge lists from a zone
+/// object (ED-318 `properties` or an ED-269 zone).
 pub(super) fn parse_common(
     ctx: &Ctx<'_>,
     obj: &Map<String, Value>,
@@ -64,13 +66,40 @@ pub(super) fn parse_common(
             break;
         }
     }
+    let announced = parse_date_time(ctx, obj, "announced", "")?;
+    let withdrawn = parse_date_time(ctx, obj, "withdrawn", "")?;
+    if let Some(w) = withdrawn {
+        // Only an announced zone can be withdrawn (SPEC §11), and not before it was announced.
+        match announced {
+            None => {
+                return Err(ctx.err(
+                    "withdrawn",
+                    "a zone known from the start cannot be withdrawn: `withdrawn` needs \
+                     `announced`",
+                ));
+            }
+            Some(n) if w < n => {
+                return Err(ctx.err(
+                    "withdrawn",
+                    format!(
+                        "withdrawn at {} before it was announced ({}): must be at or after \
+                         `announced`",
+                        w.to_rfc3339(muse_model::UtcOffset(0)),
+                        n.to_rfc3339(muse_model::UtcOffset(0))
+                    ),
+                ));
+            }
+            Some(_) => {}
+        }
+    }
     Ok(Common {
         name,
         restriction: restriction.unwrap_or_else(|| "PROHIBITED".to_owned()),
         node_ids: parse_id_list(ctx, obj, "nodes")?,
         edge_ids: parse_id_list(ctx, obj, "edges")?,
         periods: parse_periods(ctx, obj)?,
-        announced: parse_date_time(ctx, obj, "announced", "")?,
+        announced,
+        withdrawn,
     })
 }
 

@@ -886,3 +886,62 @@ fn a_zone_file_without_zones_is_refused() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn withdrawn_is_read_checked_and_written_back() {
+    let at = |t: &str| Some(Instant::parse_rfc3339(t).unwrap());
+    // As `GET /v1/zones` lists a withdrawn zone: announced, then withdrawn (SPEC §11).
+    let text = ed318_with(|props, _| {
+        props.insert("announced".into(), json!("2026-01-05T14:00:00.000+08:00"));
+        props.insert("withdrawn".into(), json!("2026-01-05T15:30:00.250+08:00"));
+    });
+    let zones = read_zones(&text, "z.json").unwrap();
+    assert_eq!(zones[0].withdrawn, at("2026-01-05T07:30:00.250Z"));
+    let written = write_ed318(&zones);
+    assert!(
+        written.contains(
+            "\"announced\": \"2026-01-05T14:00:00.000+08:00\",\n        \"withdrawn\": \
+             \"2026-01-05T15:30:00.250+08:00\""
+        ),
+        "{written}"
+    );
+    assert_eq!(read_zones(&written, "w").unwrap(), zones);
+    // Absent or null: not withdrawn; ED-269 zones read it too.
+    let null = ed318_with(|props, _| {
+        props.insert("announced".into(), json!("2026-01-05T14:00:00+08:00"));
+        props.insert("withdrawn".into(), Value::Null);
+    });
+    assert_eq!(read_zones(&null, "z").unwrap()[0].withdrawn, None);
+    let ed269 = json!({"UASZoneList": [{"identifier": "E1", "nodes": ["S001"],
+        "announced": "2026-01-05T14:00:00+08:00", "withdrawn": "2026-01-05T14:00:00+08:00"}]})
+    .to_string();
+    assert_eq!(
+        read_zones(&ed269, "z").unwrap()[0].withdrawn,
+        at("2026-01-05T06:00:00Z")
+    );
+    // Withdrawn without an announcement, before it, or not a date-time: errors on the field.
+    for (announced, withdrawn, needle) in [
+        (
+            Value::Null,
+            json!("2026-01-05T14:00:00+08:00"),
+            "a zone known from the start cannot be withdrawn",
+        ),
+        (
+            json!("2026-01-05T14:00:00+08:00"),
+            json!("2026-01-05T13:59:59.999+08:00"),
+            "withdrawn at 2026-01-05T05:59:59.999+00:00 before it was announced \
+             (2026-01-05T06:00:00.000+00:00)",
+        ),
+        (
+            json!("2026-01-05T14:00:00+08:00"),
+            json!("15:00"),
+            "`15:00` is not an RFC 3339 timestamp",
+        ),
+    ] {
+        let text = ed318_with(|props, _| {
+            props.insert("announced".into(), announced.clone());
+            props.insert("withdrawn".into(), withdrawn.clone());
+        });
+        assert_err(&err_of(&text), "withdrawn", needle);
+    }
+}

@@ -596,6 +596,7 @@ mod tests {
             node_ids: vec!["B".into()],
             edge_ids: vec!["A-B".into()],
             announced: None,
+            withdrawn: None,
             periods: vec![Period {
                 start: Some(Instant(1_000_000)),
                 end: Some(Instant(2_000_000)),

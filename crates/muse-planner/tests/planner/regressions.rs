@@ -65,6 +65,7 @@ fn b_closed(a: &Airspace) -> Closures {
         node_ids: vec!["B".into()],
         edge_ids: vec![],
         announced: None,
+        withdrawn: None,
         periods: vec![Period {
             start: Some(Instant(0)),
             end: Some(Instant(25_000)),

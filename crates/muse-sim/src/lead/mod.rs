@@ -218,7 +218,7 @@ impl LeadSweepSpec {
 /// let air = Airspace::line(&[1_000.0, 1_000.0]);
 /// let zone = Zone {
 ///     id: "Z".into(), name: String::new(), restriction: String::new(), area: None,
-///     node_ids: vec!["B".into()], edge_ids: vec![], announced: None,
+///     node_ids: vec!["B".into()], edge_ids: vec![], announced: None, withdrawn: None,
 ///     periods: vec![Period { start: Some(min(600)), end: Some(min(630)), daily: vec![] }],
 /// };
 /// let spec = LeadSweepSpec {

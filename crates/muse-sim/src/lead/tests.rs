@@ -23,6 +23,7 @@ fn zone_b() -> Zone {
         node_ids: vec!["B".into()],
         edge_ids: vec![],
         announced: None,
+        withdrawn: None,
         periods: vec![Period {
             start: Some(min(600)),
             end: Some(min(630)),

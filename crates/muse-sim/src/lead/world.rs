@@ -22,7 +22,7 @@ use crate::replay::replay;
 /// let min = |m: i64| Instant(m * 60_000);
 /// let zone = Zone {
 ///     id: "Z".into(), name: String::new(), restriction: String::new(), area: None,
-///     node_ids: vec![], edge_ids: vec![], announced: None,
+///     node_ids: vec![], edge_ids: vec![], announced: None, withdrawn: None,
 ///     periods: vec![
 ///         Period { start: Some(min(900)), end: Some(min(960)), daily: vec![] },
 ///         Period { start: Some(min(600)), end: Some(min(720)), daily: vec![] },
@@ -100,6 +100,7 @@ impl<'a> LeadWorld<'a> {
         }
         let unannounced = |z: &Zone| Zone {
             announced: None,
+            withdrawn: None,
             ..z.clone()
         };
         let base: Vec<Zone> = base.iter().map(unannounced).collect();

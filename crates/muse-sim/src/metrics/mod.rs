@@ -3,12 +3,14 @@
 use std::collections::BTreeMap;
 
 use muse_model::{EdgeRule, FlightParams, Millis, Plan, RejectReason};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::demand::BookingLead;
 
+pub mod recorded;
 pub mod replanning;
 
+pub use recorded::WorldRecord;
 pub use replanning::ReplanSummary;
 
 /// Mean, median, 95th percentile and maximum of a sample, in seconds. Percentiles use the
@@ -59,8 +61,11 @@ fn round_ms(secs: f64) -> f64 {
     (secs * 1e6).round() / 1e6
 }
 
-/// The flight-model parameters, as recorded in a summary.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+/// The flight-model parameters, as recorded in a summary (and read back by
+/// [`recorded::read_recorded`]: a member this version does not know is an error, a missing
+/// optional one is `None`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ParamsRecord {
     /// Cruise speed, km/h.
     pub speed_kmh: f64,
@@ -71,27 +76,29 @@ pub struct ParamsRecord {
     /// `exclusive` or `headway`.
     pub edge_rule: String,
     /// Same-direction headway, seconds (headway rule only).
+    #[serde(default)]
     pub headway_s: Option<f64>,
     /// Maximum ground delay, seconds.
     pub max_ground_delay_s: f64,
     /// How far ahead of departure generated requests were booked, minutes (`from` = `to` = 0:
     /// at departure, the paper). Absent when the requests were read from a file, whose
     /// `submitted` column gives each request's own booking instant.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(skip_serializing_if = "Option::is_none", default)]
     pub booking_lead_min: Option<BookingLeadRecord>,
     /// Battery swap time at stations, seconds (SPEC §12); absent when trips are single legs.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(skip_serializing_if = "Option::is_none", default)]
     pub battery_swap_s: Option<f64>,
     /// With swaps: the most legs a trip may have; absent when unbounded.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(skip_serializing_if = "Option::is_none", default)]
     pub max_legs: Option<u32>,
     /// The delivery deadline after the requested departure, minutes; absent when none.
-    #[serde(skip_serializing_if = "Option::is_none")]
+    #[serde(skip_serializing_if = "Option::is_none", default)]
     pub max_trip_min: Option<f64>,
 }
 
 /// A booking lead as recorded in a summary: uniform in `[from, to]` minutes.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct BookingLeadRecord {
     /// Shortest lead, minutes.
     pub from: f64,
@@ -202,6 +209,10 @@ pub struct Summary {
     pub parameters: ParamsRecord,
     /// Inputs and seed.
     pub provenance: Provenance,
+    /// The world planned on, so that the run can be checked again with it
+    /// ([`recorded::read_recorded`]); absent when not recorded.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub world: Option<WorldRecord>,
     /// Zones announced during the day and what became of the flights they hit (only when
     /// some zone was announced). `planned`, `rejected` and the delays above are the first
     /// answers, as given at submission.
@@ -290,6 +301,7 @@ impl Summary {
             legs: params.battery_swap.is_some().then_some(legs),
             parameters: params.into(),
             provenance,
+            world: None,
             replanning: None,
         }
     }
@@ -309,6 +321,13 @@ impl Summary {
     #[must_use]
     pub fn with_booking_lead(mut self, lead: BookingLead) -> Summary {
         self.parameters.booking_lead_min = Some(lead.into());
+        self
+    }
+
+    /// Records the world planned on (`world`).
+    #[must_use]
+    pub fn with_world(mut self, world: WorldRecord) -> Summary {
+        self.world = Some(world);
         self
     }
 

@@ -199,6 +199,7 @@ impl Instance {
                 node_ids: Vec::new(),
                 edge_ids: Vec::new(),
                 announced: None,
+                withdrawn: None,
                 periods: vec![Period {
                     start: Some(Instant(window.0)),
                     end: Some(Instant(window.1)),
