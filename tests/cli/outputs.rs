@@ -236,10 +236,12 @@ fn an_output_never_replaces_an_input() {
     assert_eq!(
         names(&dir.join("day")),
         [
+            "flights.csv",
             "flights.geojson",
             "map.svg",
             "plans.jsonl",
             "requests.csv",
+            "stays.csv",
             "summary.json",
             "view.html"
         ]
@@ -382,12 +384,18 @@ fn a_folder_never_holds_files_of_two_runs() {
             "day/sweep",
         ],
     );
-    // Planning other requests into the folder: only this run's two files remain (no
-    // view.html of seed 1 beside seed 2's plans); the folder of the sweep inside is kept.
+    // Planning other requests into the folder: only this run's files remain (no view.html
+    // of seed 1 beside seed 2's plans); the folder of the sweep inside is kept.
     ok(&dir, &["plan", "--requests", "seed2.csv", "--out", "day"]);
     assert_eq!(
         names(&dir.join("day")),
-        ["plans.jsonl", "summary.json", "sweep"]
+        [
+            "flights.csv",
+            "plans.jsonl",
+            "stays.csv",
+            "summary.json",
+            "sweep"
+        ]
     );
     let summary = std::fs::read_to_string(dir.join("day/summary.json")).expect("summary");
     assert!(summary.contains("seed2.csv"), "{summary}");
@@ -400,7 +408,7 @@ fn a_folder_never_holds_files_of_two_runs() {
     assert!(summary.contains("\"seed\": 2"), "{summary}");
     assert_eq!(
         names(&dir.join("day")).len(),
-        7,
+        9,
         "{:?}",
         names(&dir.join("day"))
     );
