@@ -7,7 +7,7 @@
 //! before a request at the same instant. The planner is the online one ([`Live`]) with the
 //! clock at each event's instant, so a request is planned against every flight accepted
 //! before it and every zone known by then, and an announcement replans exactly as
-//! [`muse_planner::replan`] states.
+//! [`muse_planner::Live::announce`] does.
 
 use std::time::{Duration, Instant as WallInstant};
 
