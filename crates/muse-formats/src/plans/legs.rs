@@ -20,7 +20,8 @@
 use muse_model::{Airspace, Plan, Stay, UtcOffset};
 use serde::{Deserialize, Serialize};
 
-use super::{LineReader, StayLine, stay_lines};
+use super::read::LineReader;
+use super::{StayLine, stay_lines};
 use crate::error::InputError;
 
 /// One leg of a multi-leg plan, as written.
