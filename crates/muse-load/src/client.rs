@@ -14,7 +14,7 @@ use tokio::time::Instant;
 use crate::config::{Mode, Stop};
 use crate::demand::Demand;
 use crate::error::LoadError;
-use crate::outcome::{ErrorKind, Outcome, classify};
+use crate::outcome::{Outcome, classify};
 use crate::schedule::{LATE, OpenSchedule, PACED_LATE, pace};
 use crate::server::{Server, system_now};
 use crate::stats::nanos;
@@ -83,15 +83,9 @@ pub struct LoadRun {
 
 /// Sends one `POST /v1/flights` and reads the whole answer.
 async fn send(server: &Server, body: String) -> (u16, Outcome) {
-    match server.post_flight(body).send().await {
-        Err(e) => (0, Outcome::Error(ErrorKind::of(&e))),
-        Ok(response) => {
-            let status = response.status().as_u16();
-            match response.bytes().await {
-                Ok(b) => (status, classify(status, &b)),
-                Err(e) => (status, Outcome::Error(ErrorKind::of(&e))),
-            }
-        }
+    match server.post_flight(body.as_bytes()).await {
+        Err(kind) => (0, Outcome::Error(kind)),
+        Ok(answer) => (answer.status, classify(answer.status, &answer.body)),
     }
 }
 

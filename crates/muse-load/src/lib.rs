@@ -9,7 +9,8 @@
 //! independent verifier.
 //!
 //! - [`config`]: what a run does ([`LoadConfig`], [`Mode`], [`Stop`]);
-//! - [`server`]: the HTTP client and what the service plans on;
+//! - [`server`]: the HTTP client and what the service plans on (the hot `POST /v1/flights`
+//!   goes on kept-alive connections of its own, written and read directly);
 //! - [`demand`]: the seeded requests (pairs from `muse_sim::demand`);
 //! - [`schedule`]: the open-loop schedule (latency from due time: no coordinated omission)
 //!   and its precise pacing for paced runs;
@@ -42,6 +43,7 @@ pub mod demand;
 pub mod error;
 pub mod metrics;
 pub mod outcome;
+mod post;
 pub mod report;
 pub mod run;
 pub mod schedule;

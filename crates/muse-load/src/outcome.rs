@@ -49,17 +49,6 @@ impl ErrorKind {
             ErrorKind::Connect | ErrorKind::Timeout | ErrorKind::Transport
         )
     }
-
-    /// The kind of a failed `reqwest` call.
-    pub fn of(e: &reqwest::Error) -> Self {
-        if e.is_timeout() {
-            ErrorKind::Timeout
-        } else if e.is_connect() {
-            ErrorKind::Connect
-        } else {
-            ErrorKind::Transport
-        }
-    }
 }
 
 /// The outcome of one `POST /v1/flights`.

@@ -2,6 +2,7 @@
 //! airspace (`/v1/airspace`), the zones (`/v1/zones`), the flight parameters and the clock
 //! (`/healthz`) — so that a run needs no world arguments of its own.
 
+use std::sync::Arc;
 use std::time::Duration;
 
 use muse_formats::airspace_geojson::read_airspace;
@@ -11,15 +12,18 @@ use reqwest::{StatusCode, Url, header};
 use serde::Deserialize;
 
 use crate::error::LoadError;
+use crate::outcome::ErrorKind;
+use crate::post::{Answer, Poster};
 
-/// A client for one service: base URL, optional bearer token and a connection pool shared by
-/// every task of a run (connections are kept alive and reused).
+/// A client for one service: base URL, optional bearer token, and connection pools shared by
+/// every task of a run (connections are kept alive and reused): one for the run's
+/// `POST /v1/flights`, one for everything else.
 #[derive(Debug, Clone)]
 pub struct Server {
     base: String,
-    flights: Url,
     auth: Option<header::HeaderValue>,
     client: reqwest::Client,
+    poster: Arc<Poster>,
 }
 
 /// What a service plans on, as it reports it.
@@ -135,11 +139,19 @@ impl Server {
             .no_proxy()
             .build()
             .map_err(|e| LoadError::Config(format!("building the HTTP client: {}", causes(&e))))?;
+        let host = flights.host_str().unwrap_or("localhost");
+        let port = flights.port_or_known_default().unwrap_or(80);
+        let path = match flights.query() {
+            Some(q) => format!("{}?{q}", flights.path()),
+            None => flights.path().to_owned(),
+        };
+        let authorization = auth.as_ref().and_then(|a| a.to_str().ok());
+        let poster = Arc::new(Poster::new(host, port, &path, authorization, timeout));
         Ok(Server {
             base,
-            flights,
             auth,
             client,
+            poster,
         })
     }
 
@@ -148,20 +160,10 @@ impl Server {
         &self.base
     }
 
-    /// A `POST /v1/flights` with `body`, ready to send.
-    pub(crate) fn post_flight(&self, body: String) -> reqwest::RequestBuilder {
-        let rq = self
-            .client
-            .post(self.flights.clone())
-            .header(
-                header::CONTENT_TYPE,
-                header::HeaderValue::from_static("application/json"),
-            )
-            .body(body);
-        match &self.auth {
-            Some(a) => rq.header(header::AUTHORIZATION, a.clone()),
-            None => rq,
-        }
+    /// `POST /v1/flights` with `body` (JSON) on a kept-alive connection: the whole answer,
+    /// or why there is none.
+    pub(crate) async fn post_flight(&self, body: &[u8]) -> Result<Answer, ErrorKind> {
+        self.poster.post(body).await
     }
 
     /// `GET path` (e.g. `/v1/zones`): the body of a 2xx answer, or why there is none.
