@@ -4,8 +4,14 @@
 //! (`outputs`), parameters read from the summary beside the plans (`params_travel`) and every
 //! example of docs/reference.md read by MUSE (`reference_examples`).
 
-#[path = "../support/mod.rs"]
-mod support;
+/// What this area's tests share (tests/support): `muse serve` on a loopback port, scratch
+/// folders; [`csv`] compares the CSV files of sweeps.
+#[path = "../support"]
+mod support {
+    pub mod csv;
+    mod serve;
+    pub use serve::{scratch_dir, start};
+}
 
 mod bad_inputs;
 mod commands;

@@ -3,8 +3,16 @@
 //! `muse serve` (`live`). Each is skipped with a notice when Chromium is not installed, unless
 //! `CI` is set.
 
-#[path = "../support/mod.rs"]
-mod support;
+/// What this area's tests share (tests/support): `muse serve` on a loopback port, scratch
+/// folders; [`cdp`](support::cdp) is the small client of CDP (Chrome's debugging protocol) that drives
+/// Chromium; [`viewer`](support::viewer) what the tests of `view.html` share.
+#[path = "../support"]
+mod support {
+    pub mod cdp;
+    pub mod viewer;
+    mod serve;
+    pub use serve::{scratch_dir, start};
+}
 
 mod cdp_selftest;
 mod live;

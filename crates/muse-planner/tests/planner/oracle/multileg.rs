@@ -206,7 +206,6 @@ impl Chains {
 /// at most `K` legs (single legs without swaps) when a chain exists (the direct shortest time
 /// whenever that is within `T_max`); otherwise the plain shortest time, battery ignored;
 /// `None` if unreachable.
-#[allow(dead_code)] // Only some test crates use it.
 pub fn free_flow_time(
     airspace: &Airspace,
     params: &FlightParams,
@@ -323,7 +322,6 @@ pub fn solve(
 }
 
 /// Where a resumed trip ([`resume`]) is.
-#[allow(dead_code)] // Only some test crates use it.
 #[derive(Clone, Copy, Debug)]
 pub enum Resume {
     /// In the air: arriving at `node` at `at` (any millisecond), on a leg that took off at
@@ -364,7 +362,7 @@ pub enum Resume {
 ///
 /// The grid argument holds with `at`'s offset added: `at` is a lower bound; the first and
 /// current take-offs are fixed and only give upper bounds that decide feasibility.
-#[allow(clippy::too_many_arguments, dead_code)] // `dead_code`: only some test crates resume.
+#[allow(clippy::too_many_arguments)]
 pub fn resume(
     airspace: &Airspace,
     params: &FlightParams,

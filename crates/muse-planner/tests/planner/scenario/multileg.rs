@@ -28,7 +28,6 @@ pub struct SwapSpec {
 impl Shape {
     /// For battery swaps ([`multileg_instances`]): short batteries against paths of several
     /// edges, so that many trips need two or three legs (and some cannot be made at all).
-    #[allow(dead_code)] // Only some test crates use it.
     pub const MULTILEG: Shape = Shape {
         nodes: (5, 7),
         edge_secs: (3, 12),
@@ -42,7 +41,6 @@ impl Shape {
 
     /// Battery swaps on few nodes with many requests in a short time: heavy conflicts at the
     /// swap stations too.
-    #[allow(dead_code)] // Only some test crates use it.
     pub const MULTILEG_CROWDED: Shape = Shape {
         nodes: (4, 6),
         edge_secs: (2, 10),
@@ -57,7 +55,6 @@ impl Shape {
 
 /// Instances of the given shape (drawn exactly as [`instances`] draws them), half of them with
 /// battery swaps: `S` in `0..=6` units, `K` unbounded or `1..=4`.
-#[allow(dead_code)] // Only some test crates use it.
 pub fn multileg_instances(shape: Shape) -> impl Strategy<Value = Instance> {
     let max_legs = prop_oneof![1 => Just(None), 1 => (1..=4u32).prop_map(Some)];
     let swap = prop_oneof![

@@ -1,17 +1,5 @@
-//! What the tests that run the real `muse serve` binary share: starting it on an ephemeral
-//! loopback port and killing it with SIGKILL (never a clean shutdown). [`cdp`] is the small
-//! client of CDP (Chrome's debugging protocol) that the browser tests drive Chromium with;
-//! [`viewer`] what the tests of `view.html` share; [`csv`] compares the CSV files of sweeps.
-
-// The `muse serve` tests do not use the browser client.
-#[allow(dead_code)]
-pub mod cdp;
-// Only the sweep tests compare CSV files.
-#[allow(dead_code)]
-pub mod csv;
-// Only the viewer's tests run `muse simulate` for a page.
-#[allow(dead_code)]
-pub mod viewer;
+//! Running the real `muse serve` binary: starting it on an ephemeral loopback port and killing
+//! it with SIGKILL (never a clean shutdown); and the scratch folders of every test.
 
 use std::io::{BufRead as _, BufReader};
 use std::path::{Path, PathBuf};
