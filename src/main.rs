@@ -2,6 +2,7 @@
 //!
 //! A thin layer over the library crates: it parses arguments, loads files or the embedded
 //! Singapore default, calls the libraries and prints or writes their results.
+#![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 mod cli;
 

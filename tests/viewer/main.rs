@@ -9,8 +9,8 @@
 #[path = "../support"]
 mod support {
     pub mod cdp;
-    pub mod viewer;
     mod serve;
+    pub mod viewer;
     pub use serve::{scratch_dir, start};
 }
 

@@ -6,6 +6,7 @@
 //! - [`announced`]: those windows by when their zones became known (SPEC §11);
 //! - [`shortest`]: Dijkstra on integer traversal times (free-flow times, heuristics);
 //! - [`stats`]: graph statistics for `muse airspace info`.
+#![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 pub mod announced;
 pub mod builder;

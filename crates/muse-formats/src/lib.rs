@@ -11,6 +11,7 @@
 //! - [`flights`]: planned flights as time-stamped GeoJSON lines (QGIS, kepler.gl);
 //! - [`flights_csv`]: one row per request, the plans file as a table;
 //! - [`stays_csv`]: one row per stay of every flight that flies.
+#![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 pub mod airspace_geojson;
 pub mod error;

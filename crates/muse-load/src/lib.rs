@@ -36,6 +36,7 @@
 //! println!("{}", paced.text());
 //! # Ok(()) }
 //! ```
+#![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 pub mod client;
 pub mod config;

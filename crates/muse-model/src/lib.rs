@@ -12,6 +12,7 @@
 //!   polygons of their areas;
 //! - [`params`]: the flight model parameters (speed, battery, separations, ground delay);
 //! - [`plan`]: planned flights and rejections.
+#![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 pub mod airspace;
 pub mod coords;

@@ -41,6 +41,7 @@
 //! assert_eq!(second.landing(), Instant(240_000));
 //! assert_eq!(second.takeoff(), Instant(120_000));
 //! ```
+#![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 mod heuristic;
 mod online;

@@ -9,6 +9,7 @@
 //! All output is deterministic: the same input gives byte-identical SVG. Text is written as
 //! SVG `<text>` in the viewer's sans-serif font; layout that depends on text size uses a
 //! conservative width estimate, so nothing needs font files.
+#![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 mod geom;
 mod map;

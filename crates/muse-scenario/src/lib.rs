@@ -106,6 +106,7 @@
 //! `cargo test -p muse-scenario -- --ignored write_files`. The announced zone's file,
 //! `scenarios/singapore-77/stadium_zone.geojson`, is hand-written and embedded as
 //! [`STADIUM_ZONE_GEOJSON`]; nothing regenerates it.
+#![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 pub mod carparks;
 pub mod land;

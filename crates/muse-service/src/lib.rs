@@ -26,6 +26,7 @@
 //! running.serve().await?;
 //! # Ok(()) }
 //! ```
+#![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 pub mod api;
 pub mod auth;

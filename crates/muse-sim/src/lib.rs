@@ -13,6 +13,7 @@
 //! - [`stats`]: means and 95% confidence intervals;
 //! - [`metrics`]: the run summary (`summary.json`, SPEC §7): success rate, rejections by
 //!   reason, air and ground delay statistics, planner time and search effort, parameters.
+#![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 pub mod bench;
 pub mod day;

@@ -80,6 +80,7 @@
 //! assert_eq!(violations[0].rule, Rule::Edge);
 //! assert_eq!(violations[0].flights, ["r1", "r2"]);
 //! ```
+#![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 use std::fmt;
 

@@ -18,6 +18,7 @@
 //! let html = page(&scene(&input).unwrap());
 //! assert!(html.starts_with("<!doctype html>") && html.contains("museView"));
 //! ```
+#![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 mod html;
 mod scene;
