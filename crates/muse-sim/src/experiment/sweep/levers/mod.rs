@@ -24,6 +24,7 @@ levers! {
     edge_rule::EdgeRules,
     ground_delay::GroundDelay,
     battery_swap::BatterySwaps,
+    tau::Tau,
 }
 
 /// The lever whose `--vary` value is `name`.
