@@ -37,10 +37,9 @@ pub use engine::{Experiment, Results};
 pub use grid::{Grid, Seeds};
 pub use kind::{Day, Kind, Progress};
 pub use report::{
-    Align, Column, Group, Metric, Plot, ReportError, SummarySpec, TextTable, csv_text, plus_minus,
-    summarize, summary_csv,
+    Column, Group, Metric, Plot, ReportError, SummarySpec, csv_text, summarize, summary_csv,
 };
-pub use reproduce::{Reproduction, first_difference, reproduction};
+pub use reproduce::{Reproduction, reproduction};
 pub use shard::{FORMAT, Shard, ShardError, ShardFile, ShardRun, StudyRef, fingerprint, merge};
 pub use study::{HOW_TO_RUN, OptionShape, Study, StudyError, Takes};
 

@@ -215,7 +215,7 @@ pub struct Plot {
 
 /// How a column of a [`TextTable`] is aligned.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Align {
+pub(crate) enum Align {
     /// Padded on the right.
     Left,
     /// Padded on the left.
@@ -224,22 +224,15 @@ pub enum Align {
 
 /// A table of text for the terminal: each column padded to its width (wider cells are not
 /// cut), columns separated by one space.
-///
-/// ```
-/// use muse_sim::experiment::{Align, TextTable};
-/// let mut t = TextTable::new(&[("name", 6, Align::Left), ("n", 3, Align::Right)]);
-/// t.row(vec!["a".into(), "12".into()]);
-/// assert_eq!(t.to_string(), "name     n\na       12\n");
-/// ```
 #[derive(Clone, Debug)]
-pub struct TextTable {
+pub(crate) struct TextTable {
     columns: Vec<(String, usize, Align)>,
     rows: Vec<Vec<String>>,
 }
 
 impl TextTable {
     /// A table of these columns: (header, width, alignment).
-    pub fn new(columns: &[(&str, usize, Align)]) -> Self {
+    pub(crate) fn new(columns: &[(&str, usize, Align)]) -> Self {
         TextTable {
             columns: columns
                 .iter()
@@ -250,7 +243,7 @@ impl TextTable {
     }
 
     /// Appends a row, one cell per column.
-    pub fn row(&mut self, cells: Vec<String>) {
+    pub(crate) fn row(&mut self, cells: Vec<String>) {
         self.rows.push(cells);
     }
 
@@ -280,16 +273,36 @@ impl std::fmt::Display for TextTable {
 }
 
 /// `mean ± half-width` of `m` scaled by `scale`, with `prec` decimals.
-///
-/// ```
-/// use muse_sim::experiment::plus_minus;
-/// use muse_sim::stats::MeanCi;
-/// assert_eq!(plus_minus(MeanCi { n: 2, mean: 0.5, half_width: 0.01 }, 100.0, 1), "50.0 ± 1.0");
-/// ```
-pub fn plus_minus(m: MeanCi, scale: f64, prec: usize) -> String {
+pub(crate) fn plus_minus(m: MeanCi, scale: f64, prec: usize) -> String {
     format!(
         "{:.prec$} ± {:.prec$}",
         m.mean * scale,
         m.half_width * scale
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn text_tables_pad_each_column() {
+        let mut t = TextTable::new(&[("name", 6, Align::Left), ("n", 3, Align::Right)]);
+        t.row(vec!["a".into(), "12".into()]);
+        t.row(vec!["longer name".into(), "1234".into()]);
+        assert_eq!(t.to_string(), "name     n\na       12\nlonger name 1234\n");
+        let m = MeanCi {
+            n: 2,
+            mean: 0.5,
+            half_width: 0.01,
+        };
+        assert_eq!(plus_minus(m, 100.0, 1), "50.0 ± 1.0");
+    }
+
+    #[test]
+    fn a_carriage_return_is_quoted_too() {
+        let columns = [Column::new("name", |r: &&str| (*r).to_owned())];
+        let text = csv_text("t.csv", &columns, &["a\rb", "c\nd", "e"]).unwrap();
+        assert_eq!(text, "name\n\"a\rb\"\n\"c\nd\"\ne\n");
+    }
 }

@@ -116,18 +116,7 @@ pub fn reproduction(
 
 /// The first difference between two CSV texts with a header, the `measured` columns aside;
 /// `None` when they are the same.
-///
-/// ```
-/// use muse_sim::experiment::first_difference;
-/// let timed = |c: &str| c.starts_with("planner_ms");
-/// let a = "variant,count,success,planner_ms_mean\nv,1,0.5,2.0\nv,2,0.4,3.0\n";
-/// assert_eq!(first_difference(a, &a.replace("3.0", "9.0"), &timed), None);
-/// assert_eq!(
-///     first_difference(a, &a.replace("0.4", "0.3"), &timed).unwrap(),
-///     "1 of 2 rows differ; first at line 3, column success: published 0.4, now 0.3"
-/// );
-/// ```
-pub fn first_difference(
+fn first_difference(
     published: &str,
     written: &str,
     measured: &dyn Fn(&str) -> bool,
