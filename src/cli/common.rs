@@ -362,9 +362,6 @@ impl FlightArgs {
     }
 }
 
-/// Writes a file atomically (see [`super::output::write_atomically`]).
-pub use super::output::write_atomically;
-
 /// Stations are labelled on maps with at most this many stations (more would be illegible).
 const MAX_LABELLED_STATIONS: usize = 150;
 

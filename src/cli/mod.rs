@@ -4,6 +4,7 @@ mod airspace;
 mod bench;
 mod common;
 mod demand;
+mod experiment;
 mod load;
 mod output;
 mod plan;
@@ -14,9 +15,6 @@ mod serve;
 mod simulate;
 mod study;
 mod sweep;
-mod sweep_lead;
-mod sweep_shard;
-mod sweep_vary;
 mod verify;
 mod view;
 

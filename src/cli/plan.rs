@@ -14,8 +14,9 @@ use muse_sim::day::{DayRun, plan_requests};
 use muse_sim::demand::BookingLead;
 use muse_sim::metrics::{Provenance, ReplanSummary, RunItem, Summary};
 
-use super::common::{FlightArgs, World, WorldArgs, write_atomically};
+use super::common::{FlightArgs, World, WorldArgs};
 use super::output;
+use super::output::write_atomically;
 
 /// Arguments of `muse plan`.
 #[derive(Debug, Args)]

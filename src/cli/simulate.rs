@@ -15,9 +15,10 @@ use muse_sim::demand::generate;
 use muse_sim::metrics::{Provenance, Summary};
 use muse_verify::{Flight, verify_known_in};
 
-use super::common::{FlightArgs, World, WorldArgs, render_world_map, write_atomically};
+use super::common::{FlightArgs, World, WorldArgs, render_world_map};
 use super::demand::DemandArgs;
 use super::output;
+use super::output::write_atomically;
 use super::plan::write_outputs;
 use super::progress::LazyProgress;
 use super::view::write_view;

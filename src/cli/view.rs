@@ -9,7 +9,8 @@ use clap::{ArgMatches, Args};
 use muse_formats::plans::{OperatorCancellation, PlanItem, PlanRecord, read_plan_entries_file};
 use muse_model::{Instant, Millis};
 
-use super::common::{World, WorldArgs, write_atomically};
+use super::common::{World, WorldArgs};
+use super::output::write_atomically;
 use super::{output, recorded};
 
 /// Arguments of `muse view`.

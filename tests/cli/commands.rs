@@ -862,6 +862,70 @@ fn sweep_is_deterministic_and_compares_variants() {
     );
 }
 
+#[test]
+fn sweep_varies_tau_on_the_same_seeds() {
+    let dir = scratch_dir("sweep_tau");
+    let out = dir.join("tau");
+    let o = muse(&[
+        "sweep",
+        "--vary",
+        "tau",
+        "--tau-s",
+        "0.5,120",
+        "--counts",
+        "400",
+        "--reps",
+        "2",
+        "--od",
+        "in-range",
+        "--zones",
+        "none",
+        "--from",
+        "09:00",
+        "--to",
+        "11:00",
+        "--seed",
+        "3",
+        "--out",
+        &out.display().to_string(),
+    ]);
+    assert!(o.status.success(), "{}{}", stdout(&o), stderr(&o));
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv.lines().map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows[0][..5], ["variant", "count", "rep", "seed", "planned"]);
+    let runs: Vec<(&str, &str, usize)> = rows[1..]
+        .iter()
+        .map(|r| (r[0], r[3], r[4].parse().unwrap()))
+        .collect();
+    assert_eq!(
+        runs.iter().map(|r| (r.0, r.1)).collect::<Vec<_>>(),
+        [
+            ("tau 0.5 s", "3"),
+            ("tau 0.5 s", "4"),
+            ("tau 120 s", "3"),
+            ("tau 120 s", "4")
+        ]
+    );
+    // Two minutes between stays at a node refuse flights that half a second lets fly.
+    assert!(runs[2].2 < runs[0].2 && runs[3].2 < runs[1].2, "{runs:?}");
+    let summary = std::fs::read_to_string(out.join("sweep_summary.csv")).unwrap();
+    assert!(summary.contains("\ntau 120 s,400,2,"), "{summary}");
+
+    for (args, message) in [
+        (vec!["--tau-s", "3"], "--tau-s applies only with --vary tau"),
+        (
+            vec!["--vary", "tau", "--tau-s", "5,4000"],
+            "--tau-s `5,4000`: expected at most 100 comma-separated seconds, each from 0 to 3600",
+        ),
+    ] {
+        let mut all = vec!["sweep", "--counts", "10", "--reps", "1"];
+        all.extend(args);
+        let o = muse(&[&all[..], &["--out", &dir.join("x").display().to_string()]].concat());
+        assert_eq!(o.status.code(), Some(2), "{all:?}");
+        assert!(stderr(&o).contains(message), "{all:?}: {}", stderr(&o));
+    }
+}
+
 /// The exact header of `announce_lead.csv`.
 const ANNOUNCE_LEAD_HEADER: &str = "case,lead_min,count,rep,seed,planned_at_booking,delivered,success_rate,affected,airborne_affected,replanned,diverted,cancelled,contingency,mean_extra_delay_s,planner_ms,replan_expanded,booking_lead_min_from,booking_lead_min_to";
 

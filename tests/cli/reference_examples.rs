@@ -32,7 +32,7 @@
 //! | `flights` | geojson | the members of `flights.geojson` of `muse simulate OPTIONS` |
 //! | `flights-table`, `stays-table` | csv | the header `muse plan` writes in `flights.csv` and `stays.csv`, and as many cells in every row |
 //! | `tokens` | toml | `muse_service::auth::Tokens::parse` |
-//! | `shard` | json | `muse_sim::shard::ShardFile::read` |
+//! | `shard` | json | `muse_sim::experiment::ShardFile::read` |
 //! | `sweep-runs`, `sweep-summary`, `lead-runs`, `lead-summary` | csv | the header `muse sweep` writes, and as many cells in every row |
 //! | `flight-request`, `zone-announcement` | json | posted to a real `muse serve`: `201` |
 //! | `flight`, `flight-list`, `healthz`, `error`, `zone-announced`, `zone-withdrawn`, `closures` | json | the members of the real service's answers in that session |
@@ -45,6 +45,7 @@ use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+use muse_sim::experiment::{lead, sweep};
 use serde_json::Value;
 
 use crate::support::{scratch_dir, start};
@@ -455,6 +456,17 @@ fn csv_with_header(example: &Example, header: &str) -> Result<(), String> {
     Ok(())
 }
 
+/// The header of a CSV file of these columns.
+fn header<T>(columns: &[muse_sim::experiment::Column<'_, T>]) -> String {
+    let names: Vec<&str> = columns.iter().map(|c| c.name).collect();
+    names.join(",")
+}
+
+/// The header of a summary file.
+fn summary_header<R>(spec: &muse_sim::experiment::SummarySpec<R>) -> String {
+    muse_sim::experiment::summary_csv(spec, &[]).expect("an empty summary is written")
+}
+
 /// Checks one example that needs no service.
 fn check(scratch: &mut Scratch, example: &Example) -> Result<(), String> {
     match example.kind {
@@ -498,9 +510,11 @@ fn check(scratch: &mut Scratch, example: &Example) -> Result<(), String> {
             .map(drop)
             .map_err(|e| format!("{}: {e}", example.at())),
         Kind::Shard => {
-            use muse_sim::shard::ShardFile;
-            let runs = ShardFile::<muse_sim::sweep::RunRecord>::read(&example.text, "example");
-            let leads = ShardFile::<muse_sim::lead::LeadRecord>::read(&example.text, "example");
+            use muse_sim::experiment::ShardFile;
+            let runs =
+                ShardFile::<muse_sim::experiment::sweep::RunRecord>::read(&example.text, "example");
+            let leads =
+                ShardFile::<muse_sim::experiment::lead::LeadRecord>::read(&example.text, "example");
             match (runs, leads) {
                 (Ok(_), _) | (_, Ok(_)) => Ok(()),
                 (Err(e), _) => Err(format!("{}: {e}", example.at())),
@@ -513,10 +527,10 @@ fn check(scratch: &mut Scratch, example: &Example) -> Result<(), String> {
         Kind::StaysTable => {
             csv_with_header(example, &muse_formats::stays_csv::STAYS_COLUMNS.join(","))
         }
-        Kind::SweepRuns => csv_with_header(example, &muse_sim::sweep::runs_csv(&[])),
-        Kind::SweepSummary => csv_with_header(example, &muse_sim::sweep::summary_csv(&[])),
-        Kind::LeadRuns => csv_with_header(example, muse_sim::lead::RUNS_CSV_HEADER),
-        Kind::LeadSummary => csv_with_header(example, &muse_sim::lead::summary_csv(&[])),
+        Kind::SweepRuns => csv_with_header(example, &header(&sweep::columns())),
+        Kind::SweepSummary => csv_with_header(example, &summary_header(&sweep::summary())),
+        Kind::LeadRuns => csv_with_header(example, &header(&lead::columns())),
+        Kind::LeadSummary => csv_with_header(example, &summary_header(&lead::summary())),
         served => Err(format!(
             "{}: `{}` is checked by the service",
             example.at(),

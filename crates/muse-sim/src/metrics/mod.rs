@@ -2,138 +2,20 @@
 
 use std::collections::BTreeMap;
 
-use muse_model::{EdgeRule, FlightParams, Millis, Plan, RejectReason};
-use serde::{Deserialize, Serialize};
+use muse_model::{FlightParams, Millis, Plan, RejectReason};
+use serde::Serialize;
 
 use crate::demand::BookingLead;
 
+mod distribution;
+mod params;
 pub mod recorded;
 pub mod replanning;
 
+pub use distribution::Distribution;
+pub use params::{BookingLeadRecord, ParamsRecord};
 pub use recorded::WorldRecord;
 pub use replanning::ReplanSummary;
-
-/// Mean, median, 95th percentile and maximum of a sample, in seconds. Percentiles use the
-/// nearest-rank definition on the sorted sample (the median of an even sample is the lower of
-/// the two middle values), so each figure is a value that occurred. All zero for an empty
-/// sample.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
-pub struct Distribution {
-    /// Arithmetic mean.
-    pub mean: f64,
-    /// Median (nearest rank).
-    pub median: f64,
-    /// 95th percentile (nearest rank).
-    pub p95: f64,
-    /// Maximum.
-    pub max: f64,
-}
-
-impl Distribution {
-    /// Statistics of durations.
-    ///
-    /// ```
-    /// use muse_model::Millis;
-    /// let d = muse_sim::metrics::Distribution::of(&[Millis(1_000), Millis(3_000), Millis(2_000)]);
-    /// assert_eq!((d.mean, d.median, d.p95, d.max), (2.0, 2.0, 3.0, 3.0));
-    /// ```
-    pub fn of(sample: &[Millis]) -> Self {
-        if sample.is_empty() {
-            return Distribution::default();
-        }
-        let mut v: Vec<i64> = sample.iter().map(|m| m.0).collect();
-        v.sort_unstable();
-        let rank = |p: f64| {
-            let k = (p * v.len() as f64).ceil() as usize;
-            Millis(v[k.clamp(1, v.len()) - 1]).as_secs_f64()
-        };
-        let sum: i128 = v.iter().map(|&x| i128::from(x)).sum();
-        Distribution {
-            mean: round_ms(sum as f64 / v.len() as f64 / 1_000.0),
-            median: rank(0.5),
-            p95: rank(0.95),
-            max: Millis(v[v.len() - 1]).as_secs_f64(),
-        }
-    }
-}
-
-fn round_ms(secs: f64) -> f64 {
-    (secs * 1e6).round() / 1e6
-}
-
-/// The flight-model parameters, as recorded in a summary (and read back by
-/// [`recorded::read_recorded`]: a member this version does not know is an error, a missing
-/// optional one is `None`).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ParamsRecord {
-    /// Cruise speed, km/h.
-    pub speed_kmh: f64,
-    /// Battery limit, minutes.
-    pub max_flight_min: f64,
-    /// Node separation, seconds.
-    pub node_separation_s: f64,
-    /// `exclusive` or `headway`.
-    pub edge_rule: String,
-    /// Same-direction headway, seconds (headway rule only).
-    #[serde(default)]
-    pub headway_s: Option<f64>,
-    /// Maximum ground delay, seconds.
-    pub max_ground_delay_s: f64,
-    /// How far ahead of departure generated requests were booked, minutes (`from` = `to` = 0:
-    /// at departure, the paper). Absent when the requests were read from a file, whose
-    /// `submitted` column gives each request's own booking instant.
-    #[serde(skip_serializing_if = "Option::is_none", default)]
-    pub booking_lead_min: Option<BookingLeadRecord>,
-    /// Battery swap time at stations, seconds (SPEC §12); absent when trips are single legs.
-    #[serde(skip_serializing_if = "Option::is_none", default)]
-    pub battery_swap_s: Option<f64>,
-    /// With swaps: the most legs a trip may have; absent when unbounded.
-    #[serde(skip_serializing_if = "Option::is_none", default)]
-    pub max_legs: Option<u32>,
-    /// The delivery deadline after the requested departure, minutes; absent when none.
-    #[serde(skip_serializing_if = "Option::is_none", default)]
-    pub max_trip_min: Option<f64>,
-}
-
-/// A booking lead as recorded in a summary: uniform in `[from, to]` minutes.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BookingLeadRecord {
-    /// Shortest lead, minutes.
-    pub from: f64,
-    /// Longest lead, minutes.
-    pub to: f64,
-}
-
-impl From<BookingLead> for BookingLeadRecord {
-    fn from(lead: BookingLead) -> Self {
-        BookingLeadRecord {
-            from: lead.min.as_secs_f64() / 60.0,
-            to: lead.max.as_secs_f64() / 60.0,
-        }
-    }
-}
-
-impl From<&FlightParams> for ParamsRecord {
-    fn from(p: &FlightParams) -> Self {
-        ParamsRecord {
-            speed_kmh: p.speed.kmh(),
-            max_flight_min: p.max_flight.as_secs_f64() / 60.0,
-            node_separation_s: p.node_separation.as_secs_f64(),
-            edge_rule: p.edge_rule.name().to_owned(),
-            headway_s: match p.edge_rule {
-                EdgeRule::Exclusive => None,
-                EdgeRule::Headway(h) => Some(h.as_secs_f64()),
-            },
-            max_ground_delay_s: p.max_ground_delay.as_secs_f64(),
-            booking_lead_min: None,
-            battery_swap_s: p.battery_swap.map(|s| s.time.as_secs_f64()),
-            max_legs: p.battery_swap.and_then(|s| s.max_legs),
-            max_trip_min: p.max_trip.map(|m| m.as_secs_f64() / 60.0),
-        }
-    }
-}
 
 /// The legs of planned trips (SPEC §12), when battery swaps are on.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]

@@ -4,7 +4,7 @@ use muse_model::plan::Fate;
 use muse_model::{Millis, Plan, UtcOffset};
 use serde::Serialize;
 
-use super::Distribution;
+use super::distribution::Distribution;
 use crate::day::DayRun;
 
 /// One announced zone, as reported.

@@ -3,6 +3,8 @@ use muse_model::{
 };
 
 use super::*;
+use crate::demand::{BookingLead, OdRule};
+use crate::experiment::{Experiment, Grid, Kind, Progress, Seeds, Shard, summarize};
 
 fn min(m: i64) -> Instant {
     Instant(m * 60_000)
@@ -32,8 +34,8 @@ fn zone_b() -> Zone {
     }
 }
 
-fn day() -> Day {
-    Day {
+fn day() -> ScenarioDay {
+    ScenarioDay {
         start: min(0),
         end: min(1_440),
         offset: UtcOffset(0),
@@ -114,39 +116,58 @@ fn a_longer_lead_never_cancels_more_and_frees_the_corridor_for_others() {
 }
 
 /// Three leads, known and none × 60 requests × 3 repetitions on [`line`], zone `ZB` announced.
-fn small_sweep() -> (Airspace, LeadSweepSpec) {
-    let spec = LeadSweepSpec {
-        leads: vec![
-            Millis::ZERO,
-            Millis::from_mins(30),
-            Millis::from_mins(1_440),
-        ],
+fn small_sweep() -> (Grid, LeadSpec) {
+    let grid = Grid {
         counts: vec![60],
         reps: 3,
-        base_seed: 11,
+        seeds: Seeds::PerDay(11),
         start: min(480),
         end: min(720),
         od: OdRule::Uniform,
         booking_lead: BookingLead::new(Millis::ZERO, Millis::from_mins(120)).unwrap(),
         params: FlightParams::default(),
+    };
+    let spec = LeadSpec {
+        leads: vec![
+            Millis::ZERO,
+            Millis::from_mins(30),
+            Millis::from_mins(1_440),
+        ],
         base_zones: vec![],
         announce: vec![zone_b()],
         day: day(),
         no_zone_reference: true,
     };
-    (line(), spec)
+    (grid, spec)
+}
+
+/// The records of a whole experiment, in run order.
+fn run_all<K: Kind>(exp: &Experiment<K>) -> Vec<K::Record> {
+    exp.run(Shard::WHOLE, &|_| {})
+        .unwrap()
+        .into_iter()
+        .map(|(_, r)| r)
+        .collect()
 }
 
 #[test]
 fn every_case_plans_the_same_seeded_demand() {
-    let (air, spec) = small_sweep();
+    let (grid, spec) = small_sweep();
+    let air = line();
+    let lead = Lead::new(&air, &grid, spec, "booked".into()).unwrap();
+    let exp = Experiment { grid, kind: lead };
     let ticks = std::sync::atomic::AtomicUsize::new(0);
-    let world = spec.world(&air).unwrap();
-    let records = run_lead_sweep(&world, &spec, || {
-        ticks.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    })
-    .unwrap();
-    assert_eq!(records.len(), spec.runs());
+    let records: Vec<LeadRecord> = exp
+        .run(Shard::WHOLE, &|p| {
+            if let Progress::Finished { .. } = p {
+                ticks.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            }
+        })
+        .unwrap()
+        .into_iter()
+        .map(|(_, r)| r)
+        .collect();
+    assert_eq!(records.len(), exp.runs());
     assert_eq!(records.len(), 5 * 3);
     assert_eq!(ticks.into_inner(), records.len());
     assert_eq!(
@@ -176,9 +197,9 @@ fn every_case_plans_the_same_seeded_demand() {
         .map(|r| r.affected)
         .sum();
     assert!(hit > 0);
-    let rows = summarize(&records);
-    assert_eq!(rows.len(), 5);
-    assert!(rows.iter().all(|r| r.runs == 3));
+    let groups = summarize(&records, &summary());
+    assert_eq!(groups.len(), 5);
+    assert!(groups.iter().all(|g| g.runs == 3));
 }
 
 #[test]
@@ -186,7 +207,7 @@ fn input_errors_name_the_zone() {
     let air = line();
     let range = (min(-1_440), min(2_880));
     let params = FlightParams::default();
-    let later = Day {
+    let later = ScenarioDay {
         start: min(1_440),
         end: min(2_880),
         offset: UtcOffset(0),
@@ -204,27 +225,39 @@ fn input_errors_name_the_zone() {
 }
 
 #[test]
+fn a_negative_lead_is_refused() {
+    let (grid, mut spec) = small_sweep();
+    spec.leads.push(Millis(-1));
+    let err = Lead::new(&line(), &grid, spec, String::new()).unwrap_err();
+    assert_eq!(err.to_string(), "lead -0.001 s: a lead must be >= 0");
+}
+
+#[test]
 fn a_lead_sweep_in_three_shards_merges_into_the_same_runs() {
-    use crate::shard::{Shard, ShardFile, fingerprint, merge};
-    let (air, spec) = small_sweep();
-    let world = spec.world(&air).unwrap();
+    use crate::experiment::{ShardFile, merge};
+    let (grid, spec) = small_sweep();
+    let air = line();
+    let exp = Experiment {
+        kind: Lead::new(&air, &grid, spec, String::new()).unwrap(),
+        grid,
+    };
     let untimed = |mut r: LeadRecord| {
         r.planner_ms = 0.0;
         r
     };
-    let whole: Vec<LeadRecord> = run_lead_sweep(&world, &spec, || {}).unwrap();
+    let whole = run_all(&exp);
     let shards: Vec<(String, ShardFile<LeadRecord>)> = (0..3)
         .map(|index| {
             let shard = Shard { index, of: 3 };
-            let runs = run_lead_sweep_shard(&world, &spec, shard, || {}).unwrap();
-            let file = ShardFile::new(fingerprint(&spec), shard, spec.runs(), vec![], None, runs);
+            let runs = exp.run(shard, &|_| {}).unwrap();
+            let file = ShardFile::new(exp.identity(), shard, exp.runs(), vec![], None, runs);
             // Through the file format and back.
             let text = serde_json::to_string(&file).unwrap();
             (format!("{shard}"), ShardFile::read(&text, "shard").unwrap())
         })
         .collect();
     let merged = merge(&shards).unwrap();
-    assert_eq!(merged.len(), spec.runs());
+    assert_eq!(merged.len(), exp.runs());
     assert_eq!(
         merged.into_iter().map(untimed).collect::<Vec<_>>(),
         whole.into_iter().map(untimed).collect::<Vec<_>>()

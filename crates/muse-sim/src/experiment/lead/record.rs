@@ -1,16 +1,18 @@
-//! What one run of an announcement-lead sweep measured.
+//! What one run of an announcement-lead sweep measured, and its row of `announce_lead.csv`.
 
 use muse_model::UtcOffset;
 
-use super::LeadCase;
+use super::case::LeadCase;
 use crate::day::DayRun;
 use crate::demand::BookingLead;
+use crate::experiment::grid::{booking_lead_ms, minutes};
+use crate::experiment::report::Column;
 use crate::metrics::ReplanSummary;
 
 /// The measurements of one run: one demand (count, repetition, seed) planned in one
 /// [`LeadCase`]. The counts are those of [`ReplanSummary`] (a flight hit by several
 /// announcements counts once, by its last outcome). Serialized in sweep shards
-/// ([`crate::shard`]).
+/// (see [`crate::experiment::ShardFile`]).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LeadRecord {
     /// How the zones to announce became known.
@@ -23,7 +25,7 @@ pub struct LeadRecord {
     /// Demand seed (the same for every case of a count and repetition).
     pub seed: u64,
     /// How far ahead of departure the requests were booked.
-    #[serde(with = "crate::sweep::lead_ms")]
+    #[serde(with = "booking_lead_ms")]
     pub booking_lead: BookingLead,
     /// Requests planned when they were booked (first answers).
     pub planned_at_booking: usize,
@@ -84,12 +86,51 @@ impl LeadRecord {
     }
 }
 
+/// `LeadCase::lead_min` as a cell: the lead in minutes, empty for `known` and `none`.
+pub(crate) fn lead_cell(case: LeadCase) -> String {
+    case.lead_min().map_or(String::new(), |m| m.to_string())
+}
+
+/// The columns of `announce_lead.csv`, one row per run. `case` is `announced`, `known` or
+/// `none` (see [`LeadCase`]); `lead_min` is the lead in minutes, empty for `known` and `none`;
+/// `mean_extra_delay_s` is empty when no flight was replanned; the last two columns are the
+/// booking lead's bounds in minutes.
+pub fn columns() -> Vec<Column<'static, LeadRecord>> {
+    type R = LeadRecord;
+    vec![
+        Column::new("case", |r: &R| r.case.kind().to_owned()),
+        Column::new("lead_min", |r: &R| lead_cell(r.case)),
+        Column::new("count", |r: &R| r.count.to_string()),
+        Column::new("rep", |r: &R| r.rep.to_string()),
+        Column::new("seed", |r: &R| r.seed.to_string()),
+        Column::new("planned_at_booking", |r: &R| {
+            r.planned_at_booking.to_string()
+        }),
+        Column::new("delivered", |r: &R| r.delivered.to_string()),
+        Column::new("success_rate", |r: &R| format!("{:.6}", r.delivery_rate)),
+        Column::new("affected", |r: &R| r.affected.to_string()),
+        Column::new("airborne_affected", |r: &R| r.airborne_affected.to_string()),
+        Column::new("replanned", |r: &R| r.replanned.to_string()),
+        Column::new("diverted", |r: &R| r.diverted.to_string()),
+        Column::new("cancelled", |r: &R| r.cancelled.to_string()),
+        Column::new("contingency", |r: &R| r.contingency.to_string()),
+        Column::new("mean_extra_delay_s", |r: &R| {
+            r.mean_extra_delay_s
+                .map_or(String::new(), |x| format!("{x:.3}"))
+        }),
+        Column::new("planner_ms", |r: &R| format!("{:.3}", r.planner_ms)),
+        Column::new("replan_expanded", |r: &R| r.replan_expanded.to_string()),
+        Column::new("booking_lead_min_from", |r: &R| minutes(r.booking_lead.min)),
+        Column::new("booking_lead_min_to", |r: &R| minutes(r.booking_lead.max)),
+    ]
+}
+
 /// A [`LeadCase`] in files: `announced:LEAD_MS`, `known` or `none`.
 mod case_text {
     use muse_model::Millis;
     use serde::{Deserialize, Deserializer, Serializer, de::Error as _};
 
-    use super::LeadCase;
+    use crate::experiment::lead::case::LeadCase;
 
     pub fn serialize<S: Serializer>(case: &LeadCase, s: S) -> Result<S::Ok, S::Error> {
         match case {

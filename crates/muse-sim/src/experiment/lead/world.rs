@@ -8,7 +8,7 @@ use muse_model::{Airspace, FlightParams, Instant, Millis, Request, UtcOffset, Zo
 use muse_planner::Planner;
 use muse_planner::ZoneError;
 
-use super::{LeadCase, LeadError};
+use super::case::{LeadCase, LeadError};
 use crate::day::{DayRun, plan_sorted};
 use crate::replay::replay;
 
@@ -18,7 +18,7 @@ use crate::replay::replay;
 ///
 /// ```
 /// use muse_model::{Instant, Period, Zone};
-/// use muse_sim::lead::first_window_start;
+/// use muse_sim::experiment::lead::first_window_start;
 /// let min = |m: i64| Instant(m * 60_000);
 /// let zone = Zone {
 ///     id: "Z".into(), name: String::new(), restriction: String::new(), area: None,
@@ -71,13 +71,35 @@ pub struct LeadWorld<'a> {
 /// The day whose first active windows set the announcement instants: `[start, end)`, and the
 /// offset its instants are written in (messages only).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Day {
+pub struct ScenarioDay {
     /// Its first instant (local midnight).
     pub start: Instant,
     /// The first instant after it.
     pub end: Instant,
     /// Its UTC offset.
     pub offset: UtcOffset,
+}
+
+impl ScenarioDay {
+    /// `t` as a clock time `HH:MM` of the day (` +1d` past its end, ` -1d` before it).
+    ///
+    /// ```
+    /// use muse_model::{Instant, UtcOffset};
+    /// use muse_sim::experiment::lead::ScenarioDay;
+    /// let day = ScenarioDay { start: Instant(0), end: Instant(86_400_000), offset: UtcOffset(0) };
+    /// assert_eq!(day.clock(Instant(600 * 60_000)), "10:00");
+    /// assert_eq!(day.clock(Instant(-30 * 60_000)), "23:30 -1d");
+    /// ```
+    pub fn clock(self, t: Instant) -> String {
+        let mins = (t - self.start).0.div_euclid(60_000);
+        let (d, m) = (mins.div_euclid(1_440), mins.rem_euclid(1_440));
+        let extra = if d == 0 {
+            String::new()
+        } else {
+            format!(" {d:+}d")
+        };
+        format!("{:02}:{:02}{extra}", m / 60, m % 60)
+    }
 }
 
 impl<'a> LeadWorld<'a> {
@@ -92,7 +114,7 @@ impl<'a> LeadWorld<'a> {
         params: FlightParams,
         base: &[Zone],
         announce: &[Zone],
-        day: Day,
+        day: ScenarioDay,
         (from, to): (Instant, Instant),
     ) -> Result<Self, LeadError> {
         if announce.is_empty() {

@@ -1,13 +1,10 @@
 //! A sweep cut into shards, for a cluster's array job, and the shards merged back exactly.
 //!
-//! The runs of a sweep are numbered in the order one machine runs and writes them (variant,
-//! then count, then repetition: see [`crate::sweep::run_sweep`]); shard `K` of `N` runs those
+//! The runs of an experiment are numbered in the order one machine runs and writes them
+//! (case, then count, then repetition: see [`Kind`](super::Kind)); shard `K` of `N` runs those
 //! whose number is `K` modulo `N`. The slices are disjoint and together whole, each run keeps
 //! its seed, and since consecutive runs differ in size only by their count, every shard gets
 //! the same mix of small and large days.
-//!
-//! The same holds for an announcement-lead sweep ([`crate::lead`]): its runs are numbered
-//! case, then count, then repetition.
 //!
 //! A shard's result is a [`ShardFile`]: the sweep's [`fingerprint`], `K`, `N`, the number of
 //! runs in the whole sweep and the shard's records, each with its run number.
@@ -15,12 +12,7 @@
 //! `N`, every shard once, every run once — and returns the records in the order one machine
 //! would have written them.
 
-use muse_model::request::sort_for_planning;
-use muse_model::{Airspace, Request};
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-
-use crate::demand::{DemandError, DemandSpec, generate};
 
 /// The format tag of a shard file.
 pub const FORMAT: &str = "muse-sweep-shard/1";
@@ -102,7 +94,7 @@ impl Shard {
     /// Reads `K/N`.
     ///
     /// ```
-    /// use muse_sim::shard::Shard;
+    /// use muse_sim::experiment::Shard;
     /// assert_eq!(Shard::parse("2/8").unwrap(), Shard { index: 2, of: 8 });
     /// assert!(Shard::parse("8/8").is_err() && Shard::parse("1").is_err());
     /// ```
@@ -129,68 +121,13 @@ impl std::fmt::Display for Shard {
     }
 }
 
-/// A shard's share of a sweep whose runs are `groups` (variants, or announcement cases) ×
-/// days, a day being a (count index, repetition): run `g · days + d` is group `g` on day `d`.
-pub(crate) struct ShardDays {
-    /// Each day's (count index, repetition).
-    pub days: Vec<(usize, usize)>,
-    /// The shard's runs, in run order: (run number, group, day).
-    pub runs: Vec<(usize, usize, usize)>,
-    /// Each day's requests, sorted for planning — generated once, shared by the groups, and
-    /// only for the days the shard runs (empty for the others).
-    pub demands: Vec<Vec<Request>>,
-}
-
-impl ShardDays {
-    /// The share of `shard` in a sweep of `groups` × `counts` × `reps`, whose day
-    /// (count index, repetition) has the demand `demand(c, r)`.
-    pub(crate) fn new(
-        airspace: &Airspace,
-        shard: Shard,
-        groups: usize,
-        counts: usize,
-        reps: usize,
-        demand: impl Fn(usize, usize) -> DemandSpec + Sync,
-    ) -> Result<ShardDays, DemandError> {
-        let days: Vec<(usize, usize)> = (0..counts)
-            .flat_map(|c| (0..reps).map(move |r| (c, r)))
-            .collect();
-        let runs: Vec<(usize, usize, usize)> = (0..groups)
-            .flat_map(|g| (0..days.len()).map(move |d| (g, d)))
-            .enumerate()
-            .filter(|&(run, _)| shard.takes(run))
-            .map(|(run, (g, d))| (run, g, d))
-            .collect();
-        let mut needed = vec![false; days.len()];
-        for &(_, _, d) in &runs {
-            needed[d] = true;
-        }
-        let demands = days
-            .par_iter()
-            .zip(&needed)
-            .map(|(&(c, r), &needed)| {
-                if !needed {
-                    return Ok(Vec::new());
-                }
-                let mut reqs = generate(airspace, &demand(c, r))?;
-                sort_for_planning(&mut reqs);
-                Ok(reqs)
-            })
-            .collect::<Result<_, DemandError>>()?;
-        Ok(ShardDays {
-            days,
-            runs,
-            demands,
-        })
-    }
-}
-
-/// A sweep's identity: a hash of everything that decides its runs — its spec (counts,
-/// repetitions, seeds, demand window and rule, booking lead, and each variant's zones and
-/// parameters, or each lead's) — and of this program's version.
+/// An experiment's identity: a hash of everything that decides its runs — its grid (counts,
+/// repetitions, seeds, demand window and rule, booking lead, flight parameters) and its
+/// kind's cases (each variant's zones and parameters, or each lead's) — and of this
+/// program's version.
 ///
 /// ```
-/// use muse_sim::shard::fingerprint;
+/// use muse_sim::experiment::fingerprint;
 /// assert_eq!(fingerprint(&(1, "a")), fingerprint(&(1, "a")));
 /// assert_ne!(fingerprint(&(1, "a")), fingerprint(&(2, "a")));
 /// ```
@@ -206,8 +143,8 @@ pub fn fingerprint(spec: &impl std::fmt::Debug) -> String {
     format!("{h:016x}")
 }
 
-/// One run in a shard file: its number in the whole sweep and its record (a
-/// [`crate::sweep::RunRecord`] or a [`crate::lead::LeadRecord`]).
+/// One run in a shard file: its number in the whole sweep and its record (its kind's
+/// [`Kind::Record`](super::Kind::Record)).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ShardRun<R> {
     /// Its number in the whole sweep.
@@ -384,27 +321,14 @@ pub fn merge<R: Clone>(shards: &[(String, ShardFile<R>)]) -> Result<Vec<R>, Shar
 mod tests {
     use super::*;
 
-    use crate::demand::BookingLead;
-    use crate::sweep::{RunRecord, SweepSpec};
+    /// A record of a test.
+    #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+    struct Record {
+        planned: usize,
+    }
 
-    fn record(run: usize) -> RunRecord {
-        RunRecord {
-            variant: "v".into(),
-            count: 10,
-            rep: run,
-            seed: run as u64,
-            booking_lead: BookingLead::NONE,
-            planned: run,
-            out_of_range: 0,
-            unreachable: 0,
-            no_feasible_plan: 0,
-            success_rate: 0.5,
-            mean_air_delay_s: 1.0,
-            mean_ground_delay_s: 0.0,
-            planner_ms: 2.0,
-            expanded_per_request: 1.0,
-            legs_per_trip: 1.0,
-        }
+    fn record(run: usize) -> Record {
+        Record { planned: run }
     }
 
     fn shard_file(
@@ -412,7 +336,7 @@ mod tests {
         index: usize,
         of: usize,
         runs: usize,
-    ) -> (String, ShardFile<RunRecord>) {
+    ) -> (String, ShardFile<Record>) {
         let shard = Shard { index, of };
         (
             format!("out/{index}"),
@@ -433,62 +357,6 @@ mod tests {
                     .collect(),
             },
         )
-    }
-
-    /// Without the timing, which no two runs share.
-    fn untimed(mut r: RunRecord) -> RunRecord {
-        r.planner_ms = 0.0;
-        r
-    }
-
-    #[test]
-    fn a_sweep_in_three_shards_merges_into_the_same_runs() {
-        use crate::demand::OdRule;
-        use crate::sweep::{Variant, run_sweep, run_sweep_shard};
-        use muse_model::{FlightParams, Instant, Millis};
-        let s = muse_scenario::singapore_77();
-        let at = |h: i64| Instant::at_local(s.date, Millis::from_mins(h * 60), s.offset);
-        let params = FlightParams::default();
-        let spec = SweepSpec {
-            counts: vec![40, 120],
-            reps: 3,
-            base_seed: 7,
-            start: at(8),
-            end: at(20),
-            od: OdRule::Uniform,
-            booking_lead: BookingLead::NONE,
-            variants: vec![
-                Variant {
-                    name: "zone".into(),
-                    zones: s.zones.clone(),
-                    params,
-                },
-                Variant {
-                    name: "no zone".into(),
-                    zones: vec![],
-                    params,
-                },
-            ],
-        };
-        let whole: Vec<RunRecord> = run_sweep(&s.airspace, &spec, || {}).unwrap();
-        assert_eq!(whole.len(), 12);
-        let shards: Vec<(String, ShardFile<RunRecord>)> = (0..3)
-            .map(|index| {
-                let shard = Shard { index, of: 3 };
-                let runs = run_sweep_shard(&s.airspace, &spec, shard, || {}).unwrap();
-                let file =
-                    ShardFile::new(fingerprint(&spec), shard, spec.runs(), vec![], None, runs);
-                (format!("shard {shard}"), file)
-            })
-            .collect();
-        let merged = merge(&shards).unwrap();
-        assert_eq!(
-            merged.into_iter().map(untimed).collect::<Vec<_>>(),
-            whole.into_iter().map(untimed).collect::<Vec<_>>()
-        );
-        let mut other = spec.clone();
-        other.reps = 4;
-        assert_ne!(fingerprint(&spec), fingerprint(&other));
     }
 
     #[test]
@@ -537,9 +405,9 @@ mod tests {
         short.1.records.pop();
         let e = merge(&[shard_file("s", 0, 2, 10), short]).unwrap_err();
         assert!(e.to_string().contains("4 runs, expected 5"), "{e}");
-        assert!(matches!(merge::<RunRecord>(&[]), Err(ShardError::Empty)));
+        assert!(matches!(merge::<Record>(&[]), Err(ShardError::Empty)));
         assert!(
-            ShardFile::<RunRecord>::read("{}", "x.json")
+            ShardFile::<Record>::read("{}", "x.json")
                 .unwrap_err()
                 .to_string()
                 .starts_with("x.json: not a MUSE sweep shard")

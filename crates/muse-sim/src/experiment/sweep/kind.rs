@@ -1,0 +1,135 @@
+//! The paper's sweep as a [`Kind`]: its cases are scenario variants, each run plans a day
+//! first come, first served against the variant's zones with its flight parameters.
+
+use muse_airspace::closures::{ClosureError, Closures, resolve};
+use muse_model::Airspace;
+use muse_planner::Planner;
+
+use super::record::{RunRecord, columns};
+use super::report::{plots, summary, table};
+use super::variant::Variant;
+use crate::day::plan_sorted;
+use crate::demand::DemandError;
+use crate::experiment::grid::Grid;
+use crate::experiment::kind::{Day, Kind};
+use crate::experiment::report::{Column, Group, Plot, SummarySpec};
+
+/// Errors of a sweep.
+#[derive(Debug, thiserror::Error)]
+pub enum SweepError {
+    /// A variant's zones could not be resolved.
+    #[error("variant `{variant}`: {source}")]
+    Zones {
+        /// Variant name.
+        variant: String,
+        /// Cause.
+        source: ClosureError,
+    },
+    /// Demand could not be generated.
+    #[error(transparent)]
+    Demand(#[from] DemandError),
+}
+
+/// The paper's experiment: the same days planned in each scenario variant.
+pub struct Sweep<'a> {
+    airspace: &'a Airspace,
+    variants: Vec<Variant>,
+    /// Each variant's planner and zone closures, prepared once.
+    prepared: Vec<(Planner<'a>, Closures)>,
+    booked: Option<String>,
+}
+
+impl std::fmt::Debug for Sweep<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Sweep")
+            .field("variants", &self.variants)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<'a> Sweep<'a> {
+    /// The sweep of `variants` (at least one) on `airspace` over `grid`, each variant's zones
+    /// resolved over the grid's range; `booked` says how requests are booked, for plot
+    /// footnotes (`None`: at departure).
+    pub fn new(
+        airspace: &'a Airspace,
+        grid: &Grid,
+        variants: Vec<Variant>,
+        booked: Option<String>,
+    ) -> Result<Self, SweepError> {
+        let mut prepared = Vec::with_capacity(variants.len());
+        for v in &variants {
+            let (from, to) = grid.closure_range(&v.params);
+            let closures =
+                resolve(airspace, &v.zones, from, to).map_err(|source| SweepError::Zones {
+                    variant: v.name.clone(),
+                    source,
+                })?;
+            prepared.push((Planner::new(airspace, v.params), closures));
+        }
+        Ok(Sweep {
+            airspace,
+            variants,
+            prepared,
+            booked,
+        })
+    }
+
+    /// The variants, in run order.
+    pub fn variants(&self) -> &[Variant] {
+        &self.variants
+    }
+}
+
+impl Kind for Sweep<'_> {
+    type Record = RunRecord;
+    type Error = SweepError;
+
+    fn cases(&self) -> Vec<String> {
+        self.variants.iter().map(|v| v.name.clone()).collect()
+    }
+
+    fn identity(&self) -> String {
+        format!("{:?}", self.variants)
+    }
+
+    fn shared_demand(&self) -> Option<&Airspace> {
+        Some(self.airspace)
+    }
+
+    fn run(&self, grid: &Grid, case: usize, day: &Day<'_>) -> Result<RunRecord, SweepError> {
+        let (planner, closures) = &self.prepared[case];
+        let (outcomes, wall) = plan_sorted(planner, closures, day.requests, |_| {});
+        Ok(RunRecord::of(
+            &self.variants[case].name,
+            (day.rep, day.seed, grid.booking_lead),
+            day.requests,
+            &outcomes,
+            wall,
+        ))
+    }
+
+    fn runs_file(&self) -> &'static str {
+        "sweep.csv"
+    }
+
+    fn columns<'r>(&self, _: &'r [RunRecord]) -> Vec<Column<'r, RunRecord>> {
+        columns()
+    }
+
+    fn summary(&self) -> Option<SummarySpec<RunRecord>> {
+        Some(summary())
+    }
+
+    fn measured(&self, column: &str) -> bool {
+        column.starts_with("planner_ms")
+    }
+
+    fn table(&self, _: &Grid, _: &[RunRecord], groups: &[Group<RunRecord>]) -> String {
+        table(groups)
+    }
+
+    fn plots(&self, grid: &Grid, _: &[RunRecord], groups: &[Group<RunRecord>]) -> Vec<Plot> {
+        plots(grid, &self.cases(), groups, self.booked.as_deref())
+    }
+}

@@ -1,0 +1,19 @@
+//! The paper's experiment as a [`Kind`](crate::experiment::Kind): request counts ×
+//! repetitions × scenario variants, every variant on the same days of demand, so that
+//! differences between variants are the policy's effect, not sampling noise.
+//!
+//! - [`Sweep`]: the kind, its variants prepared once (zones resolved, planners built);
+//! - [`levers`]: the policies `--vary` compares, one file each, and their variants;
+//! - [`RunRecord`]: what one run measured, a row of `sweep.csv`;
+//! - `sweep_summary.csv`, the table and the plots (runtime, success rate, air delay).
+
+mod kind;
+pub mod levers;
+mod record;
+mod report;
+mod variant;
+
+pub use kind::{Sweep, SweepError};
+pub use record::{RunRecord, columns};
+pub use report::{SUMMARY_FILE, summary};
+pub use variant::Variant;

@@ -1,0 +1,139 @@
+//! What one run of the paper's sweep measured, and its row of `sweep.csv`.
+
+use muse_model::{RejectReason, Request};
+use muse_planner::Outcome;
+
+use crate::demand::BookingLead;
+use crate::experiment::grid::{booking_lead_ms, minutes};
+use crate::experiment::report::Column;
+
+/// The measurements of one run (serialized in shard files).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RunRecord {
+    /// Variant name.
+    pub variant: String,
+    /// Requests.
+    pub count: usize,
+    /// Repetition index.
+    pub rep: usize,
+    /// Demand seed.
+    pub seed: u64,
+    /// How far ahead of departure the run's requests were booked.
+    #[serde(with = "booking_lead_ms")]
+    pub booking_lead: BookingLead,
+    /// Accepted.
+    pub planned: usize,
+    /// Rejected: out of range.
+    pub out_of_range: usize,
+    /// Rejected: unreachable.
+    pub unreachable: usize,
+    /// Rejected: no feasible plan.
+    pub no_feasible_plan: usize,
+    /// `planned / count`.
+    pub success_rate: f64,
+    /// Mean air delay of planned requests, seconds.
+    pub mean_air_delay_s: f64,
+    /// Mean ground delay of planned requests, seconds.
+    pub mean_ground_delay_s: f64,
+    /// Planner wall time of the run, milliseconds.
+    pub planner_ms: f64,
+    /// Labels expanded per request.
+    pub expanded_per_request: f64,
+    /// Mean legs per planned trip (1 without battery swaps).
+    pub legs_per_trip: f64,
+}
+
+impl RunRecord {
+    /// The record of `requests` planned with `outcomes` (one each, in order) in `wall`
+    /// seconds of planner time, for the variant `variant`, repetition `rep`, demand `seed`.
+    pub fn of(
+        variant: &str,
+        (rep, seed, booking_lead): (usize, u64, BookingLead),
+        requests: &[Request],
+        outcomes: &[Outcome],
+        wall: std::time::Duration,
+    ) -> Self {
+        let mut rec = RunRecord {
+            variant: variant.to_owned(),
+            count: requests.len(),
+            rep,
+            seed,
+            booking_lead,
+            planned: 0,
+            out_of_range: 0,
+            unreachable: 0,
+            no_feasible_plan: 0,
+            success_rate: 0.0,
+            mean_air_delay_s: 0.0,
+            mean_ground_delay_s: 0.0,
+            planner_ms: wall.as_secs_f64() * 1e3,
+            expanded_per_request: 0.0,
+            legs_per_trip: 0.0,
+        };
+        let (mut air, mut ground, mut expanded, mut legs) = (0i64, 0i64, 0u64, 0usize);
+        for (req, o) in requests.iter().zip(outcomes) {
+            expanded += o.expanded;
+            match &o.result {
+                Ok(plan) => {
+                    rec.planned += 1;
+                    air += (plan.airborne() - o.free_flow.unwrap_or(plan.airborne())).0;
+                    ground += (plan.takeoff() - req.departure).0;
+                    legs += plan.leg_count();
+                }
+                Err(RejectReason::OutOfRange) => rec.out_of_range += 1,
+                Err(RejectReason::Unreachable) => rec.unreachable += 1,
+                // A day planned in advance has no clock, so it never answers `departure_in_past`.
+                Err(RejectReason::NoFeasiblePlan | RejectReason::DepartureInPast) => {
+                    rec.no_feasible_plan += 1;
+                }
+            }
+        }
+        let n = requests.len().max(1) as f64;
+        let planned = rec.planned.max(1) as f64;
+        rec.success_rate = rec.planned as f64 / n;
+        rec.mean_air_delay_s = air as f64 / 1e3 / planned;
+        rec.mean_ground_delay_s = ground as f64 / 1e3 / planned;
+        rec.expanded_per_request = expanded as f64 / n;
+        rec.legs_per_trip = legs as f64 / planned;
+        rec
+    }
+}
+
+/// The columns of `sweep.csv`, one row per run; the last two are the run's booking lead
+/// (uniform in `[from, to]` minutes; `0,0` for requests submitted at departure).
+pub fn columns() -> Vec<Column<'static, RunRecord>> {
+    vec![
+        Column::new("variant", |r: &RunRecord| r.variant.clone()),
+        Column::new("count", |r: &RunRecord| r.count.to_string()),
+        Column::new("rep", |r: &RunRecord| r.rep.to_string()),
+        Column::new("seed", |r: &RunRecord| r.seed.to_string()),
+        Column::new("planned", |r: &RunRecord| r.planned.to_string()),
+        Column::new("out_of_range", |r: &RunRecord| r.out_of_range.to_string()),
+        Column::new("unreachable", |r: &RunRecord| r.unreachable.to_string()),
+        Column::new("no_feasible_plan", |r: &RunRecord| {
+            r.no_feasible_plan.to_string()
+        }),
+        Column::new("success_rate", |r: &RunRecord| {
+            format!("{:.6}", r.success_rate)
+        }),
+        Column::new("mean_air_delay_s", |r: &RunRecord| {
+            format!("{:.3}", r.mean_air_delay_s)
+        }),
+        Column::new("mean_ground_delay_s", |r: &RunRecord| {
+            format!("{:.3}", r.mean_ground_delay_s)
+        }),
+        Column::new("planner_ms", |r: &RunRecord| format!("{:.3}", r.planner_ms)),
+        Column::new("expanded_per_request", |r: &RunRecord| {
+            format!("{:.3}", r.expanded_per_request)
+        }),
+        Column::new("legs_per_trip", |r: &RunRecord| {
+            format!("{:.4}", r.legs_per_trip)
+        }),
+        Column::new("booking_lead_min_from", |r: &RunRecord| {
+            minutes(r.booking_lead.min)
+        }),
+        Column::new("booking_lead_min_to", |r: &RunRecord| {
+            minutes(r.booking_lead.max)
+        }),
+    ]
+}

@@ -1,0 +1,14 @@
+//! A scenario variant of the paper's sweep: a name, the zones in force, the flight parameters.
+
+use muse_model::{FlightParams, Zone};
+
+/// One scenario variant of a sweep.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Variant {
+    /// Name shown in files and legends, e.g. `CBD zone` or `no zone`.
+    pub name: String,
+    /// Zones in force.
+    pub zones: Vec<Zone>,
+    /// Flight parameters.
+    pub params: FlightParams,
+}
