@@ -60,7 +60,7 @@ impl Served {
         let mut seen = Vec::new();
         let base = loop {
             let (_, line) = lines
-                .recv_timeout(Duration::from_secs(60))
+                .recv_timeout(Duration::from_mins(1))
                 .unwrap_or_else(|_| panic!("muse serve prints its address; printed {seen:#?}"));
             if let Some(addr) = line.strip_prefix("listening on ") {
                 break addr.trim().to_owned();

@@ -25,7 +25,7 @@ use serde_json::{Value, json};
 use tungstenite::{Message, WebSocket};
 
 /// How long a command's reply or a page load may take.
-pub const TIMEOUT: Duration = Duration::from_secs(60);
+pub const TIMEOUT: Duration = Duration::from_mins(1);
 
 /// How long Chromium may take to print the address of its CDP endpoint.
 const LAUNCH_TIMEOUT: Duration = Duration::from_secs(30);

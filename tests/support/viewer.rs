@@ -179,7 +179,7 @@ pub fn open_offline(page: &Page<'_>, view: &Path, fragment: &str) -> usize {
     page.goto(&full).expect("view.html loads");
     page.wait_for(
         "window.museView && window.museView.ready === true",
-        Duration::from_secs(60),
+        Duration::from_mins(1),
     )
     .expect("the viewer gets ready");
     assert_no_console_errors(page);

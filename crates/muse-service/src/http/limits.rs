@@ -8,7 +8,7 @@ pub const DEFAULT_HEADER_TIMEOUT: Duration = Duration::from_secs(10);
 /// Default [`Limits::body_timeout`].
 pub const DEFAULT_BODY_TIMEOUT: Duration = Duration::from_secs(30);
 /// Default [`Limits::idle_timeout`].
-pub const DEFAULT_IDLE_TIMEOUT: Duration = Duration::from_secs(60);
+pub const DEFAULT_IDLE_TIMEOUT: Duration = Duration::from_mins(1);
 /// Default [`Limits::max_connections`] (before the open-file limit lowers it).
 pub const DEFAULT_MAX_CONNECTIONS: usize = 10_000;
 /// Open files kept back from the connection cap for everything else the process opens: the
@@ -17,7 +17,7 @@ pub const FILE_RESERVE: u64 = 64;
 /// Shortest timeout accepted.
 pub const MIN_TIMEOUT: Duration = Duration::from_millis(100);
 /// Longest timeout accepted (a day).
-pub const MAX_TIMEOUT: Duration = Duration::from_secs(86_400);
+pub const MAX_TIMEOUT: Duration = Duration::from_hours(24);
 
 /// The limits of the HTTP server (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
