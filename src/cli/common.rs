@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 use clap::Args;
 use clap::builder::PossibleValuesParser;
+use muse_formats::params::ParamsRecord;
 use muse_model::{Airspace, Millis, Speed, UtcOffset, Zone};
 use muse_sim::metrics::WorldRecord;
 use muse_sim::metrics::recorded::SyntheticRecord;
@@ -323,42 +324,34 @@ pub enum EdgeRuleArg {
 }
 
 impl FlightArgs {
+    /// The options as a record of parameters in user units (what a summary records).
+    pub fn record(&self) -> ParamsRecord {
+        ParamsRecord {
+            speed_kmh: self.range.speed_kmh,
+            max_flight_min: self.range.max_flight_min,
+            node_separation_s: self.node_separation_s,
+            edge_rule: match self.edge_rule {
+                EdgeRuleArg::Exclusive => "exclusive",
+                EdgeRuleArg::Headway => "headway",
+            }
+            .to_owned(),
+            headway_s: self.headway_s,
+            max_ground_delay_s: self.max_ground_delay_s,
+            booking_lead_min: None,
+            battery_swap_s: self.battery_swap_s,
+            max_legs: self.max_legs,
+            max_trip_min: self.max_trip_min,
+        }
+    }
+
     /// The parameters, validated.
     pub fn params(&self) -> anyhow::Result<muse_model::FlightParams> {
-        let secs = |name: &str, v: f64| {
-            Millis::from_secs_f64(v)
-                .map_err(|_| anyhow::anyhow!("{name} {v} must be a number >= 0"))
-        };
-        let tau = secs("--node-separation-s", self.node_separation_s)?;
-        let edge_rule = match (self.edge_rule, self.headway_s) {
-            (EdgeRuleArg::Exclusive, None) => muse_model::EdgeRule::Exclusive,
-            (EdgeRuleArg::Exclusive, Some(_)) => {
-                anyhow::bail!("--headway-s applies only with --edge-rule headway")
-            }
-            (EdgeRuleArg::Headway, h) => {
-                muse_model::EdgeRule::Headway(h.map_or(Ok(tau), |h| secs("--headway-s", h))?)
-            }
-        };
-        Ok(muse_model::FlightParams {
-            speed: self.range.speed()?,
-            max_flight: self.range.t_max()?,
-            node_separation: tau,
-            edge_rule,
-            max_ground_delay: secs("--max-ground-delay-s", self.max_ground_delay_s)?,
-            battery_swap: self
-                .battery_swap_s
-                .map(|s| {
-                    Ok::<_, anyhow::Error>(muse_model::BatterySwap {
-                        time: secs("--battery-swap-s", s)?,
-                        max_legs: self.max_legs,
-                    })
-                })
-                .transpose()?,
-            max_trip: self
-                .max_trip_min
-                .map(|m| secs("--max-trip-min", m * 60.0))
-                .transpose()?,
-        })
+        if matches!(self.edge_rule, EdgeRuleArg::Exclusive) && self.headway_s.is_some() {
+            anyhow::bail!("--headway-s applies only with --edge-rule headway");
+        }
+        self.record()
+            .to_params()
+            .map_err(|e| anyhow::anyhow!(e.as_option()))
     }
 }
 

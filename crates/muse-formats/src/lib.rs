@@ -10,13 +10,15 @@
 //! - [`plans`]: plan output as JSON Lines;
 //! - [`flights`]: planned flights as time-stamped GeoJSON lines (QGIS, kepler.gl);
 //! - [`flights_csv`]: one row per request, the plans file as a table;
-//! - [`stays_csv`]: one row per stay of every flight that flies.
+//! - [`stays_csv`]: one row per stay of every flight that flies;
+//! - [`params`]: the flight parameters in user units (summaries, `/healthz`, options).
 #![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 pub mod airspace_geojson;
 pub mod error;
 pub mod flights;
 pub mod flights_csv;
+pub mod params;
 pub mod plans;
 pub mod requests;
 pub mod stays_csv;

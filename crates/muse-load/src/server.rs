@@ -6,8 +6,9 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use muse_formats::airspace_geojson::read_airspace;
+use muse_formats::params::ParamsRecord;
 use muse_formats::zones::read_zones;
-use muse_model::{Airspace, EdgeRule, FlightParams, Instant, Millis, Speed, UtcOffset, Zone};
+use muse_model::{Airspace, FlightParams, Instant, Millis, UtcOffset, Zone};
 use reqwest::{StatusCode, Url, header};
 use serde::Deserialize;
 
@@ -81,22 +82,6 @@ struct Health {
     parameters: serde_json::Value,
     #[serde(default)]
     retain_s: Option<f64>,
-}
-
-#[derive(Deserialize)]
-struct Parameters {
-    speed_kmh: f64,
-    max_flight_min: f64,
-    node_separation_s: f64,
-    edge_rule: String,
-    headway_s: Option<f64>,
-    max_ground_delay_s: f64,
-    #[serde(default)]
-    battery_swap_s: Option<f64>,
-    #[serde(default)]
-    max_legs: Option<u32>,
-    #[serde(default)]
-    max_trip_min: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -259,39 +244,15 @@ fn offset_of(text: &str) -> Result<UtcOffset, String> {
 
 /// The flight parameters of `/healthz`'s `parameters`.
 fn flight_params(v: &serde_json::Value) -> Result<FlightParams, String> {
-    let p: Parameters =
+    let p: ParamsRecord =
         serde_json::from_value(v.clone()).map_err(|e| format!("parameters: {e}"))?;
-    let secs = |name: &str, s: f64| Millis::from_secs_f64(s).map_err(|e| format!("{name}: {e}"));
-    let edge_rule = match (p.edge_rule.as_str(), p.headway_s) {
-        ("exclusive", _) => EdgeRule::Exclusive,
-        ("headway", Some(h)) => EdgeRule::Headway(secs("headway_s", h)?),
-        (other, _) => return Err(format!("unknown edge rule `{other}`")),
-    };
-    Ok(FlightParams {
-        speed: Speed::from_kmh(p.speed_kmh).map_err(|e| format!("speed_kmh: {e}"))?,
-        max_flight: secs("max_flight_min", p.max_flight_min * 60.0)?,
-        node_separation: secs("node_separation_s", p.node_separation_s)?,
-        edge_rule,
-        max_ground_delay: secs("max_ground_delay_s", p.max_ground_delay_s)?,
-        battery_swap: p
-            .battery_swap_s
-            .map(|s| {
-                Ok::<_, String>(muse_model::BatterySwap {
-                    time: secs("battery_swap_s", s)?,
-                    max_legs: p.max_legs,
-                })
-            })
-            .transpose()?,
-        max_trip: p
-            .max_trip_min
-            .map(|m| secs("max_trip_min", m * 60.0))
-            .transpose()?,
-    })
+    p.to_params().map_err(|e| e.to_string())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use muse_model::EdgeRule;
     use serde_json::json;
 
     #[test]

@@ -6,6 +6,7 @@ use std::sync::Arc;
 use axum::extract::State as AxumState;
 use axum::http::{HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
+use muse_formats::params::ParamsRecord;
 use serde::Serialize;
 
 use super::error::json;
@@ -67,27 +68,10 @@ struct Health {
     /// Of those, the flights the live schedule holds (in memory).
     flights_held: usize,
     airspace: String,
-    parameters: Parameters,
+    parameters: ParamsRecord,
     /// While starting: what has been loaded so far.
     #[serde(skip_serializing_if = "Option::is_none")]
     progress: Option<crate::state::Progress>,
-}
-
-/// The flight parameters planned with (SPEC §3), as `muse plan` takes them.
-#[derive(Serialize)]
-struct Parameters {
-    speed_kmh: f64,
-    max_flight_min: f64,
-    node_separation_s: f64,
-    edge_rule: &'static str,
-    headway_s: Option<f64>,
-    max_ground_delay_s: f64,
-    /// SPEC §12: the battery swap time, `null` when trips are single legs.
-    battery_swap_s: Option<f64>,
-    /// With swaps: the most legs a trip may have (`null`: no bound).
-    max_legs: Option<u32>,
-    /// The delivery deadline after the requested departure, minutes (`null`: none).
-    max_trip_min: Option<f64>,
 }
 
 pub(super) async fn healthz(AxumState(app): AxumState<Arc<App>>) -> Response {
@@ -111,23 +95,7 @@ pub(super) async fn healthz(AxumState(app): AxumState<Arc<App>>) -> Response {
             flights_held,
             airspace: s.world.label.clone(),
             progress: (!ready).then(|| s.phase.progress()),
-            parameters: {
-                let p = &s.world.params;
-                Parameters {
-                    speed_kmh: p.speed.kmh(),
-                    max_flight_min: p.max_flight.as_secs_f64() / 60.0,
-                    node_separation_s: p.node_separation.as_secs_f64(),
-                    edge_rule: p.edge_rule.name(),
-                    headway_s: match p.edge_rule {
-                        muse_model::EdgeRule::Headway(h) => Some(h.as_secs_f64()),
-                        muse_model::EdgeRule::Exclusive => None,
-                    },
-                    max_ground_delay_s: p.max_ground_delay.as_secs_f64(),
-                    battery_swap_s: p.battery_swap.map(|s| s.time.as_secs_f64()),
-                    max_legs: p.battery_swap.and_then(|s| s.max_legs),
-                    max_trip_min: p.max_trip.map(|m| m.as_secs_f64() / 60.0),
-                }
-            },
+            parameters: ParamsRecord::from(&s.world.params),
         },
     )
 }

@@ -13,7 +13,7 @@ pub mod recorded;
 pub mod replanning;
 
 pub use distribution::Distribution;
-pub use params::{BookingLeadRecord, ParamsRecord};
+pub use muse_formats::params::{BookingLeadRecord, ParamsRecord};
 pub use recorded::WorldRecord;
 pub use replanning::ReplanSummary;
 

@@ -7,7 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::params::ParamsRecord;
+use muse_formats::params::ParamsRecord;
 
 /// The world a run was planned on, as a summary records it (`world`): where the airspace came
 /// from and which zone files were read. Exactly one of `scenario`, `airspace` and `synthetic`

@@ -63,12 +63,12 @@ mod tests {
             status_kib_field(&format!("VmHWM:\t{} kB", u64::MAX), "VmHWM"),
             None
         );
-        // On Linux the live value is there and at least any earlier size (read the size
-        // first: other tests' threads may grow the process in between).
+        // On Linux both live values are there. (The peak is not compared with the current
+        // size: the kernel folds its per-thread counters into the peak lazily, so a peak read
+        // just after growth may lag the current size by a few pages.)
         if cfg!(target_os = "linux") {
-            let earlier = current_rss_bytes().expect("VmRSS on Linux");
-            let peak = peak_rss_bytes().expect("VmHWM on Linux");
-            assert!(peak >= earlier, "{peak} < {earlier}");
+            assert!(current_rss_bytes().expect("VmRSS on Linux") > 0);
+            assert!(peak_rss_bytes().expect("VmHWM on Linux") > 0);
         }
         assert_eq!(mib(None), "n/a");
         assert_eq!(mib(Some(3 * 1024 * 1024 / 2)), "1.5");
