@@ -24,6 +24,12 @@ use std::ops::{Add, AddAssign, Sub, SubAssign};
 
 use jiff::civil::Date;
 
+mod calendar;
+mod clock;
+
+use calendar::{civil_from_days, days_from_civil, days_in_month};
+pub use clock::parse_clock;
+
 /// Milliseconds in a day.
 const DAY_MS: i64 = 86_400_000;
 
@@ -469,97 +475,6 @@ impl Cursor<'_> {
         }
         Ok(sign * (h * 3_600 + m * 60))
     }
-}
-
-/// Whether `year` is a leap year of the proleptic Gregorian calendar.
-fn is_leap_year(year: i64) -> bool {
-    year % 4 == 0 && (year % 100 != 0 || year % 400 == 0)
-}
-
-/// The number of days of `month` (1–12) in `year`.
-fn days_in_month(year: i64, month: i64) -> i64 {
-    match month {
-        2 if is_leap_year(year) => 29,
-        2 => 28,
-        4 | 6 | 9 | 11 => 30,
-        _ => 31,
-    }
-}
-
-/// Days from 1970-01-01 to `year-month-day` of the proleptic Gregorian calendar (H. Hinnant's
-/// `days_from_civil`), exact for every year an `i64` day count holds.
-const fn days_from_civil(year: i64, month: i64, day: i64) -> i64 {
-    let y = if month <= 2 { year - 1 } else { year };
-    let era = y.div_euclid(400);
-    let yoe = y.rem_euclid(400);
-    let mp = (month + 9) % 12;
-    let doy = (153 * mp + 2) / 5 + day - 1;
-    let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-    era * 146_097 + doe - 719_468
-}
-
-/// The date `days` after 1970-01-01 (the inverse of [`days_from_civil`]).
-fn civil_from_days(days: i64) -> (i64, i64, i64) {
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1_460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let day = doy - (153 * mp + 2) / 5 + 1;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 };
-    let year = yoe + era * 400 + i64::from(month <= 2);
-    (year, month, day)
-}
-
-/// Parses a local clock time `HH:MM`, `HH:MM:SS` or `HH:MM:SS.mmm` into a time of day.
-/// `24:00[:00]` is accepted as the end of the day; a leap second `:60` is refused
-/// ([`TimeError::LeapSecond`]).
-///
-/// ```
-/// use muse_model::time::parse_clock;
-/// assert_eq!(parse_clock("08:15").unwrap().0, (8 * 3600 + 15 * 60) * 1000);
-/// assert_eq!(parse_clock("10:00:01.5").unwrap().0, 36_001_500);
-/// assert!(parse_clock("25:00").is_err());
-/// assert!(parse_clock("23:59:60").is_err());
-/// ```
-pub fn parse_clock(text: &str) -> Result<Millis, TimeError> {
-    let err = || TimeError::ClockTime(text.to_owned());
-    let parts: Vec<&str> = text.trim().split(':').collect();
-    if !(2..=3).contains(&parts.len()) || parts[..2].iter().any(|p| p.len() != 2) {
-        return Err(err());
-    }
-    let num = |p: &str| -> Result<i64, TimeError> {
-        if p.bytes().all(|b| b.is_ascii_digit()) && !p.is_empty() {
-            p.parse().map_err(|_| err())
-        } else {
-            Err(err())
-        }
-    };
-    let h = num(parts[0])?;
-    let m = num(parts[1])?;
-    let mut ms = 0;
-    if let Some(sec) = parts.get(2) {
-        let (whole, frac) = sec.split_once('.').unwrap_or((sec, ""));
-        if whole.len() != 2 || frac.len() > 3 || (sec.contains('.') && frac.is_empty()) {
-            return Err(err());
-        }
-        let s = num(whole)?;
-        if s == 60 {
-            return Err(TimeError::LeapSecond(text.to_owned()));
-        }
-        if s > 59 {
-            return Err(err());
-        }
-        ms = s * 1_000;
-        if !frac.is_empty() {
-            ms += num(frac)? * 10_i64.pow(3 - frac.len() as u32);
-        }
-    }
-    if m > 59 || h > 24 || (h == 24 && (m > 0 || ms > 0)) {
-        return Err(err());
-    }
-    Ok(Millis((h * 3_600 + m * 60) * 1_000 + ms))
 }
 
 impl Add<Millis> for Instant {
