@@ -48,6 +48,7 @@ mod planner;
 mod replan;
 mod schedule;
 mod sipp;
+mod time;
 
 pub use online::{CancelError, FORGET_EVERY, Holding, Live, ZoneError};
 pub use planner::{Landing, Outcome, Planner, Resume, plan_and_book, plan_day};

@@ -2,9 +2,10 @@
 
 use muse_model::{Airspace, FlightParams, Instant, Millis, NodeId, Plan, RejectReason, Request};
 
-use crate::heuristic::{Heuristics, UNREACHABLE};
-use crate::schedule::{FlightId, INF, Schedule};
+use crate::heuristic::Heuristics;
+use crate::schedule::{FlightId, Schedule};
 use crate::sipp::{Goal, Problem, Remaining, Scratch, Start, Swaps, search};
+use crate::time::Unbounded;
 
 /// A prepared planner. Shareable between threads (`&Planner` is `Sync`); each thread brings
 /// its own [`Scratch`] and each simulated day its own [`Schedule`].
@@ -49,7 +50,7 @@ impl<'a> Planner<'a> {
     /// Free-flow time from `request.origin` to `request.destination`, if reachable.
     pub fn free_flow(&self, request: &Request) -> Option<Millis> {
         let h = self.heuristics.to(self.airspace, request.destination)[request.origin.index()];
-        (h != UNREACHABLE).then_some(Millis(h))
+        (h != Millis::INF).then_some(h)
     }
 
     /// Plans one request against `schedule` (which it does not change): take-off in
@@ -125,30 +126,30 @@ impl<'a> Planner<'a> {
         };
         let h = self.heuristics.to(self.airspace, request.destination);
         let direct = h[request.origin.index()];
-        if direct == UNREACHABLE {
+        if direct == Millis::INF {
             return reject(RejectReason::Unreachable, None, scratch);
         }
         let (remaining, free_flow) =
             match self.heuristics.swaps_to(self.airspace, request.destination) {
-                None if direct > self.params.max_flight.0 => {
-                    return reject(RejectReason::OutOfRange, Some(Millis(direct)), scratch);
+                None if direct > self.params.max_flight => {
+                    return reject(RejectReason::OutOfRange, Some(direct), scratch);
                 }
                 None => (Remaining::Single(h), direct),
                 Some(table) => match table.free_flow(request.origin) {
                     None => {
-                        return reject(RejectReason::OutOfRange, Some(Millis(direct)), scratch);
+                        return reject(RejectReason::OutOfRange, Some(direct), scratch);
                     }
                     Some(trip) => (Remaining::Swaps(table), trip),
                 },
             };
         let start = Start::Ground {
             origin: request.origin,
-            earliest: earliest.0,
-            latest: latest.0,
+            earliest,
+            latest,
         };
         let mut problem = self.problem(remaining, request.origin, 1);
         if let Some(m) = self.params.max_trip {
-            problem.deadline = (request.departure + m).0;
+            problem.deadline = request.departure + m;
         }
         let result = search(
             problem,
@@ -160,7 +161,7 @@ impl<'a> Planner<'a> {
         .ok_or(RejectReason::NoFeasiblePlan);
         Outcome {
             result,
-            free_flow: Some(Millis(free_flow)),
+            free_flow: Some(free_flow),
             expanded: scratch.expanded,
         }
     }
@@ -248,15 +249,15 @@ impl<'a> Planner<'a> {
         let start = match from.airborne_since {
             Some(takeoff) => Start::Airborne {
                 node: from.node,
-                at: from.at.0,
-                takeoff: takeoff.0,
-                first: from.first_takeoff.0,
+                at: from.at,
+                takeoff,
+                first: from.first_takeoff,
                 legs: from.legs,
             },
             None if swaps => Start::Landed {
                 node: from.node,
-                at: from.at.0,
-                first: from.first_takeoff.0,
+                at: from.at,
+                first: from.first_takeoff,
                 legs: from.legs,
             },
             None => return (None, 0),
@@ -269,7 +270,7 @@ impl<'a> Planner<'a> {
             problem.swaps = None;
         }
         if let (Goal::Node(_), Some(m)) = (goal, self.params.max_trip) {
-            problem.deadline = (from.departure + m).0;
+            problem.deadline = from.departure + m;
         }
         let plan = search(problem, schedule, start, goal, scratch);
         (plan, scratch.expanded)
@@ -286,12 +287,12 @@ impl<'a> Planner<'a> {
             params: &self.params,
             remaining,
             swaps: self.params.battery_swap.map(|s| Swaps {
-                time: s.time.0,
+                time: s.time,
                 max_legs: s.leg_limit(),
                 no_return,
                 no_return_legs,
             }),
-            deadline: INF,
+            deadline: Instant::INF,
         }
     }
 }
@@ -359,7 +360,7 @@ pub fn plan_day(
 ) -> Vec<Outcome> {
     let mut out = Vec::with_capacity(requests.len());
     for (i, request) in requests.iter().enumerate() {
-        schedule.set_horizon(request.submitted.0);
+        schedule.set_horizon(request.submitted);
         out.push(plan_and_book(
             planner,
             schedule,

@@ -2,13 +2,34 @@
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
+use std::ops::{Index, IndexMut};
 
-/// "No label" in parent, edge and list links.
-pub(super) const NONE: u32 = u32::MAX;
+use muse_model::{EdgeId, Instant, Millis, NodeId};
 
-/// The `lo` of the ground state of a station (SPEC §12: on the ground between legs), below
-/// every safe interval's `lo`.
-pub(super) const GROUND: i64 = i64::MIN;
+/// The index of a label in a search's [`Scratch`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(super) struct LabelId(u32);
+
+impl LabelId {
+    /// No label: the parent of a search's first labels and of a take-off's, the end of a
+    /// state's list, the owner of a label that is not a continuation.
+    pub const NONE: LabelId = LabelId(u32::MAX);
+
+    /// Whether this is [`LabelId::NONE`].
+    #[inline]
+    pub fn is_none(self) -> bool {
+        self == LabelId::NONE
+    }
+}
+
+/// The edge of a label that was not flown to (a search's first labels, landings and
+/// take-offs).
+pub(super) const NO_EDGE: EdgeId = EdgeId(u32::MAX);
+
+/// The `lo` of the ground state of a station (SPEC §12: on the ground between legs). Not a
+/// time: the key of that state, below every safe interval's `lo` (which is at least
+/// `Instant::NEG_INF`).
+pub(super) const GROUND: Instant = Instant(i64::MIN);
 
 /// One label (see the module docs of [`super`]): a family of partial plans with members
 /// `x ∈ [0, slack]`: arrival `arrive + x`, current leg's take-off `takeoff + x`, first
@@ -17,49 +38,49 @@ pub(super) const GROUND: i64 = i64::MIN;
 /// is `first` and its `slack` is `rho`.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Label {
-    pub node: u32,
+    pub node: NodeId,
     pub legs: u32,
     pub ground: bool,
     pub dead: bool,
     /// The safe interval of the state (`GROUND` for a ground label).
-    pub lo: i64,
-    pub hi: i64,
-    pub arrive: i64,
-    pub takeoff: i64,
-    pub slack: i64,
-    pub first: i64,
-    pub rho: i64,
-    /// Parent label and the edge flown from it (`NONE` at the start of the search and after
-    /// a take-off).
-    pub parent: u32,
-    pub via: u32,
+    pub lo: Instant,
+    pub hi: Instant,
+    pub arrive: Instant,
+    pub takeoff: Instant,
+    pub slack: Millis,
+    pub first: Instant,
+    pub rho: Millis,
+    /// Parent label (`NONE` at the start of the search and after a take-off) and the edge
+    /// flown from it (`NO_EDGE` when none was).
+    pub parent: LabelId,
+    pub via: EdgeId,
     /// Next label of the same state (linked list), or `NONE`.
-    pub next_in_state: u32,
+    pub next_in_state: LabelId,
     /// For a *continuation* (the later members of a label, queued apart so that their
     /// successors are generated lazily): the label held in the state list whose death is
     /// theirs. `NONE` for a label in the state list.
-    pub alias: u32,
+    pub alias: LabelId,
 }
 
 impl Label {
     /// The members `x ≥ dx` of an airborne label, as a label of their own.
-    pub fn later_members(&self, dx: i64) -> Label {
-        debug_assert!(!self.ground && dx > 0 && dx <= self.slack);
+    pub fn later_members(&self, dx: Millis) -> Label {
+        debug_assert!(!self.ground && dx > Millis::ZERO && dx <= self.slack);
         Label {
             arrive: self.arrive + dx,
             takeoff: self.takeoff + dx,
             slack: self.slack - dx,
             first: self.first + dx.min(self.rho),
-            rho: (self.rho - dx).max(0),
+            rho: (self.rho - dx).max(Millis::ZERO),
             ..*self
         }
     }
 
     /// A ground label's members from `dt` later on: free to take off from `arrive + dt`.
-    pub fn on_ground_later(&self, dt: i64) -> Label {
-        debug_assert!(self.ground && dt > 0);
+    pub fn on_ground_later(&self, dt: Millis) -> Label {
+        debug_assert!(self.ground && dt > Millis::ZERO);
         let first = self.first + dt.min(self.rho);
-        let rho = (self.rho - dt).max(0);
+        let rho = (self.rho - dt).max(Millis::ZERO);
         Label {
             arrive: self.arrive + dt,
             takeoff: first,
@@ -75,29 +96,65 @@ impl Label {
 /// list linked through [`Label::next_in_state`].
 #[derive(Clone, Copy, Debug)]
 struct State {
-    lo: i64,
-    head: u32,
-    tail: u32,
+    lo: Instant,
+    head: LabelId,
+    tail: LabelId,
 }
 
-/// The priority of a label: `(arrival + remaining, −first take-off, legs)`, smallest first.
-pub(super) type Key = (i64, i64, u32);
+/// The priority of a label, smallest first (see the module docs of [`super`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(super) struct Key {
+    /// The earliest landing the label can lead to: its arrival plus the remaining time.
+    pub landing: Instant,
+    /// Then the latest first take-off.
+    pub first: Reverse<Instant>,
+    /// Then the fewest legs.
+    pub legs: u32,
+}
+
+/// A search's labels, indexed by [`LabelId`].
+#[derive(Debug, Default)]
+pub(super) struct Labels(Vec<Label>);
+
+impl Labels {
+    /// The id the next label pushed will have.
+    #[inline]
+    fn next_id(&self) -> LabelId {
+        LabelId(self.0.len() as u32)
+    }
+}
+
+impl Index<LabelId> for Labels {
+    type Output = Label;
+
+    #[inline]
+    fn index(&self, id: LabelId) -> &Label {
+        &self.0[id.0 as usize]
+    }
+}
+
+impl IndexMut<LabelId> for Labels {
+    #[inline]
+    fn index_mut(&mut self, id: LabelId) -> &mut Label {
+        &mut self.0[id.0 as usize]
+    }
+}
 
 /// Reusable per-thread search memory: after the first few requests, planning allocates
 /// nothing.
 #[derive(Debug, Default)]
 pub struct Scratch {
-    pub(super) labels: Vec<Label>,
-    pub(super) heap: BinaryHeap<Reverse<(Key, u32)>>,
+    pub(super) labels: Labels,
+    pub(super) heap: BinaryHeap<Reverse<(Key, LabelId)>>,
     /// Per node: the states met in this search, sorted by `lo`.
     states: Vec<Vec<State>>,
-    touched: Vec<u32>,
+    touched: Vec<NodeId>,
     /// Labels whose key passes this are never queued (the search's deadline).
-    pub(super) deadline: i64,
+    pub(super) deadline: Instant,
     /// The leg that may not land where it took off ([`super::Swaps::no_return_legs`]).
     no_return_legs: u32,
     /// Labels expanded by the last search.
-    pub expanded: u64,
+    pub(crate) expanded: u64,
 }
 
 impl Scratch {
@@ -106,25 +163,25 @@ impl Scratch {
         Scratch::default()
     }
 
-    pub(super) fn reset(&mut self, node_count: usize, deadline: i64, no_return_legs: u32) {
+    pub(super) fn reset(&mut self, node_count: usize, deadline: Instant, no_return_legs: u32) {
         self.deadline = deadline;
         self.no_return_legs = no_return_legs;
-        self.labels.clear();
+        self.labels.0.clear();
         self.heap.clear();
         if self.states.len() < node_count {
             self.states.resize_with(node_count, Vec::new);
         }
         for &n in &self.touched {
-            self.states[n as usize].clear();
+            self.states[n.index()].clear();
         }
         self.touched.clear();
         self.expanded = 0;
     }
 
     /// Whether label `idx` (or, for a continuation, the label it belongs to) is dominated.
-    pub(super) fn is_dead(&self, idx: u32) -> bool {
-        let l = &self.labels[idx as usize];
-        l.dead || (l.alias != NONE && self.labels[l.alias as usize].dead)
+    pub(super) fn is_dead(&self, idx: LabelId) -> bool {
+        let l = &self.labels[idx];
+        l.dead || (!l.alias.is_none() && self.labels[l.alias].dead)
     }
 
     /// Adds a label unless an existing label of its state dominates it; marks the labels it
@@ -133,23 +190,23 @@ impl Scratch {
     /// A state's labels are listed oldest first: labels are pushed in roughly increasing key
     /// order, so an older label is the likelier to dominate a new one, and is met first.
     pub(super) fn push(&mut self, label: Label, key: Key) {
-        if key.0 > self.deadline {
+        if key.landing > self.deadline {
             return;
         }
-        let node = label.node as usize;
+        let node = label.node.index();
         let states = &mut self.states[node];
         // States are kept sorted by `lo`; new ones usually go last.
         let k = states.partition_point(|s| s.lo < label.lo);
-        let idx = self.labels.len() as u32;
+        let idx = self.labels.next_id();
         if states.get(k).is_some_and(|s| s.lo == label.lo) {
             if self.dominated_in(node, k, &label) {
                 return;
             }
             let tail = std::mem::replace(&mut self.states[node][k].tail, idx);
-            if tail == NONE {
+            if tail.is_none() {
                 self.states[node][k].head = idx;
             } else {
-                self.labels[tail as usize].next_in_state = idx;
+                self.labels[tail].next_in_state = idx;
             }
         } else {
             if states.is_empty() {
@@ -164,8 +221,8 @@ impl Scratch {
                 },
             );
         }
-        self.labels.push(Label {
-            next_in_state: NONE,
+        self.labels.0.push(Label {
+            next_in_state: LabelId::NONE,
             ..label
         });
         self.heap.push(Reverse((key, idx)));
@@ -175,11 +232,11 @@ impl Scratch {
     /// dominates and unlinks every dead label met, so that lists stay short.
     fn dominated_in(&mut self, node: usize, k: usize, label: &Label) -> bool {
         let r = self.no_return_legs;
-        let mut prev = NONE;
+        let mut prev = LabelId::NONE;
         let mut i = self.states[node][k].head;
         let mut dominated = false;
-        while i != NONE {
-            let s = &mut self.labels[i as usize];
+        while !i.is_none() {
+            let s = &mut self.labels[i];
             let next = s.next_in_state;
             if !s.dead && !dominated && dominates(s, label, r) {
                 dominated = true;
@@ -189,10 +246,10 @@ impl Scratch {
             if s.dead {
                 // Unlink: a dead label never dominates again (its continuations check its
                 // flag, not the list).
-                if prev == NONE {
+                if prev.is_none() {
                     self.states[node][k].head = next;
                 } else {
-                    self.labels[prev as usize].next_in_state = next;
+                    self.labels[prev].next_in_state = next;
                 }
             } else {
                 prev = i;
@@ -205,15 +262,15 @@ impl Scratch {
 
     /// Queues the continuation `label` of label `of` (not in any state list: `of` stands for
     /// it in dominance).
-    pub(super) fn push_continuation(&mut self, of: u32, label: Label, key: Key) {
-        if key.0 > self.deadline {
+    pub(super) fn push_continuation(&mut self, of: LabelId, label: Label, key: Key) {
+        if key.landing > self.deadline {
             return;
         }
-        let idx = self.labels.len() as u32;
-        let owner = self.labels[of as usize].alias;
-        self.labels.push(Label {
-            alias: if owner == NONE { of } else { owner },
-            next_in_state: NONE,
+        let idx = self.labels.next_id();
+        let owner = self.labels[of].alias;
+        self.labels.0.push(Label {
+            alias: if owner.is_none() { of } else { owner },
+            next_in_state: LabelId::NONE,
             ..label
         });
         self.heap.push(Reverse((key, idx)));
@@ -246,8 +303,8 @@ fn dominates(s: &Label, n: &Label, r: u32) -> bool {
 #[inline]
 fn first_no_earlier(s: &Label, n: &Label) -> bool {
     let gap = n.arrive - s.arrive;
-    let ok = |x: i64| s.first + s.rho.min(gap + x) >= n.first + x.min(n.rho);
-    ok(0) && ok(n.slack) && ok(n.rho) && ok((s.rho - gap).clamp(0, n.slack))
+    let ok = |x: Millis| s.first + s.rho.min(gap + x) >= n.first + x.min(n.rho);
+    ok(Millis::ZERO) && ok(n.slack) && ok(n.rho) && ok((s.rho - gap).clamp(Millis::ZERO, n.slack))
 }
 
 #[cfg(test)]
@@ -256,28 +313,28 @@ mod tests {
 
     fn label(arrive: i64, takeoff: i64, slack: i64, first: i64, rho: i64, legs: u32) -> Label {
         Label {
-            node: 0,
+            node: NodeId(0),
             legs,
             ground: false,
             dead: false,
-            lo: 0,
-            hi: 1_000,
-            arrive,
-            takeoff,
-            slack,
-            first,
-            rho,
-            parent: NONE,
-            via: NONE,
-            next_in_state: NONE,
-            alias: NONE,
+            lo: Instant(0),
+            hi: Instant(1_000),
+            arrive: Instant(arrive),
+            takeoff: Instant(takeoff),
+            slack: Millis(slack),
+            first: Instant(first),
+            rho: Millis(rho),
+            parent: LabelId::NONE,
+            via: NO_EDGE,
+            next_in_state: LabelId::NONE,
+            alias: LabelId::NONE,
         }
     }
 
     /// Brute force over whole members: every member of `n` has a member of `s` no worse.
     fn dominates_by_members(s: &Label, n: &Label) -> bool {
-        (0..=n.slack).all(|x| {
-            (0..=s.slack).any(|y| {
+        (0..=n.slack.0).map(Millis).all(|x| {
+            (0..=s.slack.0).map(Millis).any(|y| {
                 s.arrive + y <= n.arrive + x
                     && s.takeoff + y >= n.takeoff + x
                     && s.first + y.min(s.rho) >= n.first + x.min(n.rho)
@@ -323,18 +380,18 @@ mod tests {
     #[test]
     fn later_members_and_later_on_the_ground() {
         let l = label(10, 4, 6, 2, 3, 1);
-        let m = l.later_members(4);
+        let m = l.later_members(Millis(4));
         assert_eq!(
-            (m.arrive, m.takeoff, m.slack, m.first, m.rho),
+            (m.arrive.0, m.takeoff.0, m.slack.0, m.first.0, m.rho.0),
             (14, 8, 2, 5, 0)
         );
         let g = Label {
             ground: true,
             ..label(10, 2, 3, 2, 3, 2)
         };
-        let h = g.on_ground_later(2);
+        let h = g.on_ground_later(Millis(2));
         assert_eq!(
-            (h.arrive, h.takeoff, h.slack, h.first, h.rho),
+            (h.arrive.0, h.takeoff.0, h.slack.0, h.first.0, h.rho.0),
             (12, 4, 1, 4, 1)
         );
     }

@@ -66,20 +66,20 @@ pub(crate) mod label;
 
 use std::cmp::Reverse;
 
-use muse_model::{Airspace, EdgeId, FlightParams, Instant, NodeId, Plan, Stay};
+use muse_model::{Airspace, FlightParams, Instant, Millis, NodeId, Plan, Stay};
 
-use crate::heuristic::UNREACHABLE;
 use crate::heuristic::swaps::SwapTable;
-use crate::schedule::{INF, NodeSlot, Schedule};
-use label::{GROUND, Key, Label, NONE};
+use crate::schedule::{NodeSlot, Schedule};
+use crate::time::Unbounded;
+use label::{GROUND, Key, Label, LabelId, Labels, NO_EDGE};
 
 pub use label::Scratch;
 
 /// The remaining time still to fly, the search's heuristic.
 #[derive(Clone, Copy)]
 pub(crate) enum Remaining<'a> {
-    /// Single legs: the free-flow time to the goal per node (`UNREACHABLE` if none).
-    Single(&'a [i64]),
+    /// Single legs: the free-flow time to the goal per node (`Millis::INF` if none).
+    Single(&'a [Millis]),
     /// With battery swaps: the multi-leg tables of the destination.
     Swaps(&'a SwapTable),
 }
@@ -87,10 +87,10 @@ pub(crate) enum Remaining<'a> {
 impl Remaining<'_> {
     /// The most the current leg may have flown on reaching `v` and still finish.
     #[inline]
-    fn max_used(self, v: NodeId, t_max: i64) -> i64 {
+    fn max_used(self, v: NodeId, t_max: Millis) -> Millis {
         match self {
             Remaining::Single(h) => match h[v.index()] {
-                UNREACHABLE => i64::MIN,
+                Millis::INF => Millis::NEG_INF,
                 h => t_max - h,
             },
             Remaining::Swaps(t) => t.max_used(v),
@@ -99,7 +99,7 @@ impl Remaining<'_> {
 
     /// The remaining time from `v` after `used` ms of the leg (`used ≤ max_used(v)`).
     #[inline]
-    fn at(self, v: NodeId, used: i64) -> i64 {
+    fn at(self, v: NodeId, used: Millis) -> Millis {
         match self {
             Remaining::Single(h) => h[v.index()],
             Remaining::Swaps(t) => t.remaining(v, used),
@@ -108,9 +108,9 @@ impl Remaining<'_> {
 
     /// The remaining time from the ground at station `v` (swaps only).
     #[inline]
-    fn on_ground(self, v: NodeId) -> i64 {
+    fn on_ground(self, v: NodeId) -> Millis {
         match self {
-            Remaining::Single(_) => UNREACHABLE,
+            Remaining::Single(_) => Millis::INF,
             Remaining::Swaps(t) => t.trip_from_ground(v),
         }
     }
@@ -119,8 +119,8 @@ impl Remaining<'_> {
 /// Battery swaps as the search applies them (SPEC §12).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Swaps {
-    /// Minimum time on the ground between legs, ms.
-    pub time: i64,
+    /// Minimum time on the ground between legs.
+    pub time: Millis,
     /// Most legs a trip may have.
     pub max_legs: u32,
     /// A leg may not land where it took off: the station the search's first leg takes off
@@ -141,15 +141,15 @@ pub(crate) struct Problem<'a> {
     pub remaining: Remaining<'a>,
     /// Battery swaps, if the drone may land between legs.
     pub swaps: Option<Swaps>,
-    /// The latest landing allowed (`INF`: none).
-    pub deadline: i64,
+    /// The latest landing allowed (`Instant::INF`: none).
+    pub deadline: Instant,
 }
 
 impl Problem<'_> {
     /// Members of a label beyond this slack are expanded lazily, as a continuation: half a
     /// battery, so that single legs with a ground delay of up to `T_max / 2` are never split.
-    fn split(&self) -> i64 {
-        (self.params.max_flight.0 / 2).max(1)
+    fn split(&self) -> Millis {
+        Millis(self.params.max_flight.0 / 2).max(Millis(1))
     }
 }
 
@@ -159,25 +159,25 @@ pub(crate) enum Start {
     /// On the ground at `origin`, taking off at any instant of `[earliest, latest]`.
     Ground {
         origin: NodeId,
-        earliest: i64,
-        latest: i64,
+        earliest: Instant,
+        latest: Instant,
     },
     /// In the air: arriving at `node` at instant `at` (fixed), the current leg (the
     /// `legs`-th) having taken off at `takeoff` and the trip at `first` (SPEC §11: an airborne
     /// flight replanned from the first node it reaches).
     Airborne {
         node: NodeId,
-        at: i64,
-        takeoff: i64,
-        first: i64,
+        at: Instant,
+        takeoff: Instant,
+        first: Instant,
         legs: u32,
     },
     /// On the ground at station `node` between legs, free to take off from `at`, after
     /// `legs` legs of a trip that first took off at `first`.
     Landed {
         node: NodeId,
-        at: i64,
-        first: i64,
+        at: Instant,
+        first: Instant,
         legs: u32,
     },
 }
@@ -209,29 +209,29 @@ pub(crate) fn search(
     let is_goal = |l: &Label| {
         !l.ground
             && match goal {
-                Goal::Node(d) => l.node == d.0,
-                Goal::AnyStation => p.airspace.is_station(NodeId(l.node)),
+                Goal::Node(d) => l.node == d,
+                Goal::AnyStation => p.airspace.is_station(l.node),
             }
     };
     let split = p.split();
-    let mut found: Option<u32> = None;
-    while let Some(Reverse(((key, _, _), idx))) = scratch.heap.pop() {
+    let mut found: Option<LabelId> = None;
+    while let Some(Reverse((key, idx))) = scratch.heap.pop() {
         if scratch.is_dead(idx) {
             continue;
         }
-        if key > p.deadline {
+        if key.landing > p.deadline {
             // Keys never decrease: nothing left can land in time.
             break;
         }
-        let label = scratch.labels[idx as usize];
+        let label = scratch.labels[idx];
         if let Some(best) = found {
             // Any station: other labels with the same key may land as early at a station
             // of lower index; past that key nothing can.
-            if key > scratch.labels[best as usize].arrive {
+            if key.landing > scratch.labels[best].arrive {
                 break;
             }
-            if is_goal(&label) && label.arrive == key {
-                if label.node < scratch.labels[best as usize].node {
+            if is_goal(&label) && label.arrive == key.landing {
+                if label.node < scratch.labels[best].node {
                     found = Some(idx);
                 }
                 continue;
@@ -254,14 +254,14 @@ pub(crate) fn search(
             let later = label.later_members(split);
             let key = key_of(p, &later);
             scratch.push_continuation(idx, later, key);
-            label.arrive + split - 1
+            label.arrive + split - Millis(1)
         } else {
-            INF
+            Instant::INF
         };
         expand::fly(p, schedule, scratch, idx, &label, cap);
         // A leg that has not left the station it took off from gains nothing by landing
         // there again: the ground label it took off from stands for that landing already.
-        let just_took_off = label.parent != NONE && scratch.labels[label.parent as usize].ground;
+        let just_took_off = !label.parent.is_none() && scratch.labels[label.parent].ground;
         if !just_took_off {
             expand::land(p, scratch, idx, &label);
         }
@@ -272,13 +272,27 @@ pub(crate) fn search(
 /// The priority of an airborne label (see the module docs).
 #[inline]
 fn key_of(p: Problem<'_>, l: &Label) -> Key {
-    let h = p.remaining.at(NodeId(l.node), l.arrive - l.takeoff);
-    (l.arrive + h, -l.first, l.legs)
+    let h = p.remaining.at(l.node, l.arrive - l.takeoff);
+    Key {
+        landing: l.arrive + h,
+        first: Reverse(l.first),
+        legs: l.legs,
+    }
+}
+
+/// The priority of a ground label from which the trip takes `g` at the least.
+#[inline]
+fn ground_key(l: &Label, g: Millis) -> Key {
+    Key {
+        landing: l.arrive + g,
+        first: Reverse(l.first),
+        legs: l.legs,
+    }
 }
 
 /// Queues the labels a search starts from.
 fn seed(p: Problem<'_>, schedule: &Schedule, start: Start, scratch: &mut Scratch) {
-    let t_max = p.params.max_flight.0;
+    let t_max = p.params.max_flight;
     match start {
         // Take-off: any instant of [earliest, latest] at which the origin is free. Each safe
         // interval of the origin met gives one label whose members are the take-off instants.
@@ -287,7 +301,7 @@ fn seed(p: Problem<'_>, schedule: &Schedule, start: Start, scratch: &mut Scratch
             earliest,
             latest,
         } => {
-            if p.remaining.max_used(origin, t_max) < 0 {
+            if p.remaining.max_used(origin, t_max) < Millis::ZERO {
                 return;
             }
             let mut t = earliest;
@@ -315,7 +329,13 @@ fn seed(p: Problem<'_>, schedule: &Schedule, start: Start, scratch: &mut Scratch
                 return;
             }
             if let NodeSlot::Safe { lo, hi, .. } = schedule.node_slot(node, at) {
-                let root = root(node, (lo, hi), (at, takeoff, 0), (first, 0), legs);
+                let root = root(
+                    node,
+                    (lo, hi),
+                    (at, takeoff, Millis::ZERO),
+                    (first, Millis::ZERO),
+                    legs,
+                );
                 scratch.push(root, key_of(p, &root));
             }
         }
@@ -327,14 +347,20 @@ fn seed(p: Problem<'_>, schedule: &Schedule, start: Start, scratch: &mut Scratch
         } => {
             let g = p.remaining.on_ground(node);
             let more = p.swaps.is_some_and(|s| legs < s.max_legs);
-            if g != UNREACHABLE && more {
+            if g != Millis::INF && more {
                 let label = Label {
                     ground: true,
                     lo: GROUND,
-                    hi: INF,
-                    ..root(node, (GROUND, INF), (at, first, 0), (first, 0), legs)
+                    hi: Instant::INF,
+                    ..root(
+                        node,
+                        (GROUND, Instant::INF),
+                        (at, first, Millis::ZERO),
+                        (first, Millis::ZERO),
+                        legs,
+                    )
                 };
-                scratch.push(label, (at + g, -first, legs));
+                scratch.push(label, ground_key(&label, g));
             }
         }
     }
@@ -344,13 +370,13 @@ fn seed(p: Problem<'_>, schedule: &Schedule, start: Start, scratch: &mut Scratch
 /// `first` `(first, rho)`.
 fn root(
     node: NodeId,
-    interval: (i64, i64),
-    timing: (i64, i64, i64),
-    first: (i64, i64),
+    interval: (Instant, Instant),
+    timing: (Instant, Instant, Millis),
+    first: (Instant, Millis),
     legs: u32,
 ) -> Label {
     Label {
-        node: node.0,
+        node,
         legs,
         ground: false,
         dead: false,
@@ -361,50 +387,53 @@ fn root(
         slack: timing.2,
         first: first.0,
         rho: first.1.min(timing.2),
-        parent: NONE,
-        via: NONE,
-        next_in_state: NONE,
-        alias: NONE,
+        parent: LabelId::NONE,
+        via: NO_EDGE,
+        next_in_state: LabelId::NONE,
+        alias: LabelId::NONE,
     }
 }
 
 /// Builds the plan of the earliest member of goal label `goal`. Within a leg every ancestor
 /// contributes the member with the same leg take-off; across a swap, the landing member with
 /// the same first take-off (the earliest such landing).
-fn reconstruct(schedule: &Schedule, labels: &[Label], goal: u32) -> Plan {
-    let first = labels[goal as usize].first;
-    let mut leg_takeoff = labels[goal as usize].takeoff;
-    let mut depart = labels[goal as usize].arrive;
+fn reconstruct(schedule: &Schedule, labels: &Labels, goal: LabelId) -> Plan {
+    let first = labels[goal].first;
+    let mut leg_takeoff = labels[goal].takeoff;
+    let mut depart = labels[goal].arrive;
     let mut path = Vec::new();
     let mut idx = goal;
     loop {
-        let l = &labels[idx as usize];
+        let l = &labels[idx];
         debug_assert!(!l.ground);
         let x = leg_takeoff - l.takeoff;
-        debug_assert!((0..=l.slack).contains(&x), "member {x} of {l:?}");
+        debug_assert!((Millis::ZERO..=l.slack).contains(&x), "member {x} of {l:?}");
         let arrive = l.arrive + x;
         path.push(Stay {
-            node: NodeId(l.node),
-            arrive: Instant(arrive),
-            depart: Instant(depart),
+            node: l.node,
+            arrive,
+            depart,
         });
-        if l.parent == NONE {
+        if l.parent.is_none() {
             break;
         }
-        let parent = &labels[l.parent as usize];
+        let parent = &labels[l.parent];
         if !parent.ground {
-            depart = arrive - schedule.traversal_ms(EdgeId(l.via));
+            depart = arrive - schedule.traversal(l.via);
             idx = l.parent;
             continue;
         }
         // `l` took off from the ground: back to the landing before it (none when the search
         // started on the ground).
-        if parent.parent == NONE {
+        if parent.parent.is_none() {
             break;
         }
-        let landed = &labels[parent.parent as usize];
+        let landed = &labels[parent.parent];
         let x = first - landed.first;
-        debug_assert!((0..=landed.rho).contains(&x), "member {x} of {landed:?}");
+        debug_assert!(
+            (Millis::ZERO..=landed.rho).contains(&x),
+            "member {x} of {landed:?}"
+        );
         leg_takeoff = landed.takeoff + x;
         depart = landed.arrive + x;
         idx = parent.parent;
