@@ -1,14 +1,15 @@
-//! Labels, their dominance, and the search's reusable memory.
+//! Labels: families of partial plans (see the module docs of [`super`]), how they are made,
+//! their priority and their dominance.
 
 use std::cmp::Reverse;
-use std::collections::BinaryHeap;
-use std::ops::{Index, IndexMut};
 
 use muse_model::{EdgeId, Instant, Millis, NodeId};
 
-/// The index of a label in a search's [`Scratch`].
+use crate::time::Unbounded;
+
+/// The index of a label in a search's labels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-pub(super) struct LabelId(u32);
+pub(super) struct LabelId(pub(super) u32);
 
 impl LabelId {
     /// No label: the parent of a search's first labels and of a take-off's, the end of a
@@ -30,6 +31,23 @@ pub(super) const NO_EDGE: EdgeId = EdgeId(u32::MAX);
 /// time: the key of that state, below every safe interval's `lo` (which is at least
 /// `Instant::NEG_INF`).
 pub(super) const GROUND: Instant = Instant(i64::MIN);
+
+/// A safe interval `[lo, hi]` of a node: with the node, the state a label is in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Interval {
+    pub lo: Instant,
+    pub hi: Instant,
+}
+
+/// A move along a corridor: the edge flown, the node reached, the arrival there and the safe
+/// interval of the node it arrives in.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Hop {
+    pub via: EdgeId,
+    pub to: NodeId,
+    pub arrive: Instant,
+    pub state: Interval,
+}
 
 /// One label (see the module docs of [`super`]): a family of partial plans with members
 /// `x ∈ [0, slack]`: arrival `arrive + x`, current leg's take-off `takeoff + x`, first
@@ -63,6 +81,141 @@ pub(super) struct Label {
 }
 
 impl Label {
+    /// The state of every ground label.
+    const ON_GROUND: Interval = Interval {
+        lo: GROUND,
+        hi: Instant::INF,
+    };
+
+    /// A search's first label on the ground: take-offs from `origin` at `from + x` for
+    /// `x ∈ [0, slack]`, into its safe interval `state`, each the first take-off of the trip.
+    pub fn take_offs(origin: NodeId, state: Interval, from: Instant, slack: Millis) -> Label {
+        Label {
+            node: origin,
+            legs: 1,
+            ground: false,
+            dead: false,
+            lo: state.lo,
+            hi: state.hi,
+            arrive: from,
+            takeoff: from,
+            slack,
+            first: from,
+            rho: slack,
+            parent: LabelId::NONE,
+            via: NO_EDGE,
+            next_in_state: LabelId::NONE,
+            alias: LabelId::NONE,
+        }
+    }
+
+    /// A search's first label in the air: one member, arriving at `node` at `at` in its safe
+    /// interval `state`, its leg (the `legs`-th) having taken off at `leg_takeoff` and the
+    /// trip at `first`.
+    pub fn in_flight(
+        node: NodeId,
+        state: Interval,
+        at: Instant,
+        leg_takeoff: Instant,
+        first: Instant,
+        legs: u32,
+    ) -> Label {
+        Label {
+            takeoff: leg_takeoff,
+            slack: Millis::ZERO,
+            first,
+            rho: Millis::ZERO,
+            legs,
+            ..Label::take_offs(node, state, at, Millis::ZERO)
+        }
+    }
+
+    /// A search's first label between legs: one member, on the ground at station `node`,
+    /// free to take off from `ready`, after `legs` legs of a trip that first took off at
+    /// `first`.
+    pub fn between_legs(node: NodeId, ready: Instant, first: Instant, legs: u32) -> Label {
+        Label {
+            ground: true,
+            ..Label::in_flight(node, Label::ON_GROUND, ready, first, first, legs)
+        }
+    }
+
+    /// The successor of airborne label `self` (whose id is `parent`) that enters the corridor
+    /// of `hop` at `s`: the member arriving at `s` (or, when every member arrives earlier,
+    /// the last one, hovering until then), and with it, while there are later members, those
+    /// entering by `last` without hovering.
+    pub fn flown(&self, parent: LabelId, hop: Hop, s: Instant, last: Instant) -> Label {
+        debug_assert!(!self.ground && s >= self.arrive && last >= s);
+        let x = s - self.arrive;
+        let (takeoff, slack, first, rho) = if x < self.slack {
+            let slack = last.min(self.arrive + self.slack) - s;
+            let rho = (self.rho - x).clamp(Millis::ZERO, slack);
+            (self.takeoff + x, slack, self.first + x.min(self.rho), rho)
+        } else {
+            let none = Millis::ZERO;
+            (self.takeoff + self.slack, none, self.first + self.rho, none)
+        };
+        Label {
+            node: hop.to,
+            legs: self.legs,
+            ground: false,
+            dead: false,
+            lo: hop.state.lo,
+            hi: hop.state.hi,
+            arrive: hop.arrive,
+            takeoff,
+            slack,
+            first,
+            rho,
+            parent,
+            via: hop.via,
+            next_in_state: LabelId::NONE,
+            alias: LabelId::NONE,
+        }
+    }
+
+    /// Airborne label `self` (whose id is `parent`) landed at its node for a battery swap,
+    /// free to take off again from `ready + x`. Only its members up to `rho` matter: later
+    /// landings take off first no later.
+    pub fn landed(&self, parent: LabelId, ready: Instant) -> Label {
+        debug_assert!(!self.ground);
+        Label {
+            ground: true,
+            lo: Label::ON_GROUND.lo,
+            hi: Label::ON_GROUND.hi,
+            arrive: ready,
+            takeoff: self.first,
+            slack: self.rho,
+            parent,
+            via: NO_EDGE,
+            next_in_state: LabelId::NONE,
+            alias: LabelId::NONE,
+            ..*self
+        }
+    }
+
+    /// Ground label `self` (whose id is `parent`) taking off on its next leg into the safe
+    /// interval `state` of its station, which holds its instant: a member for every instant
+    /// from there to the end of the interval.
+    pub fn took_off(&self, parent: LabelId, state: Interval) -> Label {
+        debug_assert!(self.ground && state.lo <= self.arrive && self.arrive <= state.hi);
+        let slack = state.hi - self.arrive;
+        Label {
+            ground: false,
+            lo: state.lo,
+            hi: state.hi,
+            takeoff: self.arrive,
+            slack,
+            rho: self.rho.min(slack),
+            legs: self.legs + 1,
+            parent,
+            via: NO_EDGE,
+            next_in_state: LabelId::NONE,
+            alias: LabelId::NONE,
+            ..*self
+        }
+    }
+
     /// The members `x ≥ dx` of an airborne label, as a label of their own.
     pub fn later_members(&self, dx: Millis) -> Label {
         debug_assert!(!self.ground && dx > Millis::ZERO && dx <= self.slack);
@@ -92,15 +245,6 @@ impl Label {
     }
 }
 
-/// A state met in a search: a node's safe interval (or its ground) and its labels, as a
-/// list linked through [`Label::next_in_state`].
-#[derive(Clone, Copy, Debug)]
-struct State {
-    lo: Instant,
-    head: LabelId,
-    tail: LabelId,
-}
-
 /// The priority of a label, smallest first (see the module docs of [`super`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub(super) struct Key {
@@ -112,168 +256,15 @@ pub(super) struct Key {
     pub legs: u32,
 }
 
-/// A search's labels, indexed by [`LabelId`].
-#[derive(Debug, Default)]
-pub(super) struct Labels(Vec<Label>);
-
-impl Labels {
-    /// The id the next label pushed will have.
+impl Key {
+    /// The priority of label `l` from which at least `remaining` is still to fly.
     #[inline]
-    fn next_id(&self) -> LabelId {
-        LabelId(self.0.len() as u32)
-    }
-}
-
-impl Index<LabelId> for Labels {
-    type Output = Label;
-
-    #[inline]
-    fn index(&self, id: LabelId) -> &Label {
-        &self.0[id.0 as usize]
-    }
-}
-
-impl IndexMut<LabelId> for Labels {
-    #[inline]
-    fn index_mut(&mut self, id: LabelId) -> &mut Label {
-        &mut self.0[id.0 as usize]
-    }
-}
-
-/// Reusable per-thread search memory: after the first few requests, planning allocates
-/// nothing.
-#[derive(Debug, Default)]
-pub struct Scratch {
-    pub(super) labels: Labels,
-    pub(super) heap: BinaryHeap<Reverse<(Key, LabelId)>>,
-    /// Per node: the states met in this search, sorted by `lo`.
-    states: Vec<Vec<State>>,
-    touched: Vec<NodeId>,
-    /// Labels whose key passes this are never queued (the search's deadline).
-    pub(super) deadline: Instant,
-    /// The leg that may not land where it took off ([`super::Swaps::no_return_legs`]).
-    no_return_legs: u32,
-    /// Labels expanded by the last search.
-    pub(crate) expanded: u64,
-}
-
-impl Scratch {
-    /// Empty scratch space; it grows to fit the airspace on first use.
-    pub fn new() -> Self {
-        Scratch::default()
-    }
-
-    pub(super) fn reset(&mut self, node_count: usize, deadline: Instant, no_return_legs: u32) {
-        self.deadline = deadline;
-        self.no_return_legs = no_return_legs;
-        self.labels.0.clear();
-        self.heap.clear();
-        if self.states.len() < node_count {
-            self.states.resize_with(node_count, Vec::new);
+    pub fn of(l: &Label, remaining: Millis) -> Key {
+        Key {
+            landing: l.arrive + remaining,
+            first: Reverse(l.first),
+            legs: l.legs,
         }
-        for &n in &self.touched {
-            self.states[n.index()].clear();
-        }
-        self.touched.clear();
-        self.expanded = 0;
-    }
-
-    /// Whether label `idx` (or, for a continuation, the label it belongs to) is dominated.
-    pub(super) fn is_dead(&self, idx: LabelId) -> bool {
-        let l = &self.labels[idx];
-        l.dead || (!l.alias.is_none() && self.labels[l.alias].dead)
-    }
-
-    /// Adds a label unless an existing label of its state dominates it; marks the labels it
-    /// dominates dead; queues it with `key`.
-    ///
-    /// A state's labels are listed oldest first: labels are pushed in roughly increasing key
-    /// order, so an older label is the likelier to dominate a new one, and is met first.
-    pub(super) fn push(&mut self, label: Label, key: Key) {
-        if key.landing > self.deadline {
-            return;
-        }
-        let node = label.node.index();
-        let states = &mut self.states[node];
-        // States are kept sorted by `lo`; new ones usually go last.
-        let k = states.partition_point(|s| s.lo < label.lo);
-        let idx = self.labels.next_id();
-        if states.get(k).is_some_and(|s| s.lo == label.lo) {
-            if self.dominated_in(node, k, &label) {
-                return;
-            }
-            let tail = std::mem::replace(&mut self.states[node][k].tail, idx);
-            if tail.is_none() {
-                self.states[node][k].head = idx;
-            } else {
-                self.labels[tail].next_in_state = idx;
-            }
-        } else {
-            if states.is_empty() {
-                self.touched.push(label.node);
-            }
-            states.insert(
-                k,
-                State {
-                    lo: label.lo,
-                    head: idx,
-                    tail: idx,
-                },
-            );
-        }
-        self.labels.0.push(Label {
-            next_in_state: LabelId::NONE,
-            ..label
-        });
-        self.heap.push(Reverse((key, idx)));
-    }
-
-    /// Whether a label of state `k` of `node` dominates `label`; marks dead those `label`
-    /// dominates and unlinks every dead label met, so that lists stay short.
-    fn dominated_in(&mut self, node: usize, k: usize, label: &Label) -> bool {
-        let r = self.no_return_legs;
-        let mut prev = LabelId::NONE;
-        let mut i = self.states[node][k].head;
-        let mut dominated = false;
-        while !i.is_none() {
-            let s = &mut self.labels[i];
-            let next = s.next_in_state;
-            if !s.dead && !dominated && dominates(s, label, r) {
-                dominated = true;
-            } else if !s.dead && !dominated && dominates(label, s, r) {
-                s.dead = true;
-            }
-            if s.dead {
-                // Unlink: a dead label never dominates again (its continuations check its
-                // flag, not the list).
-                if prev.is_none() {
-                    self.states[node][k].head = next;
-                } else {
-                    self.labels[prev].next_in_state = next;
-                }
-            } else {
-                prev = i;
-            }
-            i = next;
-        }
-        self.states[node][k].tail = prev;
-        dominated
-    }
-
-    /// Queues the continuation `label` of label `of` (not in any state list: `of` stands for
-    /// it in dominance).
-    pub(super) fn push_continuation(&mut self, of: LabelId, label: Label, key: Key) {
-        if key.landing > self.deadline {
-            return;
-        }
-        let idx = self.labels.next_id();
-        let owner = self.labels[of].alias;
-        self.labels.0.push(Label {
-            alias: if owner.is_none() { of } else { owner },
-            next_in_state: LabelId::NONE,
-            ..label
-        });
-        self.heap.push(Reverse((key, idx)));
     }
 }
 
@@ -288,7 +279,7 @@ impl Scratch {
 /// and is no worse in arrival and battery for every `x` exactly when the first three
 /// conditions hold, and no worse in first take-off when [`first_no_earlier`] holds.
 #[inline]
-fn dominates(s: &Label, n: &Label, r: u32) -> bool {
+pub(super) fn dominates(s: &Label, n: &Label, r: u32) -> bool {
     n.arrive >= s.arrive
         && n.arrive - n.takeoff >= s.arrive - s.takeoff
         && n.takeoff + n.slack <= s.takeoff + s.slack
@@ -393,6 +384,118 @@ mod tests {
         assert_eq!(
             (h.arrive.0, h.takeoff.0, h.slack.0, h.first.0, h.rho.0),
             (12, 4, 1, 4, 1)
+        );
+    }
+
+    /// Member `x` of a label: its arrival, its leg's take-off and its first take-off, in ms.
+    fn member(l: &Label, x: i64) -> (i64, i64, i64) {
+        let x = Millis(x);
+        (
+            (l.arrive + x).0,
+            (l.takeoff + x).0,
+            (l.first + x.min(l.rho)).0,
+        )
+    }
+
+    /// `(arrive, takeoff, slack, first, rho)` in ms.
+    fn timing(l: &Label) -> (i64, i64, i64, i64, i64) {
+        (l.arrive.0, l.takeoff.0, l.slack.0, l.first.0, l.rho.0)
+    }
+
+    #[test]
+    fn a_flown_label_holds_the_members_that_leave_at_its_entries() {
+        let w = 10;
+        let hop = |s: i64| Hop {
+            via: EdgeId(5),
+            to: NodeId(1),
+            arrive: Instant(s + w),
+            state: Interval {
+                lo: Instant(0),
+                hi: Instant(1_000),
+            },
+        };
+        let mut checked = 0;
+        for (slack, rho) in [(0, 0), (3, 1), (5, 5), (6, 2)] {
+            let l = label(10, 4, slack, 2, rho, 2);
+            for s in 10..20 {
+                for last in s..22 {
+                    let c = l.flown(LabelId(7), hop(s), Instant(s), Instant(last));
+                    assert_eq!(
+                        (c.node, c.legs, c.parent, c.via, c.ground),
+                        (NodeId(1), 2, LabelId(7), EdgeId(5), false)
+                    );
+                    // Every member leaves in [s, last] without hovering, unless the
+                    // parent's members all arrived before `s`.
+                    let expected = if s - 10 < slack {
+                        last.min(10 + slack) - s
+                    } else {
+                        0
+                    };
+                    assert_eq!(c.slack.0, expected, "{l:?} s {s} last {last}");
+                    for y in 0..=c.slack.0 {
+                        // The parent's member that arrives last by the departure `s + y`.
+                        let x = (s + y - 10).min(slack);
+                        let (_, takeoff, first) = member(&l, x);
+                        assert_eq!(
+                            member(&c, y),
+                            (s + y + w, takeoff, first),
+                            "{l:?} s {s} last {last} member {y}"
+                        );
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked > 500);
+    }
+
+    #[test]
+    fn first_labels_are_the_starts_they_name() {
+        let state = Interval {
+            lo: Instant(-5),
+            hi: Instant(50),
+        };
+        let g = Label::take_offs(NodeId(3), state, Instant(10), Millis(4));
+        assert_eq!(timing(&g), (10, 10, 4, 10, 4));
+        assert_eq!(
+            (g.node, g.legs, g.ground, g.lo, g.hi),
+            (NodeId(3), 1, false, state.lo, state.hi)
+        );
+        assert!(g.parent.is_none() && g.alias.is_none() && g.via == NO_EDGE);
+        let a = Label::in_flight(NodeId(3), state, Instant(30), Instant(12), Instant(8), 2);
+        assert_eq!(timing(&a), (30, 12, 0, 8, 0));
+        assert_eq!((a.legs, a.ground), (2, false));
+        let b = Label::between_legs(NodeId(3), Instant(30), Instant(8), 2);
+        assert_eq!(timing(&b), (30, 8, 0, 8, 0));
+        assert_eq!(
+            (b.legs, b.ground, b.lo, b.hi),
+            (2, true, GROUND, Instant::INF)
+        );
+    }
+
+    #[test]
+    fn landing_and_taking_off_keep_each_members_first_take_off() {
+        let l = label(10, 4, 6, 2, 3, 1);
+        // Ready 15 after landing: members up to `rho` (later landings take off first no later).
+        let g = l.landed(LabelId(3), Instant(25));
+        assert_eq!(timing(&g), (25, 2, 3, 2, 3));
+        assert_eq!(
+            (g.ground, g.lo, g.parent, g.legs),
+            (true, GROUND, LabelId(3), 1)
+        );
+        let up = g.took_off(
+            LabelId(4),
+            Interval {
+                lo: Instant(20),
+                hi: Instant(27),
+            },
+        );
+        // Take-offs from 25 to the end of the interval, 27; the first take-off slides with
+        // them up to `rho`.
+        assert_eq!(timing(&up), (25, 25, 2, 2, 2));
+        assert_eq!(
+            (up.ground, up.lo, up.legs, up.parent),
+            (false, Instant(20), 2, LabelId(4))
         );
     }
 }
