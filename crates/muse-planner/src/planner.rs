@@ -16,12 +16,14 @@ pub struct Planner<'a> {
     heuristics: Heuristics,
 }
 
-/// What the planner says about one request.
+/// What the planner says about one request ([`Planner::plan`]) or the rest of a trip
+/// ([`Planner::resume`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Outcome {
     /// The plan (earliest landing, then latest take-off) or why there is none.
     pub result: Result<Plan, RejectReason>,
-    /// Shortest airborne time on the empty graph, if the destination is reachable.
+    /// Shortest airborne time on the empty graph, if the destination is reachable (`None`
+    /// for the rest of a trip, which has no such reference).
     pub free_flow: Option<Millis>,
     /// Search effort: labels expanded.
     pub expanded: u64,
@@ -172,10 +174,11 @@ impl<'a> Planner<'a> {
     /// `Landing::At(d)` and battery swaps on, the rest may land and swap on the way: the
     /// earliest landing at `d`, then the fewest legs. With `Landing::AnyStation`, a single
     /// landing at whichever station is earliest (ties to the lowest node index); from the
-    /// ground that is no flight at all, and `None` is returned. The plan returned starts with
-    /// the stay at `from.node` (in the air) or with the next take-off (on the ground). A
-    /// delivery deadline ([`FlightParams::max_trip`]) binds the landing at `d`, not a
-    /// diversion.
+    /// ground that is no flight at all. The plan returned starts with the stay at `from.node`
+    /// (in the air) or with the next take-off (on the ground). A delivery deadline
+    /// ([`FlightParams::max_trip`]) binds the landing at `d`, not a diversion. When no plan
+    /// exists the result is [`RejectReason::NoFeasiblePlan`]; the outcome's `free_flow` is
+    /// `None`.
     ///
     /// ```
     /// use muse_airspace::closures::Closures;
@@ -196,8 +199,8 @@ impl<'a> Planner<'a> {
     /// let from = Resume { leg_origin: NodeId(0), departure: Instant(0), node: NodeId(1),
     ///                     at: Instant(120_000), airborne_since: Some(Instant(0)),
     ///                     first_takeoff: Instant(0), legs: 1 };
-    /// let (rest, _) = planner.resume(&schedule, &from, Landing::AnyStation, &mut Scratch::new());
-    /// let rest = rest.unwrap();
+    /// let rest = planner.resume(&schedule, &from, Landing::AnyStation, &mut Scratch::new());
+    /// let rest = rest.result.unwrap();
     /// assert_eq!((rest.path.last().unwrap().node, rest.landing()), (NodeId(0), Instant(240_000)));
     /// ```
     ///
@@ -219,8 +222,8 @@ impl<'a> Planner<'a> {
     /// let from = Resume { leg_origin: NodeId(1), departure: Instant(0), node: NodeId(1),
     ///                     at: Instant(1_020_000), airborne_since: None,
     ///                     first_takeoff: Instant(0), legs: 1 };
-    /// let (rest, _) = planner.resume(&schedule, &from, Landing::At(NodeId(2)), &mut Scratch::new());
-    /// let rest = rest.unwrap();
+    /// let rest = planner.resume(&schedule, &from, Landing::At(NodeId(2)), &mut Scratch::new());
+    /// let rest = rest.result.unwrap();
     /// assert_eq!((rest.takeoff(), rest.landing()), (Instant(1_020_000), Instant(1_740_000)));
     /// ```
     pub fn resume(
@@ -229,7 +232,7 @@ impl<'a> Planner<'a> {
         from: &Resume,
         to: Landing,
         scratch: &mut Scratch,
-    ) -> (Option<Plan>, u64) {
+    ) -> Outcome {
         scratch.expanded = 0;
         let (remaining, goal, swaps) = match to {
             Landing::At(d) => match self.heuristics.swaps_to(self.airspace, d) {
@@ -260,7 +263,13 @@ impl<'a> Planner<'a> {
                 first: from.first_takeoff,
                 legs: from.legs,
             },
-            None => return (None, 0),
+            None => {
+                return Outcome {
+                    result: Err(RejectReason::NoFeasiblePlan),
+                    free_flow: None,
+                    expanded: 0,
+                };
+            }
         };
         // The leg the search starts with (in the air: the current one; on the ground: the
         // next) may not land where it took off.
@@ -273,7 +282,11 @@ impl<'a> Planner<'a> {
             problem.deadline = from.departure + m;
         }
         let plan = search(problem, schedule, start, goal, scratch);
-        (plan, scratch.expanded)
+        Outcome {
+            result: plan.ok_or(RejectReason::NoFeasiblePlan),
+            free_flow: None,
+            expanded: scratch.expanded,
+        }
     }
 
     fn problem<'h>(
