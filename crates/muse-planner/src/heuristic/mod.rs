@@ -98,12 +98,19 @@ impl Heuristics {
     }
 }
 
-/// The times a search found, `Millis::INF` where it found none.
+/// The times a search found, `Millis::INF` where it found none (its raw times mark those
+/// `i64::MAX`).
 fn times(search: &Dijkstra) -> Box<[Millis]> {
     search
-        .to_vec()
-        .into_iter()
-        .map(|t| t.unwrap_or(Millis::INF))
+        .raw_times()
+        .iter()
+        .map(|&t| {
+            if t == i64::MAX {
+                Millis::INF
+            } else {
+                Millis(t)
+            }
+        })
         .collect()
 }
 

@@ -15,6 +15,15 @@ pub(super) struct Occ {
     pub(super) flight: FlightId,
 }
 
+impl Occ {
+    /// The order of a list, as plain integers (they compare fastest): by start, then end,
+    /// then flight.
+    #[inline]
+    pub(super) fn order(&self) -> (i64, i64, FlightId) {
+        (self.start.0, self.end.0, self.flight)
+    }
+}
+
 /// A read-only view of a sorted list whose barriers are `(start − grow, end + grow)`.
 ///
 /// `occ` may be a suffix of the list (see [`Book`]); `before` is then the last entry left
@@ -109,7 +118,7 @@ impl Book {
 
 /// Where `occ` is in a sorted list, if it is there.
 pub(super) fn position(list: &[Occ], occ: Occ) -> Option<usize> {
-    let i = list.partition_point(|o| (o.start, o.end, o.flight) < (occ.start, occ.end, occ.flight));
+    let i = list.partition_point(|o| o.order() < occ.order());
     (list.get(i) == Some(&occ)).then_some(i)
 }
 

@@ -364,9 +364,7 @@ impl Schedule {
             let grow_max = self.grow_max(target);
             self.quiet_from = self.quiet_from.max(occ.end + grow_max + Millis(1));
             let book = self.book_mut(target);
-            let i = book
-                .occ
-                .partition_point(|o| (o.start, o.end, o.flight) < (occ.start, occ.end, occ.flight));
+            let i = book.occ.partition_point(|o| o.order() < occ.order());
             book.occ.insert(i, occ);
             if i < book.floor {
                 book.floor += 1;

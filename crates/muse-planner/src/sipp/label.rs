@@ -1,8 +1,6 @@
 //! Labels: families of partial plans (see the module docs of [`super`]), how they are made,
 //! their priority and their dominance.
 
-use std::cmp::Reverse;
-
 use muse_model::{EdgeId, Instant, Millis, NodeId};
 
 use crate::time::Unbounded;
@@ -245,14 +243,15 @@ impl Label {
     }
 }
 
-/// The priority of a label, smallest first (see the module docs of [`super`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+/// The priority of a label (see the module docs of [`super`]): the earliest landing it can
+/// lead to first, then the latest first take-off, then the fewest legs ([`Key::rank`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct Key {
     /// The earliest landing the label can lead to: its arrival plus the remaining time.
     pub landing: Instant,
-    /// Then the latest first take-off.
-    pub first: Reverse<Instant>,
-    /// Then the fewest legs.
+    /// The label's first take-off.
+    pub first: Instant,
+    /// The legs begun.
     pub legs: u32,
 }
 
@@ -262,9 +261,17 @@ impl Key {
     pub fn of(l: &Label, remaining: Millis) -> Key {
         Key {
             landing: l.arrive + remaining,
-            first: Reverse(l.first),
+            first: l.first,
             legs: l.legs,
         }
+    }
+
+    /// The key as plain integers, smallest first: landing, then the first take-off negated
+    /// (later first), then legs. The queue compares these on every sift, where plain integers
+    /// compare fastest.
+    #[inline]
+    pub fn rank(self) -> (i64, i64, u32) {
+        (self.landing.0, -self.first.0, self.legs)
     }
 }
 

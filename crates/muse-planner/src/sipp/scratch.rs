@@ -1,7 +1,7 @@
 //! The search's reusable memory: its labels, the states they are in (with dominance applied
 //! as labels arrive) and the queue.
 
-use std::cmp::Reverse;
+use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 use std::ops::{Index, IndexMut};
 
@@ -46,12 +46,63 @@ impl IndexMut<LabelId> for Labels {
     }
 }
 
+/// A queued label with its key. The queue is a max-heap: the greater entry is the one whose
+/// key ranks first ([`Key::rank`]), then the older label (the lower id).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Queued {
+    key: Key,
+    label: LabelId,
+}
+
+impl Queued {
+    /// The order of entries, smallest first, as plain integers.
+    #[inline]
+    fn rank(&self) -> (i64, i64, u32, u32) {
+        let (landing, later_first, legs) = self.key.rank();
+        (landing, later_first, legs, self.label.0)
+    }
+}
+
+impl Ord for Queued {
+    #[inline]
+    fn cmp(&self, other: &Self) -> Ordering {
+        other.rank().cmp(&self.rank())
+    }
+}
+
+impl PartialOrd for Queued {
+    #[inline]
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+
+    #[inline]
+    fn lt(&self, other: &Self) -> bool {
+        other.rank() < self.rank()
+    }
+
+    #[inline]
+    fn le(&self, other: &Self) -> bool {
+        other.rank() <= self.rank()
+    }
+
+    #[inline]
+    fn gt(&self, other: &Self) -> bool {
+        other.rank() > self.rank()
+    }
+
+    #[inline]
+    fn ge(&self, other: &Self) -> bool {
+        other.rank() >= self.rank()
+    }
+}
+
 /// Reusable per-thread search memory: after the first few requests, planning allocates
 /// nothing.
 #[derive(Debug, Default)]
 pub struct Scratch {
     pub(super) labels: Labels,
-    heap: BinaryHeap<Reverse<(Key, LabelId)>>,
+    heap: BinaryHeap<Queued>,
     /// Per node: the states met in this search, sorted by `lo`.
     states: Vec<Vec<State>>,
     touched: Vec<NodeId>,
@@ -87,9 +138,9 @@ impl Scratch {
     /// The next label in key order that is not dominated, with its key.
     #[inline]
     pub(super) fn pop(&mut self) -> Option<(Key, LabelId)> {
-        while let Some(Reverse((key, idx))) = self.heap.pop() {
-            if !self.is_dead(idx) {
-                return Some((key, idx));
+        while let Some(Queued { key, label }) = self.heap.pop() {
+            if !self.is_dead(label) {
+                return Some((key, label));
             }
         }
         None
@@ -142,7 +193,7 @@ impl Scratch {
             next_in_state: LabelId::NONE,
             ..label
         });
-        self.heap.push(Reverse((key, idx)));
+        self.heap.push(Queued { key, label: idx });
     }
 
     /// Whether a label of state `k` of `node` dominates `label`; marks dead those `label`
@@ -190,6 +241,53 @@ impl Scratch {
             next_in_state: LabelId::NONE,
             ..label
         });
-        self.heap.push(Reverse((key, idx)));
+        self.heap.push(Queued { key, label: idx });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_queue_pops_the_earliest_landing_then_the_latest_first_take_off_then_fewest_legs() {
+        // Every combination of a few values, queued in a scrambled order.
+        let mut entries = Vec::new();
+        for landing in [5, -3, 9] {
+            for first in [2, 0, -7] {
+                for legs in [2, 1] {
+                    let label = LabelId(entries.len() as u32 * 7 % 19);
+                    let key = Key {
+                        landing: Instant(landing),
+                        first: Instant(first),
+                        legs,
+                    };
+                    entries.push(Queued { key, label });
+                }
+            }
+        }
+        // Two entries with the same key: the older label first.
+        entries.push(Queued {
+            key: entries[4].key,
+            label: LabelId(100),
+        });
+        let mut heap: BinaryHeap<Queued> = entries.iter().copied().collect();
+        let mut popped = Vec::new();
+        while let Some(q) = heap.pop() {
+            popped.push(q);
+        }
+        let mut want = entries.clone();
+        want.sort_by_key(|q| {
+            (
+                q.key.landing,
+                std::cmp::Reverse(q.key.first),
+                q.key.legs,
+                q.label,
+            )
+        });
+        assert_eq!(popped, want);
+        assert_eq!(popped[0].key.landing, Instant(-3));
+        assert_eq!(popped[0].key.first, Instant(2));
+        assert_eq!(popped[0].key.legs, 1);
     }
 }
