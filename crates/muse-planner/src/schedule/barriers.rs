@@ -67,7 +67,7 @@ impl View<'_> {
         i + self.occ[i..].partition_point(|o| self.r(o) <= t)
     }
 
-    /// `R` of the last entry before index `i` (`NEG_INF` if none).
+    /// `R` of the last entry before index `i` (`Instant::NEG_INF` if none).
     #[inline]
     pub(super) fn r_before(self, i: usize) -> Instant {
         match i.checked_sub(1) {

@@ -57,9 +57,10 @@ pub type FlightId = u64;
 /// What a node (or an edge's entry instants) says about an instant.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum NodeSlot {
-    /// The instant is free; a stay anywhere in `[lo, hi]` is allowed (`NEG_INF` / `INF` when
-    /// unbounded). `next` is the earliest instant at which a later safe interval can begin
-    /// (`hi` itself when two safe intervals share it, `INF` if none).
+    /// The instant is free; a stay anywhere in `[lo, hi]` is allowed (`Instant::NEG_INF` /
+    /// `Instant::INF` when unbounded). `next` is the earliest instant at which a later safe
+    /// interval can begin (`hi` itself when two safe intervals share it, `Instant::INF` if
+    /// none).
     Safe {
         /// First instant of the safe interval.
         lo: Instant,
