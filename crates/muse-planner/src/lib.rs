@@ -6,12 +6,14 @@
 //! [`Scratch`]), [`plan_day`] (a list of requests first come, first served), [`Schedule`] (the
 //! reservation table, the paper's *CurrentSchedule*), [`Live`] (the same planner and schedule
 //! driven by a clock, for requests that arrive one at a time, with cancellation and zones
-//! announced while it runs), and the outcome and error types. Inside, one module per concept:
-//! `schedule` (stays, traversals and zone closures, with safe-interval queries), `heuristic`
-//! (exact free-flow times to each destination, computed once and shared), `sipp` (the
-//! safe-interval A* search: hovering, battery, ground delay), `planner`, `online` and
-//! `replan` (what a newly announced zone does to the flights it hits: replanned, diverted,
-//! cancelled or contingency).
+//! announced while it runs), and the outcome and error types ([`Outcome`] answers both
+//! [`Planner::plan`] and [`Planner::resume`]). Inside, one module per concept: `time` (the
+//! model's `Instant` and `Millis` throughout, and the planner's one infinity), `schedule`
+//! (stays, traversals and zone closures, with safe-interval queries), `heuristic` (exact
+//! free-flow times to each destination, computed once and shared), `sipp` (the safe-interval
+//! A* search: hovering, battery, ground delay), `planner`, `online` and `replan` (what a newly
+//! announced zone does to the flights it hits: replanned, diverted, cancelled or
+//! contingency). The `plan_day` benchmark is in `benches/`.
 //!
 //! ```
 //! use muse_airspace::closures::Closures;
@@ -49,6 +51,7 @@ mod planner;
 mod replan;
 mod schedule;
 mod sipp;
+mod time;
 
 pub use online::{CancelError, FORGET_EVERY, Holding, Live, ZoneError};
 pub use planner::{Landing, Outcome, Planner, Resume, plan_and_book, plan_day};

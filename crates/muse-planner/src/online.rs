@@ -133,7 +133,7 @@ impl<'a> Live<'a> {
     /// An empty live schedule over `closures`, with the clock at `now`.
     pub fn new(planner: Planner<'a>, closures: &Closures, now: Instant) -> Self {
         let mut schedule = Schedule::new(planner.airspace(), planner.params(), closures);
-        schedule.set_horizon(now.0);
+        schedule.set_horizon(now);
         Live {
             planner,
             schedule,
@@ -177,7 +177,7 @@ impl<'a> Live<'a> {
             return;
         }
         self.now = now;
-        self.schedule.set_horizon(now.0);
+        self.schedule.set_horizon(now);
         if now - self.last_forget >= self.forget_every {
             self.schedule.forget_past();
             self.bookings.retain(|_, b| b.plan.landing() >= now);

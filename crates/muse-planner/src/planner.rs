@@ -2,9 +2,10 @@
 
 use muse_model::{Airspace, FlightParams, Instant, Millis, NodeId, Plan, RejectReason, Request};
 
-use crate::heuristic::{Heuristics, UNREACHABLE};
-use crate::schedule::{FlightId, INF, Schedule};
+use crate::heuristic::Heuristics;
+use crate::schedule::{FlightId, Schedule};
 use crate::sipp::{Goal, Problem, Remaining, Scratch, Start, Swaps, search};
+use crate::time::Unbounded;
 
 /// A prepared planner. Shareable between threads (`&Planner` is `Sync`); each thread brings
 /// its own [`Scratch`] and each simulated day its own [`Schedule`].
@@ -15,12 +16,14 @@ pub struct Planner<'a> {
     heuristics: Heuristics,
 }
 
-/// What the planner says about one request.
+/// What the planner says about one request ([`Planner::plan`]) or the rest of a trip
+/// ([`Planner::resume`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Outcome {
     /// The plan (earliest landing, then latest take-off) or why there is none.
     pub result: Result<Plan, RejectReason>,
-    /// Shortest airborne time on the empty graph, if the destination is reachable.
+    /// Shortest airborne time on the empty graph, if the destination is reachable (`None`
+    /// for the rest of a trip, which has no such reference).
     pub free_flow: Option<Millis>,
     /// Search effort: labels expanded.
     pub expanded: u64,
@@ -49,7 +52,7 @@ impl<'a> Planner<'a> {
     /// Free-flow time from `request.origin` to `request.destination`, if reachable.
     pub fn free_flow(&self, request: &Request) -> Option<Millis> {
         let h = self.heuristics.to(self.airspace, request.destination)[request.origin.index()];
-        (h != UNREACHABLE).then_some(Millis(h))
+        (h != Millis::INF).then_some(h)
     }
 
     /// Plans one request against `schedule` (which it does not change): take-off in
@@ -125,30 +128,30 @@ impl<'a> Planner<'a> {
         };
         let h = self.heuristics.to(self.airspace, request.destination);
         let direct = h[request.origin.index()];
-        if direct == UNREACHABLE {
+        if direct == Millis::INF {
             return reject(RejectReason::Unreachable, None, scratch);
         }
         let (remaining, free_flow) =
             match self.heuristics.swaps_to(self.airspace, request.destination) {
-                None if direct > self.params.max_flight.0 => {
-                    return reject(RejectReason::OutOfRange, Some(Millis(direct)), scratch);
+                None if direct > self.params.max_flight => {
+                    return reject(RejectReason::OutOfRange, Some(direct), scratch);
                 }
                 None => (Remaining::Single(h), direct),
                 Some(table) => match table.free_flow(request.origin) {
                     None => {
-                        return reject(RejectReason::OutOfRange, Some(Millis(direct)), scratch);
+                        return reject(RejectReason::OutOfRange, Some(direct), scratch);
                     }
                     Some(trip) => (Remaining::Swaps(table), trip),
                 },
             };
         let start = Start::Ground {
             origin: request.origin,
-            earliest: earliest.0,
-            latest: latest.0,
+            earliest,
+            latest,
         };
         let mut problem = self.problem(remaining, request.origin, 1);
         if let Some(m) = self.params.max_trip {
-            problem.deadline = (request.departure + m).0;
+            problem.deadline = request.departure + m;
         }
         let result = search(
             problem,
@@ -160,7 +163,7 @@ impl<'a> Planner<'a> {
         .ok_or(RejectReason::NoFeasiblePlan);
         Outcome {
             result,
-            free_flow: Some(Millis(free_flow)),
+            free_flow: Some(free_flow),
             expanded: scratch.expanded,
         }
     }
@@ -171,10 +174,11 @@ impl<'a> Planner<'a> {
     /// `Landing::At(d)` and battery swaps on, the rest may land and swap on the way: the
     /// earliest landing at `d`, then the fewest legs. With `Landing::AnyStation`, a single
     /// landing at whichever station is earliest (ties to the lowest node index); from the
-    /// ground that is no flight at all, and `None` is returned. The plan returned starts with
-    /// the stay at `from.node` (in the air) or with the next take-off (on the ground). A
-    /// delivery deadline ([`FlightParams::max_trip`]) binds the landing at `d`, not a
-    /// diversion.
+    /// ground that is no flight at all. The plan returned starts with the stay at `from.node`
+    /// (in the air) or with the next take-off (on the ground). A delivery deadline
+    /// ([`FlightParams::max_trip`]) binds the landing at `d`, not a diversion. When no plan
+    /// exists the result is [`RejectReason::NoFeasiblePlan`]; the outcome's `free_flow` is
+    /// `None`.
     ///
     /// ```
     /// use muse_airspace::closures::Closures;
@@ -195,8 +199,8 @@ impl<'a> Planner<'a> {
     /// let from = Resume { leg_origin: NodeId(0), departure: Instant(0), node: NodeId(1),
     ///                     at: Instant(120_000), airborne_since: Some(Instant(0)),
     ///                     first_takeoff: Instant(0), legs: 1 };
-    /// let (rest, _) = planner.resume(&schedule, &from, Landing::AnyStation, &mut Scratch::new());
-    /// let rest = rest.unwrap();
+    /// let rest = planner.resume(&schedule, &from, Landing::AnyStation, &mut Scratch::new());
+    /// let rest = rest.result.unwrap();
     /// assert_eq!((rest.path.last().unwrap().node, rest.landing()), (NodeId(0), Instant(240_000)));
     /// ```
     ///
@@ -218,8 +222,8 @@ impl<'a> Planner<'a> {
     /// let from = Resume { leg_origin: NodeId(1), departure: Instant(0), node: NodeId(1),
     ///                     at: Instant(1_020_000), airborne_since: None,
     ///                     first_takeoff: Instant(0), legs: 1 };
-    /// let (rest, _) = planner.resume(&schedule, &from, Landing::At(NodeId(2)), &mut Scratch::new());
-    /// let rest = rest.unwrap();
+    /// let rest = planner.resume(&schedule, &from, Landing::At(NodeId(2)), &mut Scratch::new());
+    /// let rest = rest.result.unwrap();
     /// assert_eq!((rest.takeoff(), rest.landing()), (Instant(1_020_000), Instant(1_740_000)));
     /// ```
     pub fn resume(
@@ -228,7 +232,7 @@ impl<'a> Planner<'a> {
         from: &Resume,
         to: Landing,
         scratch: &mut Scratch,
-    ) -> (Option<Plan>, u64) {
+    ) -> Outcome {
         scratch.expanded = 0;
         let (remaining, goal, swaps) = match to {
             Landing::At(d) => match self.heuristics.swaps_to(self.airspace, d) {
@@ -248,18 +252,24 @@ impl<'a> Planner<'a> {
         let start = match from.airborne_since {
             Some(takeoff) => Start::Airborne {
                 node: from.node,
-                at: from.at.0,
-                takeoff: takeoff.0,
-                first: from.first_takeoff.0,
+                at: from.at,
+                takeoff,
+                first: from.first_takeoff,
                 legs: from.legs,
             },
             None if swaps => Start::Landed {
                 node: from.node,
-                at: from.at.0,
-                first: from.first_takeoff.0,
+                at: from.at,
+                first: from.first_takeoff,
                 legs: from.legs,
             },
-            None => return (None, 0),
+            None => {
+                return Outcome {
+                    result: Err(RejectReason::NoFeasiblePlan),
+                    free_flow: None,
+                    expanded: 0,
+                };
+            }
         };
         // The leg the search starts with (in the air: the current one; on the ground: the
         // next) may not land where it took off.
@@ -269,10 +279,14 @@ impl<'a> Planner<'a> {
             problem.swaps = None;
         }
         if let (Goal::Node(_), Some(m)) = (goal, self.params.max_trip) {
-            problem.deadline = (from.departure + m).0;
+            problem.deadline = from.departure + m;
         }
         let plan = search(problem, schedule, start, goal, scratch);
-        (plan, scratch.expanded)
+        Outcome {
+            result: plan.ok_or(RejectReason::NoFeasiblePlan),
+            free_flow: None,
+            expanded: scratch.expanded,
+        }
     }
 
     fn problem<'h>(
@@ -286,12 +300,12 @@ impl<'a> Planner<'a> {
             params: &self.params,
             remaining,
             swaps: self.params.battery_swap.map(|s| Swaps {
-                time: s.time.0,
+                time: s.time,
                 max_legs: s.leg_limit(),
                 no_return,
                 no_return_legs,
             }),
-            deadline: INF,
+            deadline: Instant::INF,
         }
     }
 }
@@ -359,7 +373,7 @@ pub fn plan_day(
 ) -> Vec<Outcome> {
     let mut out = Vec::with_capacity(requests.len());
     for (i, request) in requests.iter().enumerate() {
-        schedule.set_horizon(request.submitted.0);
+        schedule.set_horizon(request.submitted);
         out.push(plan_and_book(
             planner,
             schedule,

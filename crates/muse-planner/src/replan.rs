@@ -295,18 +295,20 @@ fn fly_on(
             }
         }
     };
-    let (home, e1) = planner.resume(schedule, &from, Landing::At(request.destination), scratch);
-    if let Some(rest) = home {
+    let home = planner.resume(schedule, &from, Landing::At(request.destination), scratch);
+    let e1 = home.expanded;
+    if let Ok(rest) = home.result {
         return (Fate::Replanned(join(&part, rest)), e1);
     }
     if let Commitment::Landed(p) = part {
         // Already on the ground at a station: the trip ends there.
         return (Fate::Diverted(p), e1);
     }
-    let (other, e2) = planner.resume(schedule, &from, Landing::AnyStation, scratch);
-    match other {
-        Some(rest) => (Fate::Diverted(join(&part, rest)), e1 + e2),
-        None => (Fate::Contingency(part.into_plan()), e1 + e2),
+    let other = planner.resume(schedule, &from, Landing::AnyStation, scratch);
+    let expanded = e1 + other.expanded;
+    match other.result {
+        Ok(rest) => (Fate::Diverted(join(&part, rest)), expanded),
+        Err(_) => (Fate::Contingency(part.into_plan()), expanded),
     }
 }
 

@@ -83,10 +83,12 @@ pub enum TimeError {
 
 /// A point in time: milliseconds since 1970-01-01T00:00:00Z.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+#[repr(transparent)]
 pub struct Instant(pub i64);
 
 /// A signed duration in milliseconds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Default)]
+#[repr(transparent)]
 pub struct Millis(pub i64);
 
 /// A fixed UTC offset, in seconds east of UTC (Singapore: `+08:00` = 28 800 s).

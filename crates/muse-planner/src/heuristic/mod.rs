@@ -13,6 +13,9 @@
 //!
 //! With battery swaps (SPEC §12) the remaining time also depends on how long the current leg
 //! has flown: [`swaps`] holds those tables, built from the same free-flow times.
+//!
+//! A node from which the destination cannot be reached has the time `Millis::INF`, the
+//! planner's one infinity.
 
 pub mod swaps;
 
@@ -21,17 +24,15 @@ use std::sync::OnceLock;
 use muse_airspace::shortest::Dijkstra;
 use muse_model::{Airspace, FlightParams, Millis, NodeId};
 
+use crate::time::Unbounded;
 use swaps::{Near, SwapTable};
-
-/// Marks a node from which the destination cannot be reached.
-pub const UNREACHABLE: i64 = i64::MAX;
 
 /// Lazily computed free-flow time tables, one per destination; safe to share between threads.
 #[derive(Debug)]
 pub struct Heuristics {
     times: Vec<Millis>,
-    tables: Vec<OnceLock<Box<[i64]>>>,
-    any_station: OnceLock<Box<[i64]>>,
+    tables: Vec<OnceLock<Box<[Millis]>>>,
+    any_station: OnceLock<Box<[Millis]>>,
     params: FlightParams,
     near: OnceLock<Near>,
     swap_tables: Vec<OnceLock<SwapTable>>,
@@ -59,7 +60,7 @@ impl Heuristics {
     /// call at all computes every station's free-flow table).
     pub fn swaps_to(&self, airspace: &Airspace, destination: NodeId) -> Option<&SwapTable> {
         let swap = self.params.battery_swap?;
-        let t_max = self.params.max_flight.0;
+        let t_max = self.params.max_flight;
         Some(self.swap_tables[destination.index()].get_or_init(|| {
             let near = self
                 .near
@@ -68,33 +69,49 @@ impl Heuristics {
                 airspace,
                 near,
                 destination,
-                swap.time.0,
+                swap.time,
                 t_max,
                 swap.leg_limit(),
             )
         }))
     }
 
-    /// Free-flow time from every node to `destination` in ms ([`UNREACHABLE`] if none),
-    /// indexed by node. Computed on the first call for this destination.
-    pub fn to(&self, airspace: &Airspace, destination: NodeId) -> &[i64] {
+    /// Free-flow time from every node to `destination` (`Millis::INF` if none), indexed by
+    /// node. Computed on the first call for this destination.
+    pub fn to(&self, airspace: &Airspace, destination: NodeId) -> &[Millis] {
         self.tables[destination.index()].get_or_init(|| {
             let mut search = Dijkstra::new(airspace.node_count());
             search.run(airspace, &self.times, destination);
-            search.raw_times().into()
+            times(&search)
         })
     }
 
-    /// Free-flow time from every node to the nearest station in ms ([`UNREACHABLE`] if
-    /// none), indexed by node. Computed on the first call.
-    pub fn to_any_station(&self, airspace: &Airspace) -> &[i64] {
+    /// Free-flow time from every node to the nearest station (`Millis::INF` if none),
+    /// indexed by node. Computed on the first call.
+    pub fn to_any_station(&self, airspace: &Airspace) -> &[Millis] {
         self.any_station.get_or_init(|| {
             let stations: Vec<NodeId> = airspace.stations().collect();
             let mut search = Dijkstra::new(airspace.node_count());
             search.run_from_all(airspace, &self.times, &stations);
-            search.raw_times().into()
+            times(&search)
         })
     }
+}
+
+/// The times a search found, `Millis::INF` where it found none (its raw times mark those
+/// `i64::MAX`).
+fn times(search: &Dijkstra) -> Box<[Millis]> {
+    search
+        .raw_times()
+        .iter()
+        .map(|&t| {
+            if t == i64::MAX {
+                Millis::INF
+            } else {
+                Millis(t)
+            }
+        })
+        .collect()
 }
 
 /// One empty, lazily filled slot per node.

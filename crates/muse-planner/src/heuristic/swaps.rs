@@ -27,26 +27,33 @@
 //! `H(v, u)` is the `remaining` of the last step whose `max_used ≥ u`, and no landing is
 //! reachable when `u` exceeds the first step's `max_used`.
 
-use muse_model::{Airspace, NodeId};
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
 
-use super::UNREACHABLE;
+use muse_model::{Airspace, Millis, NodeId};
+
+use crate::time::Unbounded;
 
 /// Stations within one battery of each node: `(station, free-flow time)`, nearest first.
 #[derive(Debug)]
 pub struct Near {
     offsets: Vec<u32>,
-    entries: Vec<(u32, i64)>,
+    entries: Vec<(NodeId, Millis)>,
 }
 
 impl Near {
-    /// From `to_station(X)[v]`, the free-flow time from `v` to station `X`, keeping those
-    /// within `t_max`.
-    pub fn new(airspace: &Airspace, t_max: i64, to_station: impl Fn(NodeId) -> Vec<i64>) -> Self {
-        let mut per_node: Vec<Vec<(u32, i64)>> = vec![Vec::new(); airspace.node_count()];
+    /// From `to_station(X)[v]`, the free-flow time from `v` to station `X` (`Millis::INF` if
+    /// none), keeping those within `t_max`.
+    pub fn new(
+        airspace: &Airspace,
+        t_max: Millis,
+        to_station: impl Fn(NodeId) -> Vec<Millis>,
+    ) -> Self {
+        let mut per_node: Vec<Vec<(NodeId, Millis)>> = vec![Vec::new(); airspace.node_count()];
         for x in airspace.stations() {
             for (v, &t) in to_station(x).iter().enumerate() {
-                if t != UNREACHABLE && t <= t_max {
-                    per_node[v].push((x.0, t));
+                if t != Millis::INF && t <= t_max {
+                    per_node[v].push((x, t));
                 }
             }
         }
@@ -62,7 +69,7 @@ impl Near {
     }
 
     /// The stations within one battery of `v`, nearest first.
-    pub fn of(&self, v: NodeId) -> &[(u32, i64)] {
+    pub fn of(&self, v: NodeId) -> &[(NodeId, Millis)] {
         &self.entries[self.offsets[v.index()] as usize..self.offsets[v.index() + 1] as usize]
     }
 }
@@ -72,12 +79,12 @@ impl Near {
 pub struct SwapTable {
     offsets: Vec<u32>,
     /// `(max_used, remaining)` steps per node (see the module docs).
-    steps: Vec<(i64, i64)>,
+    steps: Vec<(Millis, Millis)>,
     /// `G(X)`: the free-flow trip from the ground at each node (stations only; others
-    /// `UNREACHABLE`), swaps included, with no bound on the legs.
-    ground: Vec<i64>,
+    /// `Millis::INF`), swaps included, with no bound on the legs.
+    ground: Vec<Millis>,
     /// The free-flow trip from the ground with at most the planner's leg limit, per node.
-    ground_within_limit: Vec<i64>,
+    ground_within_limit: Vec<Millis>,
 }
 
 impl SwapTable {
@@ -87,29 +94,29 @@ impl SwapTable {
         airspace: &Airspace,
         near: &Near,
         d: NodeId,
-        swap: i64,
-        t_max: i64,
+        swap: Millis,
+        t_max: Millis,
         max_legs: u32,
     ) -> Self {
         let n = airspace.node_count();
         let ground = station_dijkstra(airspace, near, d, swap);
-        let cost = |x: usize| {
-            if x == d.index() {
-                0
-            } else if ground[x] == UNREACHABLE {
-                UNREACHABLE
+        let cost = |x: NodeId| {
+            if x == d {
+                Millis::ZERO
+            } else if ground[x.index()] == Millis::INF {
+                Millis::INF
             } else {
-                swap + ground[x]
+                swap + ground[x.index()]
             }
         };
         let mut offsets = Vec::with_capacity(n + 1);
         let mut steps = Vec::new();
         offsets.push(0);
         for v in 0..n {
-            let mut best = UNREACHABLE;
+            let mut best = Millis::INF;
             for &(x, t) in near.of(NodeId(v as u32)) {
-                let c = cost(x as usize);
-                if c != UNREACHABLE && t + c < best {
+                let c = cost(x);
+                if c != Millis::INF && t + c < best {
                     best = t + c;
                     steps.push((t_max - t, best));
                 }
@@ -130,11 +137,11 @@ impl SwapTable {
     }
 
     /// `H(v, used)`: the least time still to fly (swaps included) from node `v` after `used`
-    /// ms of the current leg, or `UNREACHABLE` when no station is within the battery left.
+    /// of the current leg, or `Millis::INF` when no station is within the battery left.
     #[inline]
-    pub fn remaining(&self, v: NodeId, used: i64) -> i64 {
+    pub fn remaining(&self, v: NodeId, used: Millis) -> Millis {
         let steps = self.steps_of(v);
-        let mut best = UNREACHABLE;
+        let mut best = Millis::INF;
         for &(max_used, remaining) in steps {
             if max_used < used {
                 break;
@@ -145,76 +152,80 @@ impl SwapTable {
     }
 
     /// The most a leg may have flown on reaching `v` and still land somewhere useful
-    /// (`i64::MIN` if nowhere).
+    /// (`Millis::NEG_INF` if nowhere).
     #[inline]
-    pub fn max_used(&self, v: NodeId) -> i64 {
-        self.steps_of(v).first().map_or(i64::MIN, |s| s.0)
+    pub fn max_used(&self, v: NodeId) -> Millis {
+        self.steps_of(v).first().map_or(Millis::NEG_INF, |s| s.0)
     }
 
     /// `G(v)`: the free-flow trip from the ground at station `v`, swaps included
-    /// (`UNREACHABLE` if none).
+    /// (`Millis::INF` if none).
     #[inline]
-    pub fn trip_from_ground(&self, v: NodeId) -> i64 {
+    pub fn trip_from_ground(&self, v: NodeId) -> Millis {
         self.ground[v.index()]
     }
 
     /// The free-flow trip from the ground at station `v` with at most the leg limit, swaps
     /// included (SPEC §12: `free_flow_s`), or `None` when no chain of legs within range joins
     /// `v` to the destination (`out_of_range`).
-    pub fn free_flow(&self, v: NodeId) -> Option<i64> {
+    pub fn free_flow(&self, v: NodeId) -> Option<Millis> {
         let t = self.ground_within_limit[v.index()];
-        (t != UNREACHABLE).then_some(t)
+        (t != Millis::INF).then_some(t)
     }
 
     #[inline]
-    fn steps_of(&self, v: NodeId) -> &[(i64, i64)] {
+    fn steps_of(&self, v: NodeId) -> &[(Millis, Millis)] {
         &self.steps[self.offsets[v.index()] as usize..self.offsets[v.index() + 1] as usize]
     }
 }
 
 /// `G` for every node: Dijkstra on the station graph from the destination, where reaching
 /// `X` from `Y` costs `D(X, Y)` plus the swap at `Y` unless `Y` is the destination.
-fn station_dijkstra(airspace: &Airspace, near: &Near, d: NodeId, swap: i64) -> Vec<i64> {
-    use std::cmp::Reverse;
-    use std::collections::BinaryHeap;
+fn station_dijkstra(airspace: &Airspace, near: &Near, d: NodeId, swap: Millis) -> Vec<Millis> {
     let n = airspace.node_count();
     // `c[x]`: the cost from being in the air *at* station `x`, about to land there.
-    let mut c = vec![UNREACHABLE; n];
-    let mut ground = vec![UNREACHABLE; n];
+    let mut c = vec![Millis::INF; n];
+    let mut ground = vec![Millis::INF; n];
     let mut heap = BinaryHeap::new();
-    c[d.index()] = 0;
-    heap.push(Reverse((0, d.0)));
+    c[d.index()] = Millis::ZERO;
+    heap.push(Reverse((Millis::ZERO, d)));
     while let Some(Reverse((cy, y))) = heap.pop() {
-        if cy > c[y as usize] {
+        if cy > c[y.index()] {
             continue;
         }
         // `D` is symmetric (edges are undirected): the stations near `y` are those `y` is
         // near to.
-        for &(x, t) in near.of(NodeId(y)) {
-            if x == y || x == d.0 {
+        for &(x, t) in near.of(y) {
+            if x == y || x == d {
                 continue;
             }
             let g = t + cy;
-            if g < ground[x as usize] {
-                ground[x as usize] = g;
+            if g < ground[x.index()] {
+                ground[x.index()] = g;
                 let cx = swap + g;
-                if cx < c[x as usize] {
-                    c[x as usize] = cx;
+                if cx < c[x.index()] {
+                    c[x.index()] = cx;
                     heap.push(Reverse((cx, x)));
                 }
             }
         }
     }
-    ground[d.index()] = 0;
+    ground[d.index()] = Millis::ZERO;
     ground
 }
 
 /// The free-flow trip from the ground with at most `max_legs` legs: Bellman–Ford on the
 /// station graph, one round per leg.
-fn limited_legs(airspace: &Airspace, near: &Near, d: NodeId, swap: i64, max_legs: u32) -> Vec<i64> {
+fn limited_legs(
+    airspace: &Airspace,
+    near: &Near,
+    d: NodeId,
+    swap: Millis,
+    max_legs: u32,
+) -> Vec<Millis> {
     let n = airspace.node_count();
-    let mut best = vec![UNREACHABLE; n];
-    best[d.index()] = 0;
+    let mut best = vec![Millis::INF; n];
+    best[d.index()] = Millis::ZERO;
     for _ in 0..max_legs.min(n as u32) {
         let mut next = best.clone();
         for x in airspace.stations() {
@@ -222,11 +233,11 @@ fn limited_legs(airspace: &Airspace, near: &Near, d: NodeId, swap: i64, max_legs
                 continue;
             }
             for &(y, t) in near.of(x) {
-                if y == x.0 || best[y as usize] == UNREACHABLE {
+                if y == x || best[y.index()] == Millis::INF {
                     continue;
                 }
-                let via = if y == d.0 { 0 } else { swap };
-                next[x.index()] = next[x.index()].min(t + via + best[y as usize]);
+                let via = if y == d { Millis::ZERO } else { swap };
+                next[x.index()] = next[x.index()].min(t + via + best[y.index()]);
             }
         }
         if next == best {
@@ -251,39 +262,45 @@ mod tests {
         let a = line();
         let to = |x: NodeId| {
             (0..a.node_count())
-                .map(|v| (v as i64 - i64::from(x.0)).abs() * 120_000)
+                .map(|v| Millis((v as i64 - i64::from(x.0)).abs() * 120_000))
                 .collect::<Vec<_>>()
         };
-        let near = Near::new(&a, t_max, to);
-        SwapTable::new(&a, &near, NodeId(3), swap, t_max, max_legs)
+        let near = Near::new(&a, Millis(t_max), to);
+        SwapTable::new(&a, &near, NodeId(3), Millis(swap), Millis(t_max), max_legs)
     }
 
     #[test]
     fn remaining_time_counts_the_swaps_the_battery_forces() {
         // Each edge takes 120 s; the battery lasts 250 s: two edges per leg at most.
         let t = tables(250_000, 60_000, u32::MAX);
-        assert_eq!(t.trip_from_ground(NodeId(3)), 0);
-        assert_eq!(t.trip_from_ground(NodeId(2)), 120_000);
-        assert_eq!(t.trip_from_ground(NodeId(1)), 240_000);
+        assert_eq!(t.trip_from_ground(NodeId(3)), Millis(0));
+        assert_eq!(t.trip_from_ground(NodeId(2)), Millis(120_000));
+        assert_eq!(t.trip_from_ground(NodeId(1)), Millis(240_000));
         // From 0: three edges need one swap.
-        assert_eq!(t.trip_from_ground(NodeId(0)), 360_000 + 60_000);
+        assert_eq!(t.trip_from_ground(NodeId(0)), Millis(360_000 + 60_000));
         // In the air at 1 with 100 s flown: only station 1 or 2 is reachable (≤ 150 s).
-        assert_eq!(t.remaining(NodeId(1), 100_000), 120_000 + 60_000 + 120_000);
-        assert_eq!(t.remaining(NodeId(1), 0), 240_000);
-        assert_eq!(t.remaining(NodeId(1), 200_000), 60_000 + 240_000);
-        assert_eq!(t.remaining(NodeId(1), 250_001), UNREACHABLE);
-        assert_eq!(t.max_used(NodeId(1)), 250_000);
-        assert_eq!(t.free_flow(NodeId(0)), Some(420_000));
+        assert_eq!(
+            t.remaining(NodeId(1), Millis(100_000)),
+            Millis(120_000 + 60_000 + 120_000)
+        );
+        assert_eq!(t.remaining(NodeId(1), Millis(0)), Millis(240_000));
+        assert_eq!(
+            t.remaining(NodeId(1), Millis(200_000)),
+            Millis(60_000 + 240_000)
+        );
+        assert_eq!(t.remaining(NodeId(1), Millis(250_001)), Millis::INF);
+        assert_eq!(t.max_used(NodeId(1)), Millis(250_000));
+        assert_eq!(t.free_flow(NodeId(0)), Some(Millis(420_000)));
     }
 
     #[test]
     fn a_leg_limit_bounds_the_free_flow_trip() {
         let t = tables(250_000, 60_000, 1);
         assert_eq!(t.free_flow(NodeId(0)), None, "three edges need two legs");
-        assert_eq!(t.free_flow(NodeId(1)), Some(240_000));
+        assert_eq!(t.free_flow(NodeId(1)), Some(Millis(240_000)));
         let t = tables(130_000, 60_000, 2);
         assert_eq!(t.free_flow(NodeId(0)), None, "one edge per leg: three legs");
         let t = tables(130_000, 60_000, 3);
-        assert_eq!(t.free_flow(NodeId(0)), Some(360_000 + 120_000));
+        assert_eq!(t.free_flow(NodeId(0)), Some(Millis(360_000 + 120_000)));
     }
 }

@@ -1,15 +1,27 @@
 //! The schedule's building block: sorted lists of barriers `(L, R)` (see the module docs of
 //! [`super`]) and the one question asked of them, the slot of an instant over several lists.
 
-use super::{FlightId, INF, NEG_INF, NodeSlot};
+use muse_model::{Instant, Millis};
+
+use super::{FlightId, NodeSlot};
+use crate::time::Unbounded;
 
 /// One reservation: a stay `[start, end]`, an entry instant (`start == end`), or a zone
 /// barrier already in `(L, R)` form.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct Occ {
-    pub(super) start: i64,
-    pub(super) end: i64,
+    pub(super) start: Instant,
+    pub(super) end: Instant,
     pub(super) flight: FlightId,
+}
+
+impl Occ {
+    /// The order of a list, as plain integers (they compare fastest): by start, then end,
+    /// then flight.
+    #[inline]
+    pub(super) fn order(&self) -> (i64, i64, FlightId) {
+        (self.start.0, self.end.0, self.flight)
+    }
 }
 
 /// A read-only view of a sorted list whose barriers are `(start − grow, end + grow)`.
@@ -20,32 +32,32 @@ pub(super) struct Occ {
 #[derive(Clone, Copy)]
 pub(super) struct View<'a> {
     pub(super) occ: &'a [Occ],
-    pub(super) grow: i64,
+    pub(super) grow: Millis,
     pub(super) before: Option<&'a Occ>,
 }
 
 impl View<'_> {
     #[inline]
-    pub(super) fn l(self, o: &Occ) -> i64 {
+    pub(super) fn l(self, o: &Occ) -> Instant {
         o.start - self.grow
     }
 
     #[inline]
-    pub(super) fn r(self, o: &Occ) -> i64 {
+    pub(super) fn r(self, o: &Occ) -> Instant {
         o.end + self.grow
     }
 
     /// The index of the first entry with `R > t`: every entry before it ends by `t`, and it
     /// has the smallest `L` of those after (both `L` and `R` are sorted).
     #[inline]
-    pub(super) fn first_after(self, t: i64) -> usize {
+    pub(super) fn first_after(self, t: Instant) -> usize {
         self.occ.partition_point(|o| self.r(o) <= t)
     }
 
     /// Moves `i` (a `first_after` of an earlier, smaller `t`) to `first_after(t)`: a few
     /// linear steps, then a binary search for long jumps.
     #[inline]
-    pub(super) fn advance(self, mut i: usize, t: i64) -> usize {
+    pub(super) fn advance(self, mut i: usize, t: Instant) -> usize {
         for _ in 0..8 {
             match self.occ.get(i) {
                 Some(o) if self.r(o) <= t => i += 1,
@@ -55,12 +67,12 @@ impl View<'_> {
         i + self.occ[i..].partition_point(|o| self.r(o) <= t)
     }
 
-    /// `R` of the last entry before index `i` (`NEG_INF` if none).
+    /// `R` of the last entry before index `i` (`Instant::NEG_INF` if none).
     #[inline]
-    pub(super) fn r_before(self, i: usize) -> i64 {
+    pub(super) fn r_before(self, i: usize) -> Instant {
         match i.checked_sub(1) {
             Some(j) => self.r(&self.occ[j]),
-            None => self.before.map_or(NEG_INF, |o| self.r(o)),
+            None => self.before.map_or(Instant::NEG_INF, |o| self.r(o)),
         }
     }
 }
@@ -79,7 +91,7 @@ pub(super) struct Book {
 impl Book {
     /// The view with widening `grow`, skipping the floor when `t` is at or after `horizon`.
     #[inline]
-    pub(super) fn view(&self, grow: i64, t: i64, horizon: i64) -> View<'_> {
+    pub(super) fn view(&self, grow: Millis, t: Instant, horizon: Instant) -> View<'_> {
         if t >= horizon && self.floor > 0 {
             let (left_out, rest) = self.occ.split_at(self.floor);
             View {
@@ -97,7 +109,7 @@ impl Book {
     }
 
     /// Moves the floor past every entry whose widest barrier (`grow_max`) ends by `horizon`.
-    pub(super) fn advance(&mut self, horizon: i64, grow_max: i64) {
+    pub(super) fn advance(&mut self, horizon: Instant, grow_max: Millis) {
         while self.floor < self.occ.len() && self.occ[self.floor].end + grow_max <= horizon {
             self.floor += 1;
         }
@@ -106,20 +118,20 @@ impl Book {
 
 /// Where `occ` is in a sorted list, if it is there.
 pub(super) fn position(list: &[Occ], occ: Occ) -> Option<usize> {
-    let i = list.partition_point(|o| (o.start, o.end, o.flight) < (occ.start, occ.end, occ.flight));
+    let i = list.partition_point(|o| o.order() < occ.order());
     (list.get(i) == Some(&occ)).then_some(i)
 }
 
 /// Zone windows `[start, end)` of one element as merged barriers `(start − 1 − before, end)`
 /// (`before`: the traversal time on an edge, 0 at a node; see the module docs).
-pub(super) fn barriers(windows: &[muse_airspace::closures::Window], before: i64) -> Vec<Occ> {
-    let mut v: Vec<(i64, i64)> = windows
+pub(super) fn barriers(windows: &[muse_airspace::closures::Window], before: Millis) -> Vec<Occ> {
+    let mut v: Vec<(Instant, Instant)> = windows
         .iter()
         .filter(|win| win.start < win.end)
-        .map(|win| (win.start.0, win.end.0))
+        .map(|win| (win.start, win.end))
         .collect();
     v.sort_unstable();
-    let mut merged: Vec<(i64, i64)> = Vec::with_capacity(v.len());
+    let mut merged: Vec<(Instant, Instant)> = Vec::with_capacity(v.len());
     for (a, b) in v {
         match merged.last_mut() {
             Some(last) if a <= last.1 => last.1 = last.1.max(b),
@@ -129,7 +141,7 @@ pub(super) fn barriers(windows: &[muse_airspace::closures::Window], before: i64)
     merged
         .into_iter()
         .map(|(a, b)| Occ {
-            start: a - 1 - before,
+            start: a - Millis(1) - before,
             end: b,
             flight: FlightId::MAX,
         })
@@ -139,7 +151,7 @@ pub(super) fn barriers(windows: &[muse_airspace::closures::Window], before: i64)
 /// The slot of instant `t` over several views: one binary search per view, then cursors
 /// that only move forward while blocked stretches are skipped.
 #[inline]
-pub(super) fn slot<const N: usize>(views: &[View<'_>; N], t: i64) -> NodeSlot {
+pub(super) fn slot<const N: usize>(views: &[View<'_>; N], t: Instant) -> NodeSlot {
     let mut t = t;
     let mut idx = [0usize; N];
     for (i, v) in idx.iter_mut().zip(views) {
@@ -148,7 +160,7 @@ pub(super) fn slot<const N: usize>(views: &[View<'_>; N], t: i64) -> NodeSlot {
     let mut blocked = false;
     loop {
         // `t` is blocked by a view exactly when its first entry with `R > t` has `L < t`.
-        let mut end: Option<i64> = None;
+        let mut end: Option<Instant> = None;
         for (i, v) in idx.iter_mut().zip(views) {
             *i = v.advance(*i, t);
             if let Some(o) = v.occ.get(*i)
@@ -168,8 +180,8 @@ pub(super) fn slot<const N: usize>(views: &[View<'_>; N], t: i64) -> NodeSlot {
     if blocked {
         return NodeSlot::Blocked { next_free: t };
     }
-    let mut lo = NEG_INF;
-    let (mut hi, mut next) = (INF, INF);
+    let mut lo = Instant::NEG_INF;
+    let (mut hi, mut next) = (Instant::INF, Instant::INF);
     for (&i, v) in idx.iter().zip(views) {
         lo = lo.max(v.r_before(i));
         if let Some(o) = v.occ.get(i) {

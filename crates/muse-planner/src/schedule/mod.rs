@@ -45,15 +45,10 @@
 mod barriers;
 
 use muse_airspace::closures::Closures;
-use muse_model::{Airspace, EdgeId, EdgeRule, FlightParams, NodeId, Plan};
+use muse_model::{Airspace, EdgeId, EdgeRule, FlightParams, Instant, Millis, NodeId, Plan};
 
+use crate::time::Unbounded;
 use barriers::{Book, Occ, View, barriers, position, slot};
-
-/// "Never": later than any instant MUSE handles (±1.4 × 10¹⁵ years in ms, with headroom so
-/// that adding durations cannot overflow).
-pub const INF: i64 = i64::MAX / 4;
-/// "Always": earlier than any instant MUSE handles.
-pub const NEG_INF: i64 = i64::MIN / 4;
 
 /// An identifier of an accepted flight in a schedule (the caller's choice, e.g. the request's
 /// position in the day).
@@ -61,38 +56,71 @@ pub type FlightId = u64;
 
 /// What a node (or an edge's entry instants) says about an instant.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum NodeSlot {
-    /// The instant is free; a stay anywhere in `[lo, hi]` is allowed (`NEG_INF` / `INF` when
-    /// unbounded). `next` is the earliest instant at which a later safe interval can begin
-    /// (`hi` itself when two safe intervals share it, `INF` if none).
+pub(crate) enum NodeSlot {
+    /// The instant is free; a stay anywhere in `[lo, hi]` is allowed (`Instant::NEG_INF` /
+    /// `Instant::INF` when unbounded). `next` is the earliest instant at which a later safe
+    /// interval can begin (`hi` itself when two safe intervals share it, `Instant::INF` if
+    /// none).
     Safe {
         /// First instant of the safe interval.
-        lo: i64,
+        lo: Instant,
         /// Last instant of the safe interval.
-        hi: i64,
+        hi: Instant,
         /// Where the next safe interval can begin.
-        next: i64,
+        next: Instant,
     },
     /// The instant is blocked; `next_free` is the first instant after it that is not.
     Blocked {
         /// The first free instant after the blocked one.
-        next_free: i64,
+        next_free: Instant,
     },
+}
+
+/// The direction a corridor is flown in, against its edge's `from` and `to`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Dir {
+    /// From the edge's `from` node to its `to` node.
+    Forward,
+    /// From the edge's `to` node to its `from` node.
+    Backward,
+}
+
+impl Dir {
+    /// `Forward` when `forward`.
+    #[inline]
+    pub(crate) fn of(forward: bool) -> Dir {
+        if forward { Dir::Forward } else { Dir::Backward }
+    }
+
+    /// The other direction.
+    #[inline]
+    fn opposite(self) -> Dir {
+        match self {
+            Dir::Forward => Dir::Backward,
+            Dir::Backward => Dir::Forward,
+        }
+    }
+
+    /// The index of the direction in per-direction arrays.
+    #[inline]
+    fn index(self) -> usize {
+        self as usize
+    }
 }
 
 /// The reservation schedule for one airspace, parameter set and set of zone closures.
 #[derive(Clone, Debug)]
 pub struct Schedule {
-    tau: i64,
+    tau: Millis,
     /// Per node: its stays and zone barriers.
     nodes: Vec<NodeBook>,
     /// Per edge: its entries per direction, timing and zone barriers.
     edges: Vec<EdgeBook>,
     /// No query before this instant is expected (see [`Schedule::set_horizon`]).
-    horizon: i64,
+    horizon: Instant,
     /// No node or edge changes between free and blocked after this instant (an upper bound:
     /// removals leave it).
-    quiet_from: i64,
+    quiet_from: Instant,
     flights: usize,
     reservations: usize,
 }
@@ -109,12 +137,12 @@ struct NodeBook {
 /// Everything a query about one edge reads, kept together (one or two cache lines).
 #[derive(Clone, Debug)]
 struct EdgeBook {
-    /// Entry instants per direction (0: `from → to`, 1: `to → from`), sorted.
+    /// Entry instants per direction (indexed by [`Dir::index`]), sorted.
     dirs: [Book; 2],
-    /// Traversal time, ms.
-    w: i64,
+    /// Traversal time.
+    w: Millis,
     /// Half-width of same-direction blocking (`w` or the headway).
-    same_grow: i64,
+    same_grow: Millis,
     /// Merged zone barriers of entry instants.
     zones: Vec<Occ>,
 }
@@ -125,29 +153,29 @@ impl Schedule {
         let nodes = (0..airspace.node_count())
             .map(|i| NodeBook {
                 stays: Book::default(),
-                zones: barriers(closures.node(NodeId(i as u32)), 0),
+                zones: barriers(closures.node(NodeId(i as u32)), Millis::ZERO),
             })
             .collect();
         let edges = airspace
             .traversal_times(params.speed)
             .iter()
             .enumerate()
-            .map(|(i, w)| EdgeBook {
+            .map(|(i, &w)| EdgeBook {
                 dirs: [Book::default(), Book::default()],
-                w: w.0,
+                w,
                 same_grow: match params.edge_rule {
-                    EdgeRule::Exclusive => w.0,
-                    EdgeRule::Headway(h) => h.0,
+                    EdgeRule::Exclusive => w,
+                    EdgeRule::Headway(h) => h,
                 },
-                zones: barriers(closures.edge(EdgeId(i as u32)), w.0),
+                zones: barriers(closures.edge(EdgeId(i as u32)), w),
             })
             .collect();
         let mut schedule = Schedule {
-            tau: params.node_separation.0,
+            tau: params.node_separation,
             nodes,
             edges,
-            horizon: NEG_INF,
-            quiet_from: NEG_INF,
+            horizon: Instant::NEG_INF,
+            quiet_from: Instant::NEG_INF,
             flights: 0,
             reservations: 0,
         };
@@ -159,7 +187,7 @@ impl Schedule {
     /// good) as far as the schedule knows: the answers to every query are the same for all
     /// later instants. The planner uses it to stop exploring later and later copies of the
     /// same move. An upper bound: it never moves back when flights are removed.
-    pub fn quiet_from(&self) -> i64 {
+    pub(crate) fn quiet_from(&self) -> Instant {
         self.quiet_from
     }
 
@@ -172,8 +200,12 @@ impl Schedule {
             .chain(self.edges.iter().flat_map(|e| &e.zones));
         for o in zones {
             // A barrier's last change is its end, or its start when it never ends.
-            let last = if o.end >= INF { o.start } else { o.end };
-            self.quiet_from = self.quiet_from.max(last + 1);
+            let last = if o.end >= Instant::INF {
+                o.start
+            } else {
+                o.end
+            };
+            self.quiet_from = self.quiet_from.max(last + Millis(1));
         }
     }
 
@@ -181,7 +213,7 @@ impl Schedule {
     /// the flights held are kept as they are. `closures` must be for the same airspace.
     pub fn set_closures(&mut self, closures: &Closures) {
         for (i, book) in self.nodes.iter_mut().enumerate() {
-            book.zones = barriers(closures.node(NodeId(i as u32)), 0);
+            book.zones = barriers(closures.node(NodeId(i as u32)), Millis::ZERO);
         }
         for (i, book) in self.edges.iter_mut().enumerate() {
             book.zones = barriers(closures.edge(EdgeId(i as u32)), book.w);
@@ -189,9 +221,9 @@ impl Schedule {
         self.note_zone_changes();
     }
 
-    /// The traversal time of edge `e`, ms.
+    /// The traversal time of edge `e`.
     #[inline]
-    pub fn traversal_ms(&self, e: EdgeId) -> i64 {
+    pub(crate) fn traversal(&self, e: EdgeId) -> Millis {
         self.edges[e.index()].w
     }
 
@@ -207,41 +239,40 @@ impl Schedule {
 
     /// Whether instant `t` is free at node `v`, and the safe interval around it.
     #[inline]
-    pub fn node_slot(&self, v: NodeId, t: i64) -> NodeSlot {
+    pub(crate) fn node_slot(&self, v: NodeId, t: Instant) -> NodeSlot {
         let book = &self.nodes[v.index()];
         let views = [
             book.stays.view(self.tau, t, self.horizon),
             View {
                 occ: &book.zones,
-                grow: 0,
+                grow: Millis::ZERO,
                 before: None,
             },
         ];
         slot(&views, t)
     }
 
-    /// The first instant `p ≥ t` at which edge `e` may be entered in direction `dir`
-    /// (`0`: from its `from` node, `1`: from its `to` node), and the last instant `q ≥ p` such
-    /// that every entry in `[p, q]` is allowed.
+    /// The first instant `p ≥ t` at which edge `e` may be entered in direction `dir`, and the
+    /// last instant `q ≥ p` such that every entry in `[p, q]` is allowed.
     #[inline]
-    pub fn edge_free_run(&self, e: EdgeId, dir: usize, t: i64) -> (i64, i64) {
+    pub(crate) fn edge_free_run(&self, e: EdgeId, dir: Dir, t: Instant) -> (Instant, Instant) {
         let book = &self.edges[e.index()];
         let h = self.horizon;
         let views = [
             // A headway of 0 blocks nothing.
-            if book.same_grow > 0 {
-                book.dirs[dir].view(book.same_grow, t, h)
+            if book.same_grow > Millis::ZERO {
+                book.dirs[dir.index()].view(book.same_grow, t, h)
             } else {
                 View {
                     occ: &[],
-                    grow: 0,
+                    grow: Millis::ZERO,
                     before: None,
                 }
             },
-            book.dirs[1 - dir].view(book.w, t, h),
+            book.dirs[dir.opposite().index()].view(book.w, t, h),
             View {
                 occ: &book.zones,
-                grow: 0,
+                grow: Millis::ZERO,
                 before: None,
             },
         ];
@@ -259,7 +290,7 @@ impl Schedule {
     /// reservation that can no longer matter, so they stay fast however long the day grows.
     /// Queries before the horizon remain correct, only slower; moving the horizon back resets
     /// the skipping.
-    pub fn set_horizon(&mut self, t: i64) {
+    pub fn set_horizon(&mut self, t: Instant) {
         if t < self.horizon {
             for b in &mut self.nodes {
                 b.stays.floor = 0;
@@ -274,7 +305,7 @@ impl Schedule {
     }
 
     /// The current horizon (see [`Schedule::set_horizon`]).
-    pub fn horizon(&self) -> i64 {
+    pub fn horizon(&self) -> Instant {
         self.horizon
     }
 
@@ -316,10 +347,13 @@ impl Schedule {
     }
 
     /// The widest widening any view applies to a list.
-    fn grow_max(&self, target: Target) -> i64 {
+    fn grow_max(&self, target: Target) -> Millis {
         match target {
             Target::Node(_) => self.tau,
-            Target::Edge(i, _) => self.edges[i].same_grow.max(self.edges[i].w),
+            Target::Edge(e, _) => {
+                let book = &self.edges[e.index()];
+                book.same_grow.max(book.w)
+            }
         }
     }
 
@@ -329,11 +363,9 @@ impl Schedule {
         let horizon = self.horizon;
         for_each_reservation(airspace, flight, plan, |target, occ| {
             let grow_max = self.grow_max(target);
-            self.quiet_from = self.quiet_from.max(occ.end + grow_max + 1);
+            self.quiet_from = self.quiet_from.max(occ.end + grow_max + Millis(1));
             let book = self.book_mut(target);
-            let i = book
-                .occ
-                .partition_point(|o| (o.start, o.end, o.flight) < (occ.start, occ.end, occ.flight));
+            let i = book.occ.partition_point(|o| o.order() < occ.order());
             book.occ.insert(i, occ);
             if i < book.floor {
                 book.floor += 1;
@@ -377,15 +409,15 @@ impl Schedule {
 
     fn book(&self, target: Target) -> &Book {
         match target {
-            Target::Node(i) => &self.nodes[i].stays,
-            Target::Edge(i, d) => &self.edges[i].dirs[d],
+            Target::Node(v) => &self.nodes[v.index()].stays,
+            Target::Edge(e, dir) => &self.edges[e.index()].dirs[dir.index()],
         }
     }
 
     fn book_mut(&mut self, target: Target) -> &mut Book {
         match target {
-            Target::Node(i) => &mut self.nodes[i].stays,
-            Target::Edge(i, d) => &mut self.edges[i].dirs[d],
+            Target::Node(v) => &mut self.nodes[v.index()].stays,
+            Target::Edge(e, dir) => &mut self.edges[e.index()].dirs[dir.index()],
         }
     }
 }
@@ -393,8 +425,8 @@ impl Schedule {
 /// Where a reservation is held.
 #[derive(Clone, Copy, Debug)]
 enum Target {
-    Node(usize),
-    Edge(usize, usize),
+    Node(NodeId),
+    Edge(EdgeId, Dir),
 }
 
 /// Calls `f` on every reservation a plan makes: a stay per node visited and an entry instant
@@ -407,10 +439,10 @@ fn for_each_reservation(
 ) {
     for stay in &plan.path {
         f(
-            Target::Node(stay.node.index()),
+            Target::Node(stay.node),
             Occ {
-                start: stay.arrive.0,
-                end: stay.depart.0,
+                start: stay.arrive,
+                end: stay.depart,
                 flight,
             },
         );
@@ -419,10 +451,10 @@ fn for_each_reservation(
         let e = airspace
             .edge_between(from.node, to.node)
             .expect("consecutive stays of a leg are joined by an edge");
-        let dir = usize::from(airspace.edge(e).from != from.node);
-        let s = from.depart.0;
+        let dir = Dir::of(airspace.edge(e).from == from.node);
+        let s = from.depart;
         f(
-            Target::Edge(e.index(), dir),
+            Target::Edge(e, dir),
             Occ {
                 start: s,
                 end: s,
@@ -436,7 +468,7 @@ fn for_each_reservation(
 mod tests {
     use super::*;
     use muse_airspace::closures::resolve;
-    use muse_model::{Instant, Millis, Period, Stay, Zone};
+    use muse_model::{Period, Stay, Zone};
 
     /// A — B, 1 km (120 s at 30 km/h).
     fn line() -> Airspace {
@@ -455,6 +487,15 @@ mod tests {
                 .collect(),
         }
     }
+
+    /// The free run of entries of the line's edge from `t` on, in ms.
+    fn run(s: &Schedule, dir: Dir, t: i64) -> (i64, i64) {
+        let (first, last) = s.edge_free_run(EdgeId(0), dir, Instant(t));
+        (first.0, last.0)
+    }
+
+    /// "Never", in ms.
+    const INF: i64 = Instant::INF.0;
 
     fn schedule(params: &FlightParams, zones: &[Zone]) -> Schedule {
         let a = line();
@@ -475,27 +516,31 @@ mod tests {
         let v = NodeId(0);
         // Blocked strictly inside (95 s, 115 s); the ends are free.
         assert_eq!(
-            s.node_slot(v, 95_001),
-            NodeSlot::Blocked { next_free: 115_000 }
-        );
-        assert_eq!(
-            s.node_slot(v, 114_999),
-            NodeSlot::Blocked { next_free: 115_000 }
-        );
-        assert_eq!(
-            s.node_slot(v, 95_000),
-            NodeSlot::Safe {
-                lo: NEG_INF,
-                hi: 95_000,
-                next: 115_000
+            s.node_slot(v, Instant(95_001)),
+            NodeSlot::Blocked {
+                next_free: Instant(115_000)
             }
         );
         assert_eq!(
-            s.node_slot(v, 115_000),
+            s.node_slot(v, Instant(114_999)),
+            NodeSlot::Blocked {
+                next_free: Instant(115_000)
+            }
+        );
+        assert_eq!(
+            s.node_slot(v, Instant(95_000)),
             NodeSlot::Safe {
-                lo: 115_000,
-                hi: INF,
-                next: INF
+                lo: Instant::NEG_INF,
+                hi: Instant(95_000),
+                next: Instant(115_000)
+            }
+        );
+        assert_eq!(
+            s.node_slot(v, Instant(115_000)),
+            NodeSlot::Safe {
+                lo: Instant(115_000),
+                hi: Instant::INF,
+                next: Instant::INF
             }
         );
         assert_eq!(s.flights(), 1);
@@ -506,11 +551,11 @@ mod tests {
             &plan(&[(0, 100_000, 110_000), (1, 230_000, 230_000)])
         ));
         assert_eq!(
-            s.node_slot(v, 100_000),
+            s.node_slot(v, Instant(100_000)),
             NodeSlot::Safe {
-                lo: NEG_INF,
-                hi: INF,
-                next: INF
+                lo: Instant::NEG_INF,
+                hi: Instant::INF,
+                next: Instant::INF
             }
         );
         assert!(!s.remove(
@@ -531,20 +576,20 @@ mod tests {
         s.insert(&a, 1, &plan(&[(0, 50_000, 50_000), (1, 170_000, 170_000)]));
         // Arriving before 50 s: may stay until 50 s, not beyond.
         assert_eq!(
-            s.node_slot(NodeId(0), 40_000),
+            s.node_slot(NodeId(0), Instant(40_000)),
             NodeSlot::Safe {
-                lo: NEG_INF,
-                hi: 50_000,
-                next: 50_000
+                lo: Instant::NEG_INF,
+                hi: Instant(50_000),
+                next: Instant(50_000)
             }
         );
         // Arriving at 50 s: the later interval, from 50 s on.
         assert_eq!(
-            s.node_slot(NodeId(0), 50_000),
+            s.node_slot(NodeId(0), Instant(50_000)),
             NodeSlot::Safe {
-                lo: 50_000,
-                hi: INF,
-                next: INF
+                lo: Instant(50_000),
+                hi: Instant::INF,
+                next: Instant::INF
             }
         );
     }
@@ -557,22 +602,19 @@ mod tests {
         let mut s = schedule(&exclusive, &[]);
         s.insert(&a, 1, &plan1);
         // Same direction: no entry in (−120 s, 120 s).
-        assert_eq!(
-            s.edge_free_run(EdgeId(0), 0, -200_000),
-            (-200_000, -120_000)
-        );
-        assert_eq!(s.edge_free_run(EdgeId(0), 0, -119_999), (120_000, INF));
+        assert_eq!(run(&s, Dir::Forward, -200_000), (-200_000, -120_000));
+        assert_eq!(run(&s, Dir::Forward, -119_999), (120_000, INF));
         // Opposite direction: the same under `exclusive`.
-        assert_eq!(s.edge_free_run(EdgeId(0), 1, 1), (120_000, INF));
+        assert_eq!(run(&s, Dir::Backward, 1), (120_000, INF));
         let headway = FlightParams {
             edge_rule: EdgeRule::Headway(Millis(5_000)),
             ..exclusive
         };
         let mut s = schedule(&headway, &[]);
         s.insert(&a, 1, &plan1);
-        assert_eq!(s.edge_free_run(EdgeId(0), 0, 1), (5_000, INF));
-        assert_eq!(s.edge_free_run(EdgeId(0), 0, -10_000), (-10_000, -5_000));
-        assert_eq!(s.edge_free_run(EdgeId(0), 1, 1), (120_000, INF));
+        assert_eq!(run(&s, Dir::Forward, 1), (5_000, INF));
+        assert_eq!(run(&s, Dir::Forward, -10_000), (-10_000, -5_000));
+        assert_eq!(run(&s, Dir::Backward, 1), (120_000, INF));
         let zero = FlightParams {
             edge_rule: EdgeRule::Headway(Millis::ZERO),
             ..exclusive
@@ -580,7 +622,7 @@ mod tests {
         let mut s = schedule(&zero, &[]);
         s.insert(&a, 1, &plan1);
         assert_eq!(
-            s.edge_free_run(EdgeId(0), 0, 0),
+            run(&s, Dir::Forward, 0),
             (0, INF),
             "a headway of 0 blocks nothing"
         );
@@ -606,21 +648,21 @@ mod tests {
         let s = schedule(&FlightParams::default(), &[zone]);
         // A stay at B must end before 1000 s or begin at or after 2000 s.
         assert_eq!(
-            s.node_slot(NodeId(1), 999_999),
+            s.node_slot(NodeId(1), Instant(999_999)),
             NodeSlot::Safe {
-                lo: NEG_INF,
-                hi: 999_999,
-                next: 2_000_000
+                lo: Instant::NEG_INF,
+                hi: Instant(999_999),
+                next: Instant(2_000_000)
             }
         );
         assert_eq!(
-            s.node_slot(NodeId(1), 1_000_000),
+            s.node_slot(NodeId(1), Instant(1_000_000)),
             NodeSlot::Blocked {
-                next_free: 2_000_000
+                next_free: Instant(2_000_000)
             }
         );
         // A traversal [s, s + 120 s] must end before 1000 s or start at or after 2000 s.
-        assert_eq!(s.edge_free_run(EdgeId(0), 0, 0), (0, 879_999));
-        assert_eq!(s.edge_free_run(EdgeId(0), 1, 880_000), (2_000_000, INF));
+        assert_eq!(run(&s, Dir::Forward, 0), (0, 879_999));
+        assert_eq!(run(&s, Dir::Backward, 880_000), (2_000_000, INF));
     }
 }

@@ -1,14 +1,51 @@
-//! Labels, their dominance, and the search's reusable memory.
+//! Labels: families of partial plans (see the module docs of [`super`]), how they are made,
+//! their priority and their dominance.
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
+use muse_model::{EdgeId, Instant, Millis, NodeId};
 
-/// "No label" in parent, edge and list links.
-pub(super) const NONE: u32 = u32::MAX;
+use crate::time::Unbounded;
 
-/// The `lo` of the ground state of a station (SPEC §12: on the ground between legs), below
-/// every safe interval's `lo`.
-pub(super) const GROUND: i64 = i64::MIN;
+/// The index of a label in a search's labels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub(super) struct LabelId(pub(super) u32);
+
+impl LabelId {
+    /// No label: the parent of a search's first labels and of a take-off's, the end of a
+    /// state's list, the owner of a label that is not a continuation.
+    pub const NONE: LabelId = LabelId(u32::MAX);
+
+    /// Whether this is [`LabelId::NONE`].
+    #[inline]
+    pub fn is_none(self) -> bool {
+        self == LabelId::NONE
+    }
+}
+
+/// The edge of a label that was not flown to (a search's first labels, landings and
+/// take-offs).
+pub(super) const NO_EDGE: EdgeId = EdgeId(u32::MAX);
+
+/// The `lo` of the ground state of a station (SPEC §12: on the ground between legs). Not a
+/// time: the key of that state, below every safe interval's `lo` (which is at least
+/// `Instant::NEG_INF`).
+pub(super) const GROUND: Instant = Instant(i64::MIN);
+
+/// A safe interval `[lo, hi]` of a node: with the node, the state a label is in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Interval {
+    pub lo: Instant,
+    pub hi: Instant,
+}
+
+/// A move along a corridor: the edge flown, the node reached, the arrival there and the safe
+/// interval of the node it arrives in.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Hop {
+    pub via: EdgeId,
+    pub to: NodeId,
+    pub arrive: Instant,
+    pub state: Interval,
+}
 
 /// One label (see the module docs of [`super`]): a family of partial plans with members
 /// `x ∈ [0, slack]`: arrival `arrive + x`, current leg's take-off `takeoff + x`, first
@@ -17,49 +54,184 @@ pub(super) const GROUND: i64 = i64::MIN;
 /// is `first` and its `slack` is `rho`.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Label {
-    pub node: u32,
+    pub node: NodeId,
     pub legs: u32,
     pub ground: bool,
     pub dead: bool,
     /// The safe interval of the state (`GROUND` for a ground label).
-    pub lo: i64,
-    pub hi: i64,
-    pub arrive: i64,
-    pub takeoff: i64,
-    pub slack: i64,
-    pub first: i64,
-    pub rho: i64,
-    /// Parent label and the edge flown from it (`NONE` at the start of the search and after
-    /// a take-off).
-    pub parent: u32,
-    pub via: u32,
+    pub lo: Instant,
+    pub hi: Instant,
+    pub arrive: Instant,
+    pub takeoff: Instant,
+    pub slack: Millis,
+    pub first: Instant,
+    pub rho: Millis,
+    /// Parent label (`NONE` at the start of the search and after a take-off) and the edge
+    /// flown from it (`NO_EDGE` when none was).
+    pub parent: LabelId,
+    pub via: EdgeId,
     /// Next label of the same state (linked list), or `NONE`.
-    pub next_in_state: u32,
+    pub next_in_state: LabelId,
     /// For a *continuation* (the later members of a label, queued apart so that their
     /// successors are generated lazily): the label held in the state list whose death is
     /// theirs. `NONE` for a label in the state list.
-    pub alias: u32,
+    pub alias: LabelId,
 }
 
 impl Label {
+    /// The state of every ground label.
+    const ON_GROUND: Interval = Interval {
+        lo: GROUND,
+        hi: Instant::INF,
+    };
+
+    /// A search's first label on the ground: take-offs from `origin` at `from + x` for
+    /// `x ∈ [0, slack]`, into its safe interval `state`, each the first take-off of the trip.
+    pub fn take_offs(origin: NodeId, state: Interval, from: Instant, slack: Millis) -> Label {
+        Label {
+            node: origin,
+            legs: 1,
+            ground: false,
+            dead: false,
+            lo: state.lo,
+            hi: state.hi,
+            arrive: from,
+            takeoff: from,
+            slack,
+            first: from,
+            rho: slack,
+            parent: LabelId::NONE,
+            via: NO_EDGE,
+            next_in_state: LabelId::NONE,
+            alias: LabelId::NONE,
+        }
+    }
+
+    /// A search's first label in the air: one member, arriving at `node` at `at` in its safe
+    /// interval `state`, its leg (the `legs`-th) having taken off at `leg_takeoff` and the
+    /// trip at `first`.
+    pub fn in_flight(
+        node: NodeId,
+        state: Interval,
+        at: Instant,
+        leg_takeoff: Instant,
+        first: Instant,
+        legs: u32,
+    ) -> Label {
+        Label {
+            takeoff: leg_takeoff,
+            slack: Millis::ZERO,
+            first,
+            rho: Millis::ZERO,
+            legs,
+            ..Label::take_offs(node, state, at, Millis::ZERO)
+        }
+    }
+
+    /// A search's first label between legs: one member, on the ground at station `node`,
+    /// free to take off from `ready`, after `legs` legs of a trip that first took off at
+    /// `first`.
+    pub fn between_legs(node: NodeId, ready: Instant, first: Instant, legs: u32) -> Label {
+        Label {
+            ground: true,
+            ..Label::in_flight(node, Label::ON_GROUND, ready, first, first, legs)
+        }
+    }
+
+    /// The successor of airborne label `self` (whose id is `parent`) that enters the corridor
+    /// of `hop` at `s`: the member arriving at `s` (or, when every member arrives earlier,
+    /// the last one, hovering until then), and with it, while there are later members, those
+    /// entering by `last` without hovering.
+    pub fn flown(&self, parent: LabelId, hop: Hop, s: Instant, last: Instant) -> Label {
+        debug_assert!(!self.ground && s >= self.arrive && last >= s);
+        let x = s - self.arrive;
+        let (takeoff, slack, first, rho) = if x < self.slack {
+            let slack = last.min(self.arrive + self.slack) - s;
+            let rho = (self.rho - x).clamp(Millis::ZERO, slack);
+            (self.takeoff + x, slack, self.first + x.min(self.rho), rho)
+        } else {
+            let none = Millis::ZERO;
+            (self.takeoff + self.slack, none, self.first + self.rho, none)
+        };
+        Label {
+            node: hop.to,
+            legs: self.legs,
+            ground: false,
+            dead: false,
+            lo: hop.state.lo,
+            hi: hop.state.hi,
+            arrive: hop.arrive,
+            takeoff,
+            slack,
+            first,
+            rho,
+            parent,
+            via: hop.via,
+            next_in_state: LabelId::NONE,
+            alias: LabelId::NONE,
+        }
+    }
+
+    /// Airborne label `self` (whose id is `parent`) landed at its node for a battery swap,
+    /// free to take off again from `ready + x`. Only its members up to `rho` matter: later
+    /// landings take off first no later.
+    pub fn landed(&self, parent: LabelId, ready: Instant) -> Label {
+        debug_assert!(!self.ground);
+        Label {
+            ground: true,
+            lo: Label::ON_GROUND.lo,
+            hi: Label::ON_GROUND.hi,
+            arrive: ready,
+            takeoff: self.first,
+            slack: self.rho,
+            parent,
+            via: NO_EDGE,
+            next_in_state: LabelId::NONE,
+            alias: LabelId::NONE,
+            ..*self
+        }
+    }
+
+    /// Ground label `self` (whose id is `parent`) taking off on its next leg into the safe
+    /// interval `state` of its station, which holds its instant: a member for every instant
+    /// from there to the end of the interval.
+    pub fn took_off(&self, parent: LabelId, state: Interval) -> Label {
+        debug_assert!(self.ground && state.lo <= self.arrive && self.arrive <= state.hi);
+        let slack = state.hi - self.arrive;
+        Label {
+            ground: false,
+            lo: state.lo,
+            hi: state.hi,
+            takeoff: self.arrive,
+            slack,
+            rho: self.rho.min(slack),
+            legs: self.legs + 1,
+            parent,
+            via: NO_EDGE,
+            next_in_state: LabelId::NONE,
+            alias: LabelId::NONE,
+            ..*self
+        }
+    }
+
     /// The members `x ≥ dx` of an airborne label, as a label of their own.
-    pub fn later_members(&self, dx: i64) -> Label {
-        debug_assert!(!self.ground && dx > 0 && dx <= self.slack);
+    pub fn later_members(&self, dx: Millis) -> Label {
+        debug_assert!(!self.ground && dx > Millis::ZERO && dx <= self.slack);
         Label {
             arrive: self.arrive + dx,
             takeoff: self.takeoff + dx,
             slack: self.slack - dx,
             first: self.first + dx.min(self.rho),
-            rho: (self.rho - dx).max(0),
+            rho: (self.rho - dx).max(Millis::ZERO),
             ..*self
         }
     }
 
     /// A ground label's members from `dt` later on: free to take off from `arrive + dt`.
-    pub fn on_ground_later(&self, dt: i64) -> Label {
-        debug_assert!(self.ground && dt > 0);
+    pub fn on_ground_later(&self, dt: Millis) -> Label {
+        debug_assert!(self.ground && dt > Millis::ZERO);
         let first = self.first + dt.min(self.rho);
-        let rho = (self.rho - dt).max(0);
+        let rho = (self.rho - dt).max(Millis::ZERO);
         Label {
             arrive: self.arrive + dt,
             takeoff: first,
@@ -71,152 +243,35 @@ impl Label {
     }
 }
 
-/// A state met in a search: a node's safe interval (or its ground) and its labels, as a
-/// list linked through [`Label::next_in_state`].
-#[derive(Clone, Copy, Debug)]
-struct State {
-    lo: i64,
-    head: u32,
-    tail: u32,
+/// The priority of a label (see the module docs of [`super`]): the earliest landing it can
+/// lead to first, then the latest first take-off, then the fewest legs ([`Key::rank`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Key {
+    /// The earliest landing the label can lead to: its arrival plus the remaining time.
+    pub landing: Instant,
+    /// The label's first take-off.
+    pub first: Instant,
+    /// The legs begun.
+    pub legs: u32,
 }
 
-/// The priority of a label: `(arrival + remaining, −first take-off, legs)`, smallest first.
-pub(super) type Key = (i64, i64, u32);
-
-/// Reusable per-thread search memory: after the first few requests, planning allocates
-/// nothing.
-#[derive(Debug, Default)]
-pub struct Scratch {
-    pub(super) labels: Vec<Label>,
-    pub(super) heap: BinaryHeap<Reverse<(Key, u32)>>,
-    /// Per node: the states met in this search, sorted by `lo`.
-    states: Vec<Vec<State>>,
-    touched: Vec<u32>,
-    /// Labels whose key passes this are never queued (the search's deadline).
-    pub(super) deadline: i64,
-    /// The leg that may not land where it took off ([`super::Swaps::no_return_legs`]).
-    no_return_legs: u32,
-    /// Labels expanded by the last search.
-    pub expanded: u64,
-}
-
-impl Scratch {
-    /// Empty scratch space; it grows to fit the airspace on first use.
-    pub fn new() -> Self {
-        Scratch::default()
+impl Key {
+    /// The priority of label `l` from which at least `remaining` is still to fly.
+    #[inline]
+    pub fn of(l: &Label, remaining: Millis) -> Key {
+        Key {
+            landing: l.arrive + remaining,
+            first: l.first,
+            legs: l.legs,
+        }
     }
 
-    pub(super) fn reset(&mut self, node_count: usize, deadline: i64, no_return_legs: u32) {
-        self.deadline = deadline;
-        self.no_return_legs = no_return_legs;
-        self.labels.clear();
-        self.heap.clear();
-        if self.states.len() < node_count {
-            self.states.resize_with(node_count, Vec::new);
-        }
-        for &n in &self.touched {
-            self.states[n as usize].clear();
-        }
-        self.touched.clear();
-        self.expanded = 0;
-    }
-
-    /// Whether label `idx` (or, for a continuation, the label it belongs to) is dominated.
-    pub(super) fn is_dead(&self, idx: u32) -> bool {
-        let l = &self.labels[idx as usize];
-        l.dead || (l.alias != NONE && self.labels[l.alias as usize].dead)
-    }
-
-    /// Adds a label unless an existing label of its state dominates it; marks the labels it
-    /// dominates dead; queues it with `key`.
-    ///
-    /// A state's labels are listed oldest first: labels are pushed in roughly increasing key
-    /// order, so an older label is the likelier to dominate a new one, and is met first.
-    pub(super) fn push(&mut self, label: Label, key: Key) {
-        if key.0 > self.deadline {
-            return;
-        }
-        let node = label.node as usize;
-        let states = &mut self.states[node];
-        // States are kept sorted by `lo`; new ones usually go last.
-        let k = states.partition_point(|s| s.lo < label.lo);
-        let idx = self.labels.len() as u32;
-        if states.get(k).is_some_and(|s| s.lo == label.lo) {
-            if self.dominated_in(node, k, &label) {
-                return;
-            }
-            let tail = std::mem::replace(&mut self.states[node][k].tail, idx);
-            if tail == NONE {
-                self.states[node][k].head = idx;
-            } else {
-                self.labels[tail as usize].next_in_state = idx;
-            }
-        } else {
-            if states.is_empty() {
-                self.touched.push(label.node);
-            }
-            states.insert(
-                k,
-                State {
-                    lo: label.lo,
-                    head: idx,
-                    tail: idx,
-                },
-            );
-        }
-        self.labels.push(Label {
-            next_in_state: NONE,
-            ..label
-        });
-        self.heap.push(Reverse((key, idx)));
-    }
-
-    /// Whether a label of state `k` of `node` dominates `label`; marks dead those `label`
-    /// dominates and unlinks every dead label met, so that lists stay short.
-    fn dominated_in(&mut self, node: usize, k: usize, label: &Label) -> bool {
-        let r = self.no_return_legs;
-        let mut prev = NONE;
-        let mut i = self.states[node][k].head;
-        let mut dominated = false;
-        while i != NONE {
-            let s = &mut self.labels[i as usize];
-            let next = s.next_in_state;
-            if !s.dead && !dominated && dominates(s, label, r) {
-                dominated = true;
-            } else if !s.dead && !dominated && dominates(label, s, r) {
-                s.dead = true;
-            }
-            if s.dead {
-                // Unlink: a dead label never dominates again (its continuations check its
-                // flag, not the list).
-                if prev == NONE {
-                    self.states[node][k].head = next;
-                } else {
-                    self.labels[prev as usize].next_in_state = next;
-                }
-            } else {
-                prev = i;
-            }
-            i = next;
-        }
-        self.states[node][k].tail = prev;
-        dominated
-    }
-
-    /// Queues the continuation `label` of label `of` (not in any state list: `of` stands for
-    /// it in dominance).
-    pub(super) fn push_continuation(&mut self, of: u32, label: Label, key: Key) {
-        if key.0 > self.deadline {
-            return;
-        }
-        let idx = self.labels.len() as u32;
-        let owner = self.labels[of as usize].alias;
-        self.labels.push(Label {
-            alias: if owner == NONE { of } else { owner },
-            next_in_state: NONE,
-            ..label
-        });
-        self.heap.push(Reverse((key, idx)));
+    /// The key as plain integers, smallest first: landing, then the first take-off negated
+    /// (later first), then legs. The queue compares these on every sift, where plain integers
+    /// compare fastest.
+    #[inline]
+    pub fn rank(self) -> (i64, i64, u32) {
+        (self.landing.0, -self.first.0, self.legs)
     }
 }
 
@@ -231,7 +286,7 @@ impl Scratch {
 /// and is no worse in arrival and battery for every `x` exactly when the first three
 /// conditions hold, and no worse in first take-off when [`first_no_earlier`] holds.
 #[inline]
-fn dominates(s: &Label, n: &Label, r: u32) -> bool {
+pub(super) fn dominates(s: &Label, n: &Label, r: u32) -> bool {
     n.arrive >= s.arrive
         && n.arrive - n.takeoff >= s.arrive - s.takeoff
         && n.takeoff + n.slack <= s.takeoff + s.slack
@@ -246,8 +301,8 @@ fn dominates(s: &Label, n: &Label, r: u32) -> bool {
 #[inline]
 fn first_no_earlier(s: &Label, n: &Label) -> bool {
     let gap = n.arrive - s.arrive;
-    let ok = |x: i64| s.first + s.rho.min(gap + x) >= n.first + x.min(n.rho);
-    ok(0) && ok(n.slack) && ok(n.rho) && ok((s.rho - gap).clamp(0, n.slack))
+    let ok = |x: Millis| s.first + s.rho.min(gap + x) >= n.first + x.min(n.rho);
+    ok(Millis::ZERO) && ok(n.slack) && ok(n.rho) && ok((s.rho - gap).clamp(Millis::ZERO, n.slack))
 }
 
 #[cfg(test)]
@@ -256,28 +311,28 @@ mod tests {
 
     fn label(arrive: i64, takeoff: i64, slack: i64, first: i64, rho: i64, legs: u32) -> Label {
         Label {
-            node: 0,
+            node: NodeId(0),
             legs,
             ground: false,
             dead: false,
-            lo: 0,
-            hi: 1_000,
-            arrive,
-            takeoff,
-            slack,
-            first,
-            rho,
-            parent: NONE,
-            via: NONE,
-            next_in_state: NONE,
-            alias: NONE,
+            lo: Instant(0),
+            hi: Instant(1_000),
+            arrive: Instant(arrive),
+            takeoff: Instant(takeoff),
+            slack: Millis(slack),
+            first: Instant(first),
+            rho: Millis(rho),
+            parent: LabelId::NONE,
+            via: NO_EDGE,
+            next_in_state: LabelId::NONE,
+            alias: LabelId::NONE,
         }
     }
 
     /// Brute force over whole members: every member of `n` has a member of `s` no worse.
     fn dominates_by_members(s: &Label, n: &Label) -> bool {
-        (0..=n.slack).all(|x| {
-            (0..=s.slack).any(|y| {
+        (0..=n.slack.0).map(Millis).all(|x| {
+            (0..=s.slack.0).map(Millis).any(|y| {
                 s.arrive + y <= n.arrive + x
                     && s.takeoff + y >= n.takeoff + x
                     && s.first + y.min(s.rho) >= n.first + x.min(n.rho)
@@ -323,19 +378,131 @@ mod tests {
     #[test]
     fn later_members_and_later_on_the_ground() {
         let l = label(10, 4, 6, 2, 3, 1);
-        let m = l.later_members(4);
+        let m = l.later_members(Millis(4));
         assert_eq!(
-            (m.arrive, m.takeoff, m.slack, m.first, m.rho),
+            (m.arrive.0, m.takeoff.0, m.slack.0, m.first.0, m.rho.0),
             (14, 8, 2, 5, 0)
         );
         let g = Label {
             ground: true,
             ..label(10, 2, 3, 2, 3, 2)
         };
-        let h = g.on_ground_later(2);
+        let h = g.on_ground_later(Millis(2));
         assert_eq!(
-            (h.arrive, h.takeoff, h.slack, h.first, h.rho),
+            (h.arrive.0, h.takeoff.0, h.slack.0, h.first.0, h.rho.0),
             (12, 4, 1, 4, 1)
+        );
+    }
+
+    /// Member `x` of a label: its arrival, its leg's take-off and its first take-off, in ms.
+    fn member(l: &Label, x: i64) -> (i64, i64, i64) {
+        let x = Millis(x);
+        (
+            (l.arrive + x).0,
+            (l.takeoff + x).0,
+            (l.first + x.min(l.rho)).0,
+        )
+    }
+
+    /// `(arrive, takeoff, slack, first, rho)` in ms.
+    fn timing(l: &Label) -> (i64, i64, i64, i64, i64) {
+        (l.arrive.0, l.takeoff.0, l.slack.0, l.first.0, l.rho.0)
+    }
+
+    #[test]
+    fn a_flown_label_holds_the_members_that_leave_at_its_entries() {
+        let w = 10;
+        let hop = |s: i64| Hop {
+            via: EdgeId(5),
+            to: NodeId(1),
+            arrive: Instant(s + w),
+            state: Interval {
+                lo: Instant(0),
+                hi: Instant(1_000),
+            },
+        };
+        let mut checked = 0;
+        for (slack, rho) in [(0, 0), (3, 1), (5, 5), (6, 2)] {
+            let l = label(10, 4, slack, 2, rho, 2);
+            for s in 10..20 {
+                for last in s..22 {
+                    let c = l.flown(LabelId(7), hop(s), Instant(s), Instant(last));
+                    assert_eq!(
+                        (c.node, c.legs, c.parent, c.via, c.ground),
+                        (NodeId(1), 2, LabelId(7), EdgeId(5), false)
+                    );
+                    // Every member leaves in [s, last] without hovering, unless the
+                    // parent's members all arrived before `s`.
+                    let expected = if s - 10 < slack {
+                        last.min(10 + slack) - s
+                    } else {
+                        0
+                    };
+                    assert_eq!(c.slack.0, expected, "{l:?} s {s} last {last}");
+                    for y in 0..=c.slack.0 {
+                        // The parent's member that arrives last by the departure `s + y`.
+                        let x = (s + y - 10).min(slack);
+                        let (_, takeoff, first) = member(&l, x);
+                        assert_eq!(
+                            member(&c, y),
+                            (s + y + w, takeoff, first),
+                            "{l:?} s {s} last {last} member {y}"
+                        );
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked > 500);
+    }
+
+    #[test]
+    fn first_labels_are_the_starts_they_name() {
+        let state = Interval {
+            lo: Instant(-5),
+            hi: Instant(50),
+        };
+        let g = Label::take_offs(NodeId(3), state, Instant(10), Millis(4));
+        assert_eq!(timing(&g), (10, 10, 4, 10, 4));
+        assert_eq!(
+            (g.node, g.legs, g.ground, g.lo, g.hi),
+            (NodeId(3), 1, false, state.lo, state.hi)
+        );
+        assert!(g.parent.is_none() && g.alias.is_none() && g.via == NO_EDGE);
+        let a = Label::in_flight(NodeId(3), state, Instant(30), Instant(12), Instant(8), 2);
+        assert_eq!(timing(&a), (30, 12, 0, 8, 0));
+        assert_eq!((a.legs, a.ground), (2, false));
+        let b = Label::between_legs(NodeId(3), Instant(30), Instant(8), 2);
+        assert_eq!(timing(&b), (30, 8, 0, 8, 0));
+        assert_eq!(
+            (b.legs, b.ground, b.lo, b.hi),
+            (2, true, GROUND, Instant::INF)
+        );
+    }
+
+    #[test]
+    fn landing_and_taking_off_keep_each_members_first_take_off() {
+        let l = label(10, 4, 6, 2, 3, 1);
+        // Ready 15 after landing: members up to `rho` (later landings take off first no later).
+        let g = l.landed(LabelId(3), Instant(25));
+        assert_eq!(timing(&g), (25, 2, 3, 2, 3));
+        assert_eq!(
+            (g.ground, g.lo, g.parent, g.legs),
+            (true, GROUND, LabelId(3), 1)
+        );
+        let up = g.took_off(
+            LabelId(4),
+            Interval {
+                lo: Instant(20),
+                hi: Instant(27),
+            },
+        );
+        // Take-offs from 25 to the end of the interval, 27; the first take-off slides with
+        // them up to `rho`.
+        assert_eq!(timing(&up), (25, 25, 2, 2, 2));
+        assert_eq!(
+            (up.ground, up.lo, up.legs, up.parent),
+            (false, Instant(20), 2, LabelId(4))
         );
     }
 }

@@ -4,7 +4,8 @@
 //! # States and labels
 //!
 //! A *state* is a node together with one of its safe intervals `[lo, hi]` (a maximal run of
-//! instants at which the node is free, from [`Schedule::node_slot`]). A drone in a state may
+//! instants at which the node is free, from
+//! [`Schedule::node_slot`](crate::schedule::Schedule::node_slot)). A drone in a state may
 //! hover anywhere inside the interval, so arriving earlier is never worse — *for the same
 //! take-off time*. With a battery limit and ground delay, a later take-off can matter more
 //! than an earlier arrival, so a state keeps every label that is not dominated.
@@ -22,8 +23,9 @@
 //!
 //! From a label at node `u` (interval `[lo_u, hi_u]`) along edge `e` to `v` (traversal `w`),
 //! the drone enters `e` at some `s` with `a ≤ s ≤ hi_u` (it hovers at `u` until then) at
-//! which entry is allowed ([`Schedule::edge_free_run`]), arriving at `s + w` inside a safe
-//! interval `J` of `v`. For departure `s`, the best member is the one that arrives at `u`
+//! which entry is allowed
+//! ([`Schedule::edge_free_run`](crate::schedule::Schedule::edge_free_run)), arriving at
+//! `s + w` inside a safe interval `J` of `v`. For departure `s`, the best member is the one that arrives at `u`
 //! last, no later than `s`: take-off `t₀ + min(σ, s − a)`. So for each run of allowed entries
 //! that lands in `J`, the successors are one slope-1 label (no hovering, later take-off) while
 //! `s < a + σ`, and one point label for the first allowed `s ≥ a + σ`; later entries landing
@@ -42,6 +44,15 @@
 //! different stations; landing back would only lift the ground-delay bound). The dominance
 //! rule gains two conditions: no more legs, and a first take-off no earlier for every member
 //! (`label.rs`).
+//!
+//! # Files
+//!
+//! `problem.rs` holds what a search is asked (start, goal, heuristic, swaps, deadline);
+//! `label.rs` the labels, their named constructors (a search's first labels, and each kind of
+//! successor), their priority and their dominance; `scratch.rs` the search's reusable memory
+//! (labels, states, queue); `search.rs` the loop, as a small struct whose steps are named
+//! (`seed`, `settle`, `expand`, `split_off_later_members`), and the plan's reconstruction;
+//! `expand.rs` the successors (`fly`, `land`, `take_off`).
 //!
 //! A label with a long slack (a take-off from the ground, or a wide ground-delay window) would
 //! generate a successor for every free run of every corridor up to the end of its interval,
@@ -62,353 +73,11 @@
 //! SPEC §6 (and §12) objective.
 
 mod expand;
-pub(crate) mod label;
+mod label;
+mod problem;
+mod scratch;
+mod search;
 
-use std::cmp::Reverse;
-
-use muse_model::{Airspace, EdgeId, FlightParams, Instant, NodeId, Plan, Stay};
-
-use crate::heuristic::UNREACHABLE;
-use crate::heuristic::swaps::SwapTable;
-use crate::schedule::{INF, NodeSlot, Schedule};
-use label::{GROUND, Key, Label, NONE};
-
-pub use label::Scratch;
-
-/// The remaining time still to fly, the search's heuristic.
-#[derive(Clone, Copy)]
-pub(crate) enum Remaining<'a> {
-    /// Single legs: the free-flow time to the goal per node (`UNREACHABLE` if none).
-    Single(&'a [i64]),
-    /// With battery swaps: the multi-leg tables of the destination.
-    Swaps(&'a SwapTable),
-}
-
-impl Remaining<'_> {
-    /// The most the current leg may have flown on reaching `v` and still finish.
-    #[inline]
-    fn max_used(self, v: NodeId, t_max: i64) -> i64 {
-        match self {
-            Remaining::Single(h) => match h[v.index()] {
-                UNREACHABLE => i64::MIN,
-                h => t_max - h,
-            },
-            Remaining::Swaps(t) => t.max_used(v),
-        }
-    }
-
-    /// The remaining time from `v` after `used` ms of the leg (`used ≤ max_used(v)`).
-    #[inline]
-    fn at(self, v: NodeId, used: i64) -> i64 {
-        match self {
-            Remaining::Single(h) => h[v.index()],
-            Remaining::Swaps(t) => t.remaining(v, used),
-        }
-    }
-
-    /// The remaining time from the ground at station `v` (swaps only).
-    #[inline]
-    fn on_ground(self, v: NodeId) -> i64 {
-        match self {
-            Remaining::Single(_) => UNREACHABLE,
-            Remaining::Swaps(t) => t.trip_from_ground(v),
-        }
-    }
-}
-
-/// Battery swaps as the search applies them (SPEC §12).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Swaps {
-    /// Minimum time on the ground between legs, ms.
-    pub time: i64,
-    /// Most legs a trip may have.
-    pub max_legs: u32,
-    /// A leg may not land where it took off: the station the search's first leg takes off
-    /// from (the trip's origin for a new trip), which the `no_return_legs`-th leg may not land
-    /// at. Later legs never gain by landing back (waiting on the ground is better), so only
-    /// that one leg needs the rule.
-    pub no_return: NodeId,
-    /// The leg the rule binds.
-    pub no_return_legs: u32,
-}
-
-/// What a search needs besides the schedule.
-#[derive(Clone, Copy)]
-pub(crate) struct Problem<'a> {
-    pub airspace: &'a Airspace,
-    pub params: &'a FlightParams,
-    /// The heuristic (it must match `swaps`: `Swaps` tables exactly when swaps are on).
-    pub remaining: Remaining<'a>,
-    /// Battery swaps, if the drone may land between legs.
-    pub swaps: Option<Swaps>,
-    /// The latest landing allowed (`INF`: none).
-    pub deadline: i64,
-}
-
-impl Problem<'_> {
-    /// Members of a label beyond this slack are expanded lazily, as a continuation: half a
-    /// battery, so that single legs with a ground delay of up to `T_max / 2` are never split.
-    fn split(&self) -> i64 {
-        (self.params.max_flight.0 / 2).max(1)
-    }
-}
-
-/// Where a search starts.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Start {
-    /// On the ground at `origin`, taking off at any instant of `[earliest, latest]`.
-    Ground {
-        origin: NodeId,
-        earliest: i64,
-        latest: i64,
-    },
-    /// In the air: arriving at `node` at instant `at` (fixed), the current leg (the
-    /// `legs`-th) having taken off at `takeoff` and the trip at `first` (SPEC §11: an airborne
-    /// flight replanned from the first node it reaches).
-    Airborne {
-        node: NodeId,
-        at: i64,
-        takeoff: i64,
-        first: i64,
-        legs: u32,
-    },
-    /// On the ground at station `node` between legs, free to take off from `at`, after
-    /// `legs` legs of a trip that first took off at `first`.
-    Landed {
-        node: NodeId,
-        at: i64,
-        first: i64,
-        legs: u32,
-    },
-}
-
-/// Where a search may end.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Goal {
-    /// Landing at this station.
-    Node(NodeId),
-    /// Landing at any station: the earliest landing, ties to the lowest node index
-    /// (SPEC §11 diversion).
-    AnyStation,
-}
-
-/// Plans from `start` to `goal` against `schedule`: the earliest landing, then the latest
-/// first take-off, then the fewest legs; `None` if no plan exists. `scratch.expanded` counts
-/// the labels expanded. (Whether the goal is reachable or in range at all is the caller's
-/// question: a search only finds out that nothing fits.)
-pub(crate) fn search(
-    p: Problem<'_>,
-    schedule: &Schedule,
-    start: Start,
-    goal: Goal,
-    scratch: &mut Scratch,
-) -> Option<Plan> {
-    let no_return_legs = p.swaps.map_or(0, |s| s.no_return_legs);
-    scratch.reset(p.airspace.node_count(), p.deadline, no_return_legs);
-    seed(p, schedule, start, scratch);
-    let is_goal = |l: &Label| {
-        !l.ground
-            && match goal {
-                Goal::Node(d) => l.node == d.0,
-                Goal::AnyStation => p.airspace.is_station(NodeId(l.node)),
-            }
-    };
-    let split = p.split();
-    let mut found: Option<u32> = None;
-    while let Some(Reverse(((key, _, _), idx))) = scratch.heap.pop() {
-        if scratch.is_dead(idx) {
-            continue;
-        }
-        if key > p.deadline {
-            // Keys never decrease: nothing left can land in time.
-            break;
-        }
-        let label = scratch.labels[idx as usize];
-        if let Some(best) = found {
-            // Any station: other labels with the same key may land as early at a station
-            // of lower index; past that key nothing can.
-            if key > scratch.labels[best as usize].arrive {
-                break;
-            }
-            if is_goal(&label) && label.arrive == key {
-                if label.node < scratch.labels[best as usize].node {
-                    found = Some(idx);
-                }
-                continue;
-            }
-        } else if is_goal(&label) {
-            found = Some(idx);
-            if matches!(goal, Goal::Node(_)) {
-                break;
-            }
-            continue;
-        }
-        scratch.expanded += 1;
-        if label.ground {
-            expand::take_off(p, schedule, scratch, idx, &label);
-            continue;
-        }
-        // Members from the instant the schedule stops changing on are only later copies of the
-        // member there: no continuation past it (it would never end on an open interval).
-        let cap = if label.slack > split && label.arrive + split <= schedule.quiet_from() {
-            let later = label.later_members(split);
-            let key = key_of(p, &later);
-            scratch.push_continuation(idx, later, key);
-            label.arrive + split - 1
-        } else {
-            INF
-        };
-        expand::fly(p, schedule, scratch, idx, &label, cap);
-        // A leg that has not left the station it took off from gains nothing by landing
-        // there again: the ground label it took off from stands for that landing already.
-        let just_took_off = label.parent != NONE && scratch.labels[label.parent as usize].ground;
-        if !just_took_off {
-            expand::land(p, scratch, idx, &label);
-        }
-    }
-    found.map(|idx| reconstruct(schedule, &scratch.labels, idx))
-}
-
-/// The priority of an airborne label (see the module docs).
-#[inline]
-fn key_of(p: Problem<'_>, l: &Label) -> Key {
-    let h = p.remaining.at(NodeId(l.node), l.arrive - l.takeoff);
-    (l.arrive + h, -l.first, l.legs)
-}
-
-/// Queues the labels a search starts from.
-fn seed(p: Problem<'_>, schedule: &Schedule, start: Start, scratch: &mut Scratch) {
-    let t_max = p.params.max_flight.0;
-    match start {
-        // Take-off: any instant of [earliest, latest] at which the origin is free. Each safe
-        // interval of the origin met gives one label whose members are the take-off instants.
-        Start::Ground {
-            origin,
-            earliest,
-            latest,
-        } => {
-            if p.remaining.max_used(origin, t_max) < 0 {
-                return;
-            }
-            let mut t = earliest;
-            while t <= latest {
-                match schedule.node_slot(origin, t) {
-                    NodeSlot::Blocked { next_free } => t = next_free,
-                    NodeSlot::Safe { lo, hi, next } => {
-                        let slack = hi.min(latest) - t;
-                        let root = root(origin, (lo, hi), (t, t, slack), (t, slack), 1);
-                        scratch.push(root, key_of(p, &root));
-                        t = next;
-                    }
-                }
-            }
-        }
-        // In the air the arrival is fixed: one point label, if the node is free then.
-        Start::Airborne {
-            node,
-            at,
-            takeoff,
-            first,
-            legs,
-        } => {
-            if at - takeoff > p.remaining.max_used(node, t_max) {
-                return;
-            }
-            if let NodeSlot::Safe { lo, hi, .. } = schedule.node_slot(node, at) {
-                let root = root(node, (lo, hi), (at, takeoff, 0), (first, 0), legs);
-                scratch.push(root, key_of(p, &root));
-            }
-        }
-        Start::Landed {
-            node,
-            at,
-            first,
-            legs,
-        } => {
-            let g = p.remaining.on_ground(node);
-            let more = p.swaps.is_some_and(|s| legs < s.max_legs);
-            if g != UNREACHABLE && more {
-                let label = Label {
-                    ground: true,
-                    lo: GROUND,
-                    hi: INF,
-                    ..root(node, (GROUND, INF), (at, first, 0), (first, 0), legs)
-                };
-                scratch.push(label, (at + g, -first, legs));
-            }
-        }
-    }
-}
-
-/// A label with no parent: `interval` `(lo, hi)`, `timing` `(arrive, takeoff, slack)`,
-/// `first` `(first, rho)`.
-fn root(
-    node: NodeId,
-    interval: (i64, i64),
-    timing: (i64, i64, i64),
-    first: (i64, i64),
-    legs: u32,
-) -> Label {
-    Label {
-        node: node.0,
-        legs,
-        ground: false,
-        dead: false,
-        lo: interval.0,
-        hi: interval.1,
-        arrive: timing.0,
-        takeoff: timing.1,
-        slack: timing.2,
-        first: first.0,
-        rho: first.1.min(timing.2),
-        parent: NONE,
-        via: NONE,
-        next_in_state: NONE,
-        alias: NONE,
-    }
-}
-
-/// Builds the plan of the earliest member of goal label `goal`. Within a leg every ancestor
-/// contributes the member with the same leg take-off; across a swap, the landing member with
-/// the same first take-off (the earliest such landing).
-fn reconstruct(schedule: &Schedule, labels: &[Label], goal: u32) -> Plan {
-    let first = labels[goal as usize].first;
-    let mut leg_takeoff = labels[goal as usize].takeoff;
-    let mut depart = labels[goal as usize].arrive;
-    let mut path = Vec::new();
-    let mut idx = goal;
-    loop {
-        let l = &labels[idx as usize];
-        debug_assert!(!l.ground);
-        let x = leg_takeoff - l.takeoff;
-        debug_assert!((0..=l.slack).contains(&x), "member {x} of {l:?}");
-        let arrive = l.arrive + x;
-        path.push(Stay {
-            node: NodeId(l.node),
-            arrive: Instant(arrive),
-            depart: Instant(depart),
-        });
-        if l.parent == NONE {
-            break;
-        }
-        let parent = &labels[l.parent as usize];
-        if !parent.ground {
-            depart = arrive - schedule.traversal_ms(EdgeId(l.via));
-            idx = l.parent;
-            continue;
-        }
-        // `l` took off from the ground: back to the landing before it (none when the search
-        // started on the ground).
-        if parent.parent == NONE {
-            break;
-        }
-        let landed = &labels[parent.parent as usize];
-        let x = first - landed.first;
-        debug_assert!((0..=landed.rho).contains(&x), "member {x} of {landed:?}");
-        leg_takeoff = landed.takeoff + x;
-        depart = landed.arrive + x;
-        idx = parent.parent;
-    }
-    path.reverse();
-    Plan { path }
-}
+pub(crate) use problem::{Goal, Problem, Remaining, Start, Swaps};
+pub use scratch::Scratch;
+pub(crate) use search::search;

@@ -650,9 +650,11 @@ fn resume_case(
             goal,
             unit,
         );
-        let (got, _) = watched(&context, &request.id, || {
+        let got = watched(&context, &request.id, || {
             planner.resume(&schedule, &from, landing, &mut scratch)
-        });
+        })
+        .result
+        .ok();
         let fail = |what: String| {
             format!(
                 "{what}\nresume {} ({}→{}) {from:?} to {goal:?}\nflight's plan: {:?}\n\

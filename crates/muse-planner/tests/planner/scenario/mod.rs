@@ -460,7 +460,7 @@ pub fn run(instance: &Instance) -> Result<Tally, String> {
     for (i, request) in b.requests.iter().enumerate() {
         // As `plan_day` does: the request's departure is the horizon (exercises the skipping
         // of past reservations, and its reset when an instance is not in departure order).
-        schedule.set_horizon(request.departure.0);
+        schedule.set_horizon(request.departure);
         let outcome = watched(&context, &request.id, || {
             planner.plan(&schedule, request, &mut scratch)
         });
