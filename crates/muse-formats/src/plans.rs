@@ -44,6 +44,7 @@ use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Stay, UtcOffset}
 use serde::{Deserialize, Serialize};
 
 mod legs;
+mod line;
 mod read;
 
 pub use legs::LegLine;

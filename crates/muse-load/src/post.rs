@@ -87,31 +87,25 @@ impl Poster {
     }
 
     async fn exchange(&self, request: &[u8]) -> Result<Answer, ErrorKind> {
-        if let Some(mut connection) = self.take() {
-            match connection.exchange(request).await {
-                Ok((answer, keep)) => {
-                    if keep {
-                        self.give_back(connection);
-                    }
-                    return Ok(answer);
-                }
-                // The service closed the kept-alive connection before it read the request:
-                // send it again on a new one (a flight's id makes a resent request
-                // idempotent in any case).
-                Err(Failure::Closed) => {}
-                Err(Failure::Broken) => return Err(ErrorKind::Transport),
+        let reused = match self.take() {
+            Some(mut connection) => Some((connection.exchange(request).await, connection)),
+            None => None,
+        };
+        let (result, connection) = match reused {
+            // The service closed the kept-alive connection before it read the request: send
+            // it again on a new one (a flight's id makes a resent request idempotent in any
+            // case).
+            Some((Err(Failure::Closed), _)) | None => {
+                let mut connection = self.connect().await?;
+                (connection.exchange(request).await, connection)
             }
+            Some(done) => done,
+        };
+        let (answer, keep) = result.map_err(|_| ErrorKind::Transport)?;
+        if keep {
+            self.give_back(connection);
         }
-        let mut connection = self.connect().await?;
-        match connection.exchange(request).await {
-            Ok((answer, keep)) => {
-                if keep {
-                    self.give_back(connection);
-                }
-                Ok(answer)
-            }
-            Err(_) => Err(ErrorKind::Transport),
-        }
+        Ok(answer)
     }
 
     fn take(&self) -> Option<Connection> {

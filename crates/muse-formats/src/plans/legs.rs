@@ -20,7 +20,7 @@
 use muse_model::{Airspace, Plan, Stay, UtcOffset};
 use serde::{Deserialize, Serialize};
 
-use super::read::LineReader;
+use super::line::LineReader;
 use super::{StayLine, stay_lines};
 use crate::error::InputError;
 

@@ -7,10 +7,11 @@ use muse_model::plan::{CANCELLED_BY_OPERATOR, Fate, FateKind, ZONE_ANNOUNCED};
 use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Stay};
 
 use super::legs::PlanFields;
+use super::line::LineReader;
 use super::{
     ChangeNote, OperatorCancellation, PlanEntry, PlanItem, PlanLine, PlanRecord, StayLine,
 };
-use crate::error::{InputError, Location};
+use crate::error::InputError;
 
 /// Reads the records of a plans JSON Lines file's text: every line that holds a request's
 /// answer (planned, rejected, or changed by zone announcements). A line of a flight its
@@ -75,18 +76,7 @@ pub fn read_plan_entries(
     Ok(out)
 }
 
-/// Reads one line of a plans file, naming it in errors.
-pub(super) struct LineReader<'a> {
-    file: &'a str,
-    line_no: usize,
-    airspace: &'a Airspace,
-}
-
 impl LineReader<'_> {
-    pub(super) fn err(&self, field: Option<&str>, msg: String) -> InputError {
-        InputError::new(self.file, Location::Line(self.line_no), field, msg)
-    }
-
     /// The JSON object of a line; an unknown field, a missing one or a value of the wrong
     /// kind is named.
     pub(super) fn parse(&self, raw: &str) -> Result<PlanLine, InputError> {
