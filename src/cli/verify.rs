@@ -6,8 +6,9 @@ use std::process::ExitCode;
 use clap::{ArgMatches, Args};
 use muse_airspace::announced::KnownZones;
 use muse_formats::plans::{PlanEntry, PlanItem, read_plan_entries_file};
-use muse_model::{Millis, Request};
-use muse_verify::{Flight, verify_known_in};
+use muse_model::Millis;
+use muse_verify::recorded::Recorded;
+use muse_verify::verify_known_in;
 
 use super::common::{FlightArgs, WorldArgs};
 use super::recorded;
@@ -57,36 +58,10 @@ pub fn run(args: &VerifyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> 
     }
     let a = &world.airspace;
     let entries = read_plan_entries_file(&args.plans, a)?;
-    let file = args.plans.display().to_string();
-    let mut records = Vec::with_capacity(entries.len());
-    let mut requests = Vec::with_capacity(entries.len());
-    for e in &entries {
-        let station = |id: &str, field: &str| {
-            a.node_id(id).ok_or_else(|| {
-                anyhow::anyhow!(
-                    "{file}: line {}: field `{field}`: unknown node id `{id}`",
-                    e.line
-                )
-            })
-        };
-        let (origin, destination) = e.stations();
-        let request = Request {
-            id: e.request().to_owned(),
-            origin: station(origin, "origin")?,
-            destination: station(destination, "destination")?,
-            departure: e.requested_departure(),
-            submitted: e.requested_departure(),
-        };
-        if let Some(r) = e.record() {
-            records.push(r);
-            requests.push(request);
-        }
-    }
-    let flights: Vec<Flight<'_>> = records
-        .iter()
-        .zip(&requests)
-        .filter_map(|(r, q)| Flight::last(&r.request, q, r.result.as_ref().ok(), r.fate.as_ref()))
-        .collect();
+    let records = entries.iter().filter_map(|e| e.record().cloned()).collect();
+    let recorded =
+        Recorded::new(records, a).map_err(|e| anyhow::anyhow!("{}: {e}", args.plans.display()))?;
+    let flights = recorded.flights();
     let day = Millis::from_secs(86_400);
     let from = flights
         .iter()

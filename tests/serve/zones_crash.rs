@@ -18,7 +18,7 @@ use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant as WallInstant};
 
-use muse_model::{FlightParams, Instant, LonLat, Millis, Request, UtcOffset};
+use muse_model::{FlightParams, Instant, LonLat, Millis, UtcOffset};
 use rand::{RngExt as _, SeedableRng as _};
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
@@ -209,23 +209,8 @@ fn verify(flights: &BTreeMap<String, Value>, zones: &str) -> usize {
         }
     }
     let records = muse_formats::plans::read_plans(&text, "GET /v1/flights", airspace).unwrap();
-    let requests: Vec<Request> = records
-        .iter()
-        .map(|r| Request {
-            id: r.request.clone(),
-            origin: airspace.node_id(&r.origin).unwrap(),
-            destination: airspace.node_id(&r.destination).unwrap(),
-            departure: r.requested_departure,
-            submitted: r.requested_departure,
-        })
-        .collect();
-    let checked: Vec<muse_verify::Flight<'_>> = records
-        .iter()
-        .zip(&requests)
-        .filter_map(|(r, q)| {
-            muse_verify::Flight::last(&r.request, q, r.result.as_ref().ok(), r.fate.as_ref())
-        })
-        .collect();
+    let recorded = muse_verify::recorded::Recorded::new(records, airspace).unwrap();
+    let checked = recorded.flights();
     let zones = muse_formats::zones::read_zones(zones, "GET /v1/zones").unwrap();
     let clock = Instant::parse_rfc3339(CLOCK).unwrap();
     let day = Millis::from_secs(86_400);

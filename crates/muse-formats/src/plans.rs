@@ -805,5 +805,16 @@ mod tests {
             e,
             "p.jsonl: line 2: field `path[0].node`: unknown node id `Q`"
         );
+        for field in ["origin", "destination"] {
+            let bad = line
+                .replace("\"node\":\"Q\"", "\"node\":\"A\"")
+                .replace(&format!("\"{field}\":\""), &format!("\"{field}\":\"Z"));
+            let e = read_plans(&bad, "p.jsonl", &air()).unwrap_err().to_string();
+            let id = if field == "origin" { "ZA" } else { "ZB" };
+            assert_eq!(
+                e,
+                format!("p.jsonl: line 1: field `{field}`: unknown node id `{id}`")
+            );
+        }
     }
 }

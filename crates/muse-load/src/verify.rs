@@ -6,8 +6,9 @@ use std::collections::HashSet;
 
 use muse_airspace::closures::resolve;
 use muse_formats::plans::read_plans;
-use muse_model::{Instant, Millis, Plan, Request};
-use muse_verify::{Flight, verify};
+use muse_model::{Instant, Millis};
+use muse_verify::recorded::Recorded;
+use muse_verify::verify;
 use serde::{Deserialize, Serialize};
 
 use crate::error::LoadError;
@@ -112,29 +113,22 @@ pub fn check(
     const FILE: &str = "GET /v1/flights";
     let records =
         read_plans(plans, FILE, &world.airspace).map_err(|e| LoadError::bad_answer(FILE, e))?;
-    let mut flights: Vec<(Request, Plan)> = Vec::with_capacity(records.len());
     let mut seen: HashSet<String> = HashSet::with_capacity(records.len());
     let mut duplicated: Vec<String> = Vec::new();
+    let mut planned = Vec::with_capacity(records.len());
     for r in records {
-        let Ok(plan) = r.result else { continue };
-        if !seen.insert(r.request.clone()) {
-            duplicated.push(r.request);
+        if r.result.is_err() {
             continue;
         }
-        let node = |id: &str| {
-            world.airspace.node_id(id).ok_or_else(|| {
-                LoadError::bad_answer(FILE, format!("flight `{}`: unknown node `{id}`", r.request))
-            })
-        };
-        let request = Request {
-            origin: node(&r.origin)?,
-            destination: node(&r.destination)?,
-            id: r.request,
-            departure: r.requested_departure,
-            submitted: r.requested_departure,
-        };
-        flights.push((request, plan));
+        if seen.insert(r.request.clone()) {
+            planned.push(r);
+        } else {
+            duplicated.push(r.request);
+        }
     }
+    let recorded =
+        Recorded::new(planned, &world.airspace).map_err(|e| LoadError::bad_answer(FILE, e))?;
+    let flights = recorded.flights();
     let own = format!("{prefix}-");
     let this_run = seen.iter().filter(|id| id.starts_with(&own)).count();
     let missing: Vec<String> = acknowledged
@@ -154,8 +148,8 @@ pub fn check(
         first_missing: missing.into_iter().take(KEPT).collect(),
         completeness_checked: true,
     };
-    let first = flights.iter().map(|(_, p)| p.takeoff()).min();
-    let last = flights.iter().map(|(_, p)| p.landing()).max();
+    let first = flights.iter().map(|f| f.plan.takeoff()).min();
+    let last = flights.iter().map(|f| f.plan.landing()).max();
     let (Some(first), Some(last)) = (first, last) else {
         return Ok(v);
     };
@@ -167,11 +161,7 @@ pub fn check(
         Instant(last.0 + 1) + day,
     )
     .map_err(|e| LoadError::bad_answer("GET /v1/zones", e))?;
-    let checked: Vec<Flight<'_>> = flights
-        .iter()
-        .map(|(request, plan)| Flight::new(&request.id, request, plan))
-        .collect();
-    let violations = verify(&world.airspace, &closures, &world.params, &checked);
+    let violations = verify(&world.airspace, &closures, &world.params, &flights);
     v.span = Some([
         first.to_rfc3339(world.offset),
         last.to_rfc3339(world.offset),

@@ -86,6 +86,7 @@ use std::fmt;
 
 mod legs;
 mod path;
+pub mod recorded;
 mod separation;
 mod zones;
 

@@ -39,7 +39,7 @@ pub fn read_plans(
 ///
 /// ```
 /// use muse_formats::plans::{PlanItem, read_plan_entries};
-/// # let air = muse_formats::airspace_geojson::read_airspace(r#"{"type": "FeatureCollection", "features": []}"#, "a").unwrap();
+/// let air = muse_model::Airspace::line(&[1_000.0]); // stations A and B, 1 km apart
 /// let line = r#"{"request": "f1", "status": "cancelled", "reason": "cancelled_by_operator",
 ///   "origin": "A", "destination": "B", "requested_departure": "2026-01-05T09:00:00.000+08:00",
 ///   "takeoff": null, "landing": null, "airborne_s": null, "free_flow_s": 120.0,
@@ -134,6 +134,11 @@ impl LineReader<'_> {
 
     /// What a line holds: a request's answer, or a flight its operator cancelled.
     pub(super) fn item(&self, line: &PlanLine) -> Result<PlanItem, InputError> {
+        for (field, id) in [("origin", &line.origin), ("destination", &line.destination)] {
+            if self.airspace.node_id(id).is_none() {
+                return Err(self.err(Some(field), format!("unknown node id `{id}`")));
+            }
+        }
         let status = line.status.as_str();
         let reason = line.reason.as_deref();
         if status == "cancelled" && reason == Some(CANCELLED_BY_OPERATOR) {

@@ -835,23 +835,8 @@ async fn verify_everything(s: &Service, token: Option<&str>) -> usize {
         }
     }
     let records = muse_formats::plans::read_plans(&text, "GET /v1/flights", &air).unwrap();
-    let requests: Vec<muse_model::Request> = records
-        .iter()
-        .map(|r| muse_model::Request {
-            id: r.request.clone(),
-            origin: air.node_id(&r.origin).unwrap(),
-            destination: air.node_id(&r.destination).unwrap(),
-            departure: r.requested_departure,
-            submitted: r.requested_departure,
-        })
-        .collect();
-    let flights: Vec<muse_verify::Flight<'_>> = records
-        .iter()
-        .zip(&requests)
-        .filter_map(|(r, q)| {
-            muse_verify::Flight::last(&r.request, q, r.result.as_ref().ok(), r.fate.as_ref())
-        })
-        .collect();
+    let recorded = muse_verify::recorded::Recorded::new(records, &air).unwrap();
+    let flights = recorded.flights();
     let (code, zones) = s.get("/v1/zones", token).await;
     assert_eq!(code, 200);
     let read = muse_formats::zones::read_zones(&zones.to_string(), "GET /v1/zones").unwrap();
