@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use anyhow::Context as _;
 use clap::Args;
 use muse_formats::flights_csv::write_flights_csv;
-use muse_formats::plans::{ChangeNote, PlanRecord, write_plan_line};
+use muse_formats::plans::{PlanRecord, write_plan_line};
 use muse_formats::requests::{LocalDay, read_requests_file};
 use muse_formats::stays_csv::write_stays_csv;
 use muse_model::{Instant, Millis};
@@ -97,15 +97,7 @@ pub fn write_outputs(
     let mut records = Vec::with_capacity(run.requests.len());
     for (i, (r, o)) in run.requests.iter().zip(&run.outcomes).enumerate() {
         let record = PlanRecord {
-            changes: run.changes[i]
-                .iter()
-                .map(|c| ChangeNote {
-                    zone: c.zone.clone(),
-                    announced: c.at,
-                    airborne: c.airborne,
-                    outcome: c.fate.kind(),
-                })
-                .collect(),
+            changes: run.changes[i].clone(),
             fate: run.fate(i).cloned(),
             ..PlanRecord::first(
                 r.id.clone(),

@@ -39,7 +39,7 @@
 
 use std::fmt::Write as _;
 
-use muse_model::plan::{Fate, FateKind, ZONE_ANNOUNCED};
+use muse_model::plan::{Change, Fate, ZONE_ANNOUNCED};
 use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Stay, UtcOffset};
 use serde::{Deserialize, Serialize};
 
@@ -69,7 +69,7 @@ pub struct PlanRecord {
     /// Search labels expanded.
     pub expanded: u64,
     /// The zone announcements that changed the flight since, in order (SPEC §11).
-    pub changes: Vec<ChangeNote>,
+    pub changes: Vec<Change>,
     /// What the last of them made of it; `None` if none changed it.
     pub fate: Option<Fate>,
 }
@@ -117,20 +117,7 @@ impl PlanRecord {
     }
 }
 
-/// What one zone announcement did to a flight.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct ChangeNote {
-    /// The zone announced.
-    pub zone: String,
-    /// When it was announced.
-    pub announced: Instant,
-    /// Whether the flight had taken off then.
-    pub airborne: bool,
-    /// What the announcement made of the flight.
-    pub outcome: FateKind,
-}
-
-/// A [`ChangeNote`] as written.
+/// A [`Change`] as written.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ChangeLine {
@@ -262,7 +249,7 @@ pub struct OperatorCancellation {
     /// changed the flight before it was cancelled).
     pub original: Option<Plan>,
     /// The zone announcements that had changed it, in order (SPEC §11).
-    pub changes: Vec<ChangeNote>,
+    pub changes: Vec<Change>,
     /// When it was cancelled, if the line says (`cancelled_at`).
     pub cancelled_at: Option<Instant>,
 }
@@ -321,7 +308,7 @@ impl PlanEntry {
     }
 
     /// The zone announcements that changed the flight, in order.
-    pub fn changes(&self) -> &[ChangeNote] {
+    pub fn changes(&self) -> &[Change] {
         match &self.item {
             PlanItem::Record(r) => &r.changes,
             PlanItem::CancelledByOperator(c) => &c.changes,
@@ -531,7 +518,7 @@ mod tests {
     /// A record first planned A→B at take-off 0, then changed by zone `Z` announced at 0.
     fn changed(fate: Fate) -> PlanRecord {
         PlanRecord {
-            changes: vec![ChangeNote {
+            changes: vec![Change {
                 zone: "Z".into(),
                 announced: Instant(0),
                 airborne: matches!(fate, Fate::Diverted(_) | Fate::Contingency(_)),
@@ -673,7 +660,7 @@ mod tests {
         let (b1, c1) = (cancelled[0], cancelled[1]);
         assert_eq!((b1.request.as_str(), c1.request.as_str()), ("b1", "c1"));
         assert_eq!(b1.changes.len(), 1);
-        assert_eq!(b1.changes[0].outcome, FateKind::Replanned);
+        assert_eq!(b1.changes[0].outcome, muse_model::plan::FateKind::Replanned);
         assert_eq!(b1.original.as_ref().map(|p| p.path.len()), Some(2));
         assert!(c1.changes.is_empty() && c1.original.is_none());
         assert!(b1.cancelled_at.is_some() && c1.cancelled_at.is_some());

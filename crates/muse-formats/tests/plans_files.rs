@@ -4,7 +4,8 @@
 use std::path::PathBuf;
 
 use muse_formats::airspace_geojson::read_airspace_file;
-use muse_formats::plans::{ChangeNote, PlanRecord, plan_line, read_plans_file, write_plan_line};
+use muse_formats::plans::{PlanRecord, plan_line, read_plans_file, write_plan_line};
+use muse_model::plan::Change;
 use muse_model::plan::{Fate, FateKind};
 use muse_model::{Airspace, Instant, Millis, Plan, Stay, UtcOffset};
 
@@ -58,7 +59,7 @@ fn record(id: &str, from: &str, to: &str, departure: i64, plan: Plan) -> PlanRec
 }
 
 fn changed(mut rec: PlanRecord, zone: &str, announced: i64, fate: Fate) -> PlanRecord {
-    rec.changes.push(ChangeNote {
+    rec.changes.push(Change {
         zone: zone.into(),
         announced: at(announced),
         airborne: matches!(fate, Fate::Diverted(_) | Fate::Contingency(_)),

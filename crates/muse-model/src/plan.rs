@@ -161,6 +161,42 @@ impl FateKind {
     }
 }
 
+/// What one zone announcement did to one flight (SPEC §11): the record every layer keeps of
+/// it — the planner's replanning, the simulator's replay, a plans file's `changes` and the
+/// service's store. The plan it left the flight with, if any, is the [`Fate`] kept beside
+/// the last change.
+///
+/// ```
+/// use muse_model::Instant;
+/// use muse_model::plan::{Change, Fate, FateKind};
+/// let c = Change::new("Z1", Instant(36_000_000), true, &Fate::Cancelled);
+/// assert_eq!((c.zone.as_str(), c.outcome), ("Z1", FateKind::Cancelled));
+/// ```
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Change {
+    /// The id of the zone announced.
+    pub zone: String,
+    /// When it was announced.
+    pub announced: Instant,
+    /// Whether the flight had taken off then.
+    pub airborne: bool,
+    /// What the announcement made of the flight.
+    pub outcome: FateKind,
+}
+
+impl Change {
+    /// The change `zone`, announced at `announced`, made of a flight (`airborne`: it had
+    /// taken off then) whose fate is now `fate`.
+    pub fn new(zone: &str, announced: Instant, airborne: bool, fate: &Fate) -> Self {
+        Change {
+            zone: zone.to_owned(),
+            announced,
+            airborne,
+            outcome: fate.kind(),
+        }
+    }
+}
+
 /// The reason a flight cancelled by a zone announcement is given (SPEC §11).
 pub const ZONE_ANNOUNCED: &str = "zone_announced";
 

@@ -36,6 +36,7 @@ use std::collections::HashMap;
 use std::hash::BuildHasher;
 
 use muse_airspace::closures::Closures;
+use muse_model::plan::Change;
 pub use muse_model::plan::{Fate, FateKind};
 use muse_model::{Airspace, Instant, Millis, Plan, Request};
 
@@ -65,6 +66,13 @@ pub struct Affected {
     pub fate: Fate,
     /// Search effort spent on it (labels expanded).
     pub expanded: u64,
+}
+
+impl Affected {
+    /// The record of this change, the announcement being `zone`'s at `announced`.
+    pub fn change(&self, zone: &str, announced: Instant) -> Change {
+        Change::new(zone, announced, self.airborne, &self.fate)
+    }
 }
 
 /// Whether `plan` would break `zone` announced at `at`: some stay or traversal that begins

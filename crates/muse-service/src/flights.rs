@@ -5,7 +5,8 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use muse_formats::plans::{ChangeNote, PlanLine, PlanRecord, plan_line};
+use muse_formats::plans::{PlanLine, PlanRecord, plan_line};
+use muse_model::plan::Change;
 use muse_model::plan::{Fate, FateKind};
 use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Request, UtcOffset};
 use muse_planner::Holding;
@@ -39,7 +40,7 @@ pub struct FlightEntry {
     /// When its operator cancelled it, if it did.
     pub cancelled_at: Option<Instant>,
     /// The zone announcements that changed it, in order (SPEC §11).
-    pub changes: Vec<ChangeNote>,
+    pub changes: Vec<Change>,
     /// What each of them made of it, in the same order (the last is its current fate).
     pub fates: Vec<Fate>,
 }
@@ -180,12 +181,9 @@ impl FlightEntry {
     #[must_use]
     pub fn changed(&self, zone: &str, announced: Instant, airborne: bool, fate: Fate) -> Self {
         let mut changed = self.clone();
-        changed.changes.push(ChangeNote {
-            zone: zone.to_owned(),
-            announced,
-            airborne,
-            outcome: fate.kind(),
-        });
+        changed
+            .changes
+            .push(Change::new(zone, announced, airborne, &fate));
         changed.fates.push(fate);
         changed
     }

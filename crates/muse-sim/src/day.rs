@@ -5,13 +5,13 @@ use std::time::Duration;
 
 use muse_airspace::announced::KnownZones;
 use muse_airspace::closures::{ClosureError, Closures};
-use muse_model::plan::Fate;
+use muse_model::plan::{Change, Fate};
 use muse_model::request::sort_for_planning;
 use muse_model::{Airspace, FlightParams, Instant, Millis, Plan, Request, Zone};
 use muse_planner::ZoneError;
 use muse_planner::{Outcome, Planner, Schedule, Scratch, plan_day};
 
-use crate::replay::{Announcement, Change, replay};
+use crate::replay::{Announcement, Replay, replay};
 
 /// Errors of a planning run.
 #[derive(Debug, thiserror::Error)]
@@ -42,6 +42,9 @@ pub struct DayRun {
     /// What zone announcements did to each request's flight, in order (same indexing; all
     /// empty when no zone is announced).
     pub changes: Vec<Vec<Change>>,
+    /// What the last of them made of each request's flight, with its plan; `None` if none
+    /// changed it (same indexing).
+    pub fates: Vec<Option<Fate>>,
     /// The zones announced during the day, in order.
     pub announcements: Vec<Announcement>,
     /// Wall time of the planning loop alone (no I/O, no zone resolution), replanning included.
@@ -53,9 +56,44 @@ pub struct DayRun {
 }
 
 impl DayRun {
+    /// A day no zone announcement changed: `outcomes` of `requests`, planned against `zones`
+    /// in `planner_wall`.
+    pub fn unchanged(
+        requests: Vec<Request>,
+        outcomes: Vec<Outcome>,
+        planner_wall: Duration,
+        zones: KnownZones,
+    ) -> Self {
+        let n = requests.len();
+        DayRun {
+            requests,
+            outcomes,
+            changes: vec![Vec::new(); n],
+            fates: vec![None; n],
+            announcements: Vec::new(),
+            planner_wall,
+            replan_expanded: 0,
+            zones,
+        }
+    }
+
+    /// A day replayed with its announcements ([`replay`]).
+    pub fn replayed(requests: Vec<Request>, run: Replay, zones: KnownZones) -> Self {
+        DayRun {
+            requests,
+            outcomes: run.outcomes,
+            changes: run.changes,
+            fates: run.fates,
+            announcements: run.announcements,
+            planner_wall: run.planner_wall,
+            replan_expanded: run.replan_expanded,
+            zones,
+        }
+    }
+
     /// The last fate of request `i`'s flight, if an announcement changed it.
     pub fn fate(&self, i: usize) -> Option<&Fate> {
-        self.changes[i].last().map(|c| &c.fate)
+        self.fates[i].as_ref()
     }
 
     /// The final plan of request `i`, if its flight lands somewhere: its first plan, or the plan
@@ -113,26 +151,10 @@ pub fn plan_requests(
     let planner = Planner::new(airspace, params);
     if known.announced.is_empty() {
         let (outcomes, planner_wall) = plan_sorted(&planner, &known.base, &requests, progress);
-        return Ok(DayRun {
-            changes: vec![Vec::new(); requests.len()],
-            requests,
-            outcomes,
-            announcements: Vec::new(),
-            planner_wall,
-            replan_expanded: 0,
-            zones: known,
-        });
+        return Ok(DayRun::unchanged(requests, outcomes, planner_wall, known));
     }
     let run = replay(planner, &known, &requests, progress)?;
-    Ok(DayRun {
-        requests,
-        outcomes: run.outcomes,
-        changes: run.changes,
-        announcements: run.announcements,
-        planner_wall: run.planner_wall,
-        replan_expanded: run.replan_expanded,
-        zones: known,
-    })
+    Ok(DayRun::replayed(requests, run, known))
 }
 
 /// Plans requests already in planning order with a prepared planner and resolved closures,

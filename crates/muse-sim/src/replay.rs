@@ -12,25 +12,10 @@
 use std::time::{Duration, Instant as WallInstant};
 
 use muse_airspace::announced::KnownZones;
-use muse_model::plan::Fate;
-use muse_model::{Instant, Plan, Request};
+use muse_model::plan::{Change, Fate};
+use muse_model::{Instant, Request};
 use muse_planner::ZoneError;
 use muse_planner::{FlightId, Live, Outcome, Planner};
-
-/// What one announcement did to one flight.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Change {
-    /// The zone announced.
-    pub zone: String,
-    /// When.
-    pub at: Instant,
-    /// The flight's plan before.
-    pub before: Plan,
-    /// Whether it was airborne then.
-    pub airborne: bool,
-    /// What became of it.
-    pub fate: Fate,
-}
 
 /// One zone announcement of a replayed day.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -51,6 +36,9 @@ pub struct Replay {
     pub outcomes: Vec<Outcome>,
     /// What announcements did to each request's flight since, in order (same indexing).
     pub changes: Vec<Vec<Change>>,
+    /// What the last of them made of each request's flight, with its plan; `None` if none
+    /// changed it (same indexing).
+    pub fates: Vec<Option<Fate>>,
     /// The zones announced, in order.
     pub announcements: Vec<Announcement>,
     /// Wall time of planning and replanning (no I/O).
@@ -75,13 +63,15 @@ pub fn replay(
     let mut live = Live::new(planner, &zones.base, start);
     let mut outcomes = Vec::with_capacity(requests.len());
     let mut changes: Vec<Vec<Change>> = Vec::with_capacity(requests.len());
+    let mut fates: Vec<Option<Fate>> = Vec::with_capacity(requests.len());
     let mut announcements = Vec::with_capacity(zones.announced.len());
     let mut replan_expanded = 0;
     let mut next_zone = 0;
     let started = WallInstant::now();
     let mut announce_until = |t: Option<Instant>,
                               live: &mut Live<'_>,
-                              changes: &mut Vec<Vec<Change>>|
+                              changes: &mut Vec<Vec<Change>>,
+                              fates: &mut Vec<Option<Fate>>|
      -> Result<(), ZoneError> {
         while let Some(a) = zones.announced.get(next_zone) {
             if t.is_some_and(|t| a.at > t) {
@@ -97,28 +87,26 @@ pub fn replay(
             });
             for x in affected {
                 replan_expanded += x.expanded;
-                changes[x.flight as usize].push(Change {
-                    zone: a.zone.clone(),
-                    at: a.at,
-                    before: x.before,
-                    airborne: x.airborne,
-                    fate: x.fate,
-                });
+                let i = x.flight as usize;
+                changes[i].push(x.change(&a.zone, a.at));
+                fates[i] = Some(x.fate);
             }
         }
         Ok(())
     };
     for (i, r) in requests.iter().enumerate() {
-        announce_until(Some(r.submitted), &mut live, &mut changes)?;
+        announce_until(Some(r.submitted), &mut live, &mut changes, &mut fates)?;
         live.advance(r.submitted);
         outcomes.push(live.book(i as FlightId, r));
         changes.push(Vec::new());
+        fates.push(None);
         progress(i + 1);
     }
-    announce_until(None, &mut live, &mut changes)?;
+    announce_until(None, &mut live, &mut changes, &mut fates)?;
     Ok(Replay {
         outcomes,
         changes,
+        fates,
         announcements,
         planner_wall: started.elapsed(),
         replan_expanded,
@@ -214,12 +202,13 @@ mod tests {
         let [change] = &run.changes[0][..] else {
             panic!("one change expected: {:?}", run.changes[0]);
         };
-        let Fate::Replanned(plan) = &change.fate else {
-            panic!("replanned expected: {change:?}");
+        assert_eq!((change.zone.as_str(), change.announced), ("Z", min(540)));
+        let Some(Fate::Replanned(plan)) = &run.fates[0] else {
+            panic!("replanned expected: {change:?}, {:?}", run.fates[0]);
         };
         assert_eq!(plan.landing(), min(610));
         // The late booking knew the zone: planned around it, never changed, after the other.
-        assert!(run.changes[1].is_empty());
+        assert!(run.changes[1].is_empty() && run.fates[1].is_none());
         assert_eq!(run.outcomes[1].result.as_ref().unwrap().landing(), min(612));
     }
 }

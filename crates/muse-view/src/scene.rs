@@ -503,7 +503,7 @@ mod tests {
         let mut r2 = r1.clone();
         r2.request = "r2".into();
         let mut z = record("z1", &[(0, 60_000, 60_000), (1, 180_000, 180_000)]);
-        z.changes.push(muse_formats::plans::ChangeNote {
+        z.changes.push(muse_model::plan::Change {
             zone: "EVT".into(),
             announced: Instant(30_000),
             airborne: false,

@@ -169,11 +169,11 @@ impl LineReader<'_> {
 
 #[cfg(test)]
 mod tests {
-    use muse_model::plan::Fate;
+    use muse_model::plan::{Change, Fate};
     use muse_model::{Instant, Millis, NodeId};
 
     use super::super::tests::air;
-    use super::super::{ChangeNote, PlanLine, PlanRecord, plan_line, read_plans};
+    use super::super::{PlanLine, PlanRecord, plan_line, read_plans};
     use super::*;
 
     /// `A -> B`, 5 minutes on the ground at `B`, `B -> A`; hovering 2.5 s at take-off.
@@ -204,7 +204,7 @@ mod tests {
             1,
         );
         if let Some(fate) = fate {
-            rec.changes.push(ChangeNote {
+            rec.changes.push(Change {
                 zone: "Z".into(),
                 announced: Instant(0),
                 airborne: false,

@@ -3,14 +3,12 @@
 
 use std::path::Path;
 
-use muse_model::plan::{CANCELLED_BY_OPERATOR, Fate, FateKind, ZONE_ANNOUNCED};
+use muse_model::plan::{CANCELLED_BY_OPERATOR, Change, Fate, FateKind, ZONE_ANNOUNCED};
 use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Stay};
 
 use super::legs::PlanFields;
 use super::line::LineReader;
-use super::{
-    ChangeNote, OperatorCancellation, PlanEntry, PlanItem, PlanLine, PlanRecord, StayLine,
-};
+use super::{OperatorCancellation, PlanEntry, PlanItem, PlanLine, PlanRecord, StayLine};
 use crate::error::InputError;
 
 /// Reads the records of a plans JSON Lines file's text: every line that holds a request's
@@ -251,7 +249,7 @@ impl LineReader<'_> {
     }
 
     /// The zone announcements a line lists (`changes`), in order; none if it lists none.
-    pub(super) fn changes(&self, line: &PlanLine) -> Result<Vec<ChangeNote>, InputError> {
+    pub(super) fn changes(&self, line: &PlanLine) -> Result<Vec<Change>, InputError> {
         let mut notes = Vec::new();
         for (k, c) in line.changes.iter().flatten().enumerate() {
             let outcome = FateKind::parse(&c.outcome).ok_or_else(|| {
@@ -260,7 +258,7 @@ impl LineReader<'_> {
                     format!("`{}` is not an outcome", c.outcome),
                 )
             })?;
-            notes.push(ChangeNote {
+            notes.push(Change {
                 zone: c.zone.clone(),
                 announced: self.time(&format!("changes[{k}].announced"), &c.announced)?,
                 airborne: c.airborne,

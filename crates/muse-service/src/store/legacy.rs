@@ -33,7 +33,6 @@ use std::io::{BufReader, Read as _};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use muse_formats::plans::ChangeNote;
 use muse_model::plan::{Fate, FateKind};
 use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Request};
 use rusqlite::Connection;
@@ -509,7 +508,7 @@ impl Import<'_> {
             expanded: r.expanded,
             answered: Instant(r.answered),
             cancelled_at: None,
-            changes: Vec::<ChangeNote>::new(),
+            changes: Vec::new(),
             fates: Vec::new(),
         })
     }

@@ -8,7 +8,7 @@
 
 use std::sync::Arc;
 
-use muse_formats::plans::ChangeNote;
+use muse_model::plan::Change;
 use muse_model::plan::{Fate, FateKind};
 use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Request, Stay};
 use rusqlite::Row;
@@ -289,7 +289,7 @@ impl FlightRow {
                     FateKind::Contingency => Fate::Contingency(plan()?),
                     FateKind::Cancelled => Fate::Cancelled,
                 });
-                changes.push(ChangeNote {
+                changes.push(Change {
                     zone: c.zone,
                     announced: Instant(c.announced_ms),
                     airborne: c.airborne,

@@ -215,26 +215,15 @@ impl<'a> LeadWorld<'a> {
         if zones.announced.is_empty() {
             let (outcomes, planner_wall) =
                 plan_sorted(&self.planner, &zones.base, requests, |_| {});
-            return Ok(DayRun {
-                requests: requests.to_vec(),
+            return Ok(DayRun::unchanged(
+                requests.to_vec(),
                 outcomes,
-                changes: vec![Vec::new(); requests.len()],
-                announcements: Vec::new(),
                 planner_wall,
-                replan_expanded: 0,
                 zones,
-            });
+            ));
         }
         let planner = Planner::new(self.airspace, self.params);
         let run = replay(planner, &zones, requests, |_| {})?;
-        Ok(DayRun {
-            requests: requests.to_vec(),
-            outcomes: run.outcomes,
-            changes: run.changes,
-            announcements: run.announcements,
-            planner_wall: run.planner_wall,
-            replan_expanded: run.replan_expanded,
-            zones,
-        })
+        Ok(DayRun::replayed(requests.to_vec(), run, zones))
     }
 }
