@@ -18,7 +18,7 @@
 //! ```
 //! use muse_airspace::closures::Closures;
 //! use muse_model::{Airspace, Edge, FlightParams, Instant, LonLat, Millis, Node, NodeId, NodeKind, Request};
-//! use muse_planner::{Planner, Schedule, Scratch};
+//! use muse_planner::{FlightId, Planner, Schedule, Scratch};
 //!
 //! let node = |id: &str, lon| Node {
 //!     id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.3),
@@ -36,7 +36,7 @@
 //!
 //! let first = planner.plan(&schedule, &r("r1"), &mut scratch).result.unwrap();
 //! assert_eq!(first.landing(), Instant(120_000)); // 1 km at 30 km/h
-//! schedule.insert(&airspace, 0, &first);
+//! schedule.insert(&airspace, FlightId(0), &first);
 //! // The second drone may not enter the corridor while the first is on it: it lands as early
 //! // as possible, and waits for that on the ground rather than in the air.
 //! let second = planner.plan(&schedule, &r("r2"), &mut scratch).result.unwrap();

@@ -26,7 +26,7 @@
 //! ```
 //! use muse_airspace::closures::Closures;
 //! use muse_model::{Airspace, Edge, FlightParams, Instant, LonLat, Node, NodeId, NodeKind, RejectReason, Request};
-//! use muse_planner::{Live, Planner};
+//! use muse_planner::{FlightId, Live, Planner};
 //! use muse_planner::CancelError;
 //!
 //! let node = |id: &str, lon| Node {
@@ -41,16 +41,16 @@
 //! let r = |id: &str, t| Request { id: id.into(), origin: NodeId(0), destination: NodeId(1), departure: Instant(t), submitted: Instant(t) };
 //!
 //! // A later departure first, then an earlier one: both fit, in arrival order.
-//! let late = live.book(1, &r("late", 600_000)).result.unwrap();
-//! let early = live.book(2, &r("early", 0)).result.unwrap();
+//! let late = live.book(FlightId(1), &r("late", 600_000)).result.unwrap();
+//! let early = live.book(FlightId(2), &r("early", 0)).result.unwrap();
 //! assert_eq!((early.takeoff(), late.takeoff()), (Instant(0), Instant(600_000)));
 //!
 //! // At 60 s the early flight is in the air: it can no longer be cancelled; the late one can.
 //! live.advance(Instant(60_000));
-//! assert_eq!(live.cancel(2), Err(CancelError::TookOff));
-//! assert_eq!(live.cancel(1), Ok(late));
+//! assert_eq!(live.cancel(FlightId(2)), Err(CancelError::TookOff));
+//! assert_eq!(live.cancel(FlightId(1)), Ok(late));
 //! // And the past is closed.
-//! assert_eq!(live.book(3, &r("old", 0)).result, Err(RejectReason::DepartureInPast));
+//! assert_eq!(live.book(FlightId(3), &r("old", 0)).result, Err(RejectReason::DepartureInPast));
 //! ```
 
 use std::collections::HashMap;
@@ -444,7 +444,7 @@ mod tests {
             let now = Instant(k * 180_000);
             live.advance(now);
             let r = request(&format!("r{k}"), 0, 3, now.0 + 3_600_000);
-            assert!(live.book(k as FlightId, &r).result.is_ok());
+            assert!(live.book(FlightId(k as u64), &r).result.is_ok());
             peak = peak.max(live.schedule().reservations());
         }
         // About 20 flights ahead and a minute's worth behind, 7 reservations each, plus one
@@ -461,18 +461,27 @@ mod tests {
         };
         let planner = Planner::new(&a, params);
         let mut live = Live::new(planner, &Closures::none(&a), Instant(0));
-        let first = live.book(1, &request("a", 0, 1, 60_000)).result.unwrap();
-        let second = live.book(2, &request("b", 0, 1, 60_000)).result.unwrap();
+        let first = live
+            .book(FlightId(1), &request("a", 0, 1, 60_000))
+            .result
+            .unwrap();
+        let second = live
+            .book(FlightId(2), &request("b", 0, 1, 60_000))
+            .result
+            .unwrap();
         assert_eq!(second.takeoff(), Instant(180_000));
-        assert_eq!(live.cancel(1), Ok(first.clone()));
-        assert_eq!(live.cancel(1), Err(CancelError::NotHeld));
-        let third = live.book(3, &request("c", 0, 1, 60_000)).result.unwrap();
+        assert_eq!(live.cancel(FlightId(1)), Ok(first.clone()));
+        assert_eq!(live.cancel(FlightId(1)), Err(CancelError::NotHeld));
+        let third = live
+            .book(FlightId(3), &request("c", 0, 1, 60_000))
+            .result
+            .unwrap();
         assert_eq!(third, first);
         live.advance(Instant(100_000));
         live.advance(Instant(10_000));
         assert_eq!(live.now(), Instant(100_000));
         assert_eq!(
-            live.book(4, &request("d", 0, 1, 99_999)).result,
+            live.book(FlightId(4), &request("d", 0, 1, 99_999)).result,
             Err(RejectReason::DepartureInPast)
         );
     }
@@ -482,7 +491,11 @@ mod tests {
         let a = line(2);
         let planner = Planner::new(&a, FlightParams::default());
         let mut live = Live::new(planner, &Closures::none(&a), Instant(0));
-        assert!(live.book(1, &request("r", 0, 1, 600_000)).result.is_ok());
+        assert!(
+            live.book(FlightId(1), &request("r", 0, 1, 600_000))
+                .result
+                .is_ok()
+        );
         // B closed for the first hour, announced now: the flight cannot land, and has not
         // taken off: cancelled.
         let zone = muse_model::Zone {
@@ -505,15 +518,19 @@ mod tests {
         let hit = live.announce("Z", closed.clone()).unwrap();
         assert_eq!(hit.len(), 1);
         assert_eq!(hit[0].fate, crate::replan::Fate::Cancelled);
-        assert_eq!(live.cancel(1), Err(CancelError::NotHeld));
+        assert_eq!(live.cancel(FlightId(1)), Err(CancelError::NotHeld));
         assert!(live.announce("Z", closed).is_err());
         assert_eq!(
-            live.book(2, &request("s", 0, 1, 600_000)).result,
+            live.book(FlightId(2), &request("s", 0, 1, 600_000)).result,
             Err(RejectReason::NoFeasiblePlan)
         );
         live.withdraw("Z").unwrap();
         assert!(live.withdraw("Z").is_err());
-        assert!(live.book(3, &request("t", 0, 1, 600_000)).result.is_ok());
+        assert!(
+            live.book(FlightId(3), &request("t", 0, 1, 600_000))
+                .result
+                .is_ok()
+        );
     }
 
     /// A ring `A — B — C — D — A`: `A-B`, `B-C`, `A-D` 1 km, `D-C` 1.5 km, so `A` to `C`
@@ -585,7 +602,7 @@ mod tests {
         let mut live = Live::new(Planner::new(&a, params), &closures, Instant(0));
         let mut first = Vec::new();
         for (k, r) in requests.iter().enumerate() {
-            first.push(live.book(k as FlightId, r).result.unwrap());
+            first.push(live.book(FlightId::from(k), r).result.unwrap());
         }
         live.advance(Instant(60_000));
         let resolve = || closing_b(&a);
@@ -598,10 +615,10 @@ mod tests {
         assert_eq!(
             kinds,
             [
-                (0, "replanned"),
-                (1, "cancelled"),
-                (2, "contingency"),
-                (3, "diverted")
+                (FlightId(0), "replanned"),
+                (FlightId(1), "cancelled"),
+                (FlightId(2), "contingency"),
+                (FlightId(3), "diverted")
             ]
         );
 
@@ -609,7 +626,7 @@ mod tests {
         // stored fates, in that order; nothing is planned.
         let mut back = Live::new(Planner::new(&a, params), &closures, Instant(60_000));
         for (k, (r, p)) in requests.iter().zip(&first).enumerate() {
-            back.restore(k as FlightId, r, p);
+            back.restore(FlightId::from(k), r, p);
         }
         back.add_announced("Z", resolve()).unwrap();
         assert_eq!(
@@ -617,7 +634,7 @@ mod tests {
             Err(ZoneError::Taken("Z".into()))
         );
         for h in &hit {
-            back.apply_fate(h.flight, &requests[h.flight as usize], &h.fate);
+            back.apply_fate(h.flight, &requests[h.flight.index()], &h.fate);
         }
         assert_eq!(back.schedule().flights(), live.schedule().flights());
         assert_eq!(back.bookings, live.bookings);
@@ -632,8 +649,8 @@ mod tests {
                     }
                     let r = request(&format!("p{n}"), from, to, t);
                     assert_eq!(
-                        back.book(n, &r).result,
-                        live.book(n, &r).result,
+                        back.book(FlightId(n), &r).result,
+                        live.book(FlightId(n), &r).result,
                         "{from} to {to} at {t}"
                     );
                     n += 1;
@@ -641,12 +658,12 @@ mod tests {
             }
         }
         // ... and a replanned flight can still be cancelled before its new take-off, in both.
-        let replanned = hit[hit.iter().position(|h| h.flight == 0).unwrap()]
+        let replanned = hit[hit.iter().position(|h| h.flight == FlightId(0)).unwrap()]
             .fate
             .plan()
             .cloned();
-        assert_eq!(back.cancel(0).ok(), replanned);
-        assert_eq!(live.cancel(0).ok(), replanned);
+        assert_eq!(back.cancel(FlightId(0)).ok(), replanned);
+        assert_eq!(live.cancel(FlightId(0)).ok(), replanned);
         // The restored zone can be withdrawn like an announced one.
         back.withdraw("Z").unwrap();
     }
@@ -664,8 +681,8 @@ mod tests {
             // Decide, then hold: the same as booking.
             let outcome = two.plan(r);
             let plan = outcome.result.clone().unwrap();
-            two.hold(k as FlightId, r, Holding::Booked(&plan));
-            assert_eq!(one.book(k as FlightId, r), outcome);
+            two.hold(FlightId::from(k), r, Holding::Booked(&plan));
+            assert_eq!(one.book(FlightId::from(k), r), outcome);
         }
         one.advance(Instant(60_000));
         two.advance(Instant(60_000));
@@ -680,7 +697,7 @@ mod tests {
             .map(|h| {
                 (
                     h.flight,
-                    &requests[h.flight as usize],
+                    &requests[h.flight.index()],
                     Holding::of_fate(&h.fate),
                 )
             })
@@ -694,12 +711,18 @@ mod tests {
                 for t in [60_000, 300_000, 600_000, 900_000] {
                     if from != to {
                         let r = request(&format!("p{n}"), from, to, t);
-                        assert_eq!(two.book(n, &r).result, one.book(n, &r).result);
+                        assert_eq!(
+                            two.book(FlightId(n), &r).result,
+                            one.book(FlightId(n), &r).result
+                        );
                         n += 1;
                     }
                 }
             }
         }
-        assert_eq!(two.can_cancel(0).cloned(), one.cancel(0));
+        assert_eq!(
+            two.can_cancel(FlightId(0)).cloned(),
+            one.cancel(FlightId(0))
+        );
     }
 }

@@ -377,7 +377,7 @@ pub fn plan_day(
         out.push(plan_and_book(
             planner,
             schedule,
-            i as FlightId,
+            FlightId::from(i),
             request,
             scratch,
         ));

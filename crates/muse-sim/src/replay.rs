@@ -87,7 +87,7 @@ pub fn replay(
             });
             for x in affected {
                 replan_expanded += x.expanded;
-                let i = x.flight as usize;
+                let i = x.flight.index();
                 changes[i].push(x.change(&a.zone, a.at));
                 fates[i] = Some(x.fate);
             }
@@ -97,7 +97,7 @@ pub fn replay(
     for (i, r) in requests.iter().enumerate() {
         announce_until(Some(r.submitted), &mut live, &mut changes, &mut fates)?;
         live.advance(r.submitted);
-        outcomes.push(live.book(i as FlightId, r));
+        outcomes.push(live.book(FlightId::from(i), r));
         changes.push(Vec::new());
         fates.push(None);
         progress(i + 1);

@@ -143,7 +143,7 @@ pub(super) fn barriers(windows: &[muse_airspace::closures::Window], before: Mill
         .map(|(a, b)| Occ {
             start: a - Millis(1) - before,
             end: b,
-            flight: FlightId::MAX,
+            flight: FlightId(u64::MAX),
         })
         .collect()
 }

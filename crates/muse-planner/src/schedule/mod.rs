@@ -51,8 +51,36 @@ use crate::time::Unbounded;
 use barriers::{Book, Occ, View, barriers, position, slot};
 
 /// An identifier of an accepted flight in a schedule (the caller's choice, e.g. the request's
-/// position in the day).
-pub type FlightId = u64;
+/// position in the day, or the service's sequence number).
+///
+/// ```
+/// use muse_planner::FlightId;
+/// assert_eq!(FlightId::from(7_usize), FlightId(7));
+/// assert_eq!(FlightId(7).to_string(), "#7");
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[repr(transparent)]
+pub struct FlightId(pub u64);
+
+impl FlightId {
+    /// The position this id stands for, when the caller numbered flights by position (as
+    /// [`FlightId::from`] a `usize` does).
+    pub fn index(self) -> usize {
+        self.0 as usize
+    }
+}
+
+impl From<usize> for FlightId {
+    fn from(index: usize) -> Self {
+        FlightId(index as u64)
+    }
+}
+
+impl std::fmt::Display for FlightId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "#{}", self.0)
+    }
+}
 
 /// What a node (or an edge's entry instants) says about an instant.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -510,7 +538,7 @@ mod tests {
         let mut s = schedule(&p, &[]);
         s.insert(
             &a,
-            7,
+            FlightId(7),
             &plan(&[(0, 100_000, 110_000), (1, 230_000, 230_000)]),
         );
         let v = NodeId(0);
@@ -547,7 +575,7 @@ mod tests {
         assert_eq!(s.reservations(), 3);
         assert!(s.remove(
             &a,
-            7,
+            FlightId(7),
             &plan(&[(0, 100_000, 110_000), (1, 230_000, 230_000)])
         ));
         assert_eq!(
@@ -560,7 +588,7 @@ mod tests {
         );
         assert!(!s.remove(
             &a,
-            7,
+            FlightId(7),
             &plan(&[(0, 100_000, 110_000), (1, 230_000, 230_000)])
         ));
     }
@@ -573,7 +601,11 @@ mod tests {
             ..FlightParams::default()
         };
         let mut s = schedule(&p, &[]);
-        s.insert(&a, 1, &plan(&[(0, 50_000, 50_000), (1, 170_000, 170_000)]));
+        s.insert(
+            &a,
+            FlightId(1),
+            &plan(&[(0, 50_000, 50_000), (1, 170_000, 170_000)]),
+        );
         // Arriving before 50 s: may stay until 50 s, not beyond.
         assert_eq!(
             s.node_slot(NodeId(0), Instant(40_000)),
@@ -600,7 +632,7 @@ mod tests {
         let plan1 = plan(&[(0, 0, 0), (1, 120_000, 120_000)]); // enters A→B at 0
         let exclusive = FlightParams::default();
         let mut s = schedule(&exclusive, &[]);
-        s.insert(&a, 1, &plan1);
+        s.insert(&a, FlightId(1), &plan1);
         // Same direction: no entry in (−120 s, 120 s).
         assert_eq!(run(&s, Dir::Forward, -200_000), (-200_000, -120_000));
         assert_eq!(run(&s, Dir::Forward, -119_999), (120_000, INF));
@@ -611,7 +643,7 @@ mod tests {
             ..exclusive
         };
         let mut s = schedule(&headway, &[]);
-        s.insert(&a, 1, &plan1);
+        s.insert(&a, FlightId(1), &plan1);
         assert_eq!(run(&s, Dir::Forward, 1), (5_000, INF));
         assert_eq!(run(&s, Dir::Forward, -10_000), (-10_000, -5_000));
         assert_eq!(run(&s, Dir::Backward, 1), (120_000, INF));
@@ -620,7 +652,7 @@ mod tests {
             ..exclusive
         };
         let mut s = schedule(&zero, &[]);
-        s.insert(&a, 1, &plan1);
+        s.insert(&a, FlightId(1), &plan1);
         assert_eq!(
             run(&s, Dir::Forward, 0),
             (0, INF),

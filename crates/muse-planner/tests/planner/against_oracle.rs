@@ -15,7 +15,7 @@ use muse_model::{
     Airspace, Edge, EdgeRule, FlightParams, Instant, LonLat, Millis, Node, NodeId, NodeKind, Plan,
     RejectReason, Request,
 };
-use muse_planner::{Planner, Schedule, Scratch};
+use muse_planner::{FlightId, Planner, Schedule, Scratch};
 use proptest::prelude::{Strategy, prop_assert_eq};
 
 /// Runs `cases` random instances of `shape` through the batch path; panics with the minimal
@@ -185,7 +185,7 @@ fn oracle_grid_equals_every_millisecond() {
             let fine = oracle::solve(&b.airspace, &b.params, &b.raw, &others, request, 1);
             prop_assert_eq!(coarse.result, fine.result, "request {}", request.id);
             if let Ok(plan) = planner.plan(&schedule, request, &mut scratch).result {
-                schedule.insert(&b.airspace, i as u64, &plan);
+                schedule.insert(&b.airspace, FlightId(i as u64), &plan);
                 accepted.push(plan);
             }
         }
@@ -435,7 +435,7 @@ fn oracle_free_flow_and_plan_shape() {
     assert_eq!(again.result, Err(RejectReason::NoFeasiblePlan));
     let planner = Planner::new(&airspace, params);
     let mut schedule = Schedule::new(&airspace, &params, &Closures::none(&airspace));
-    schedule.insert(&airspace, 0, &plan);
+    schedule.insert(&airspace, FlightId(0), &plan);
     let got = planner.plan(&schedule, &request, &mut Scratch::new());
     assert_eq!(got.result, Err(RejectReason::NoFeasiblePlan));
     assert_eq!(again.plan, None::<Plan>);

@@ -18,7 +18,7 @@ use crate::oracle::multileg::{self, Resume, Trip};
 use crate::scenario::multileg::{SwapSpec, check_rules, check_trip, multileg_instances, watched};
 use crate::scenario::{Instance, Shape, Tally, ZoneSpec, runner};
 use muse_model::{Instant, NodeId, Plan, RejectReason, Stay};
-use muse_planner::{Planner, Schedule, Scratch};
+use muse_planner::{FlightId, Planner, Schedule, Scratch};
 use proptest::prelude::{Strategy, prop_assert_eq};
 use proptest::test_runner::TestCaseError;
 
@@ -537,7 +537,7 @@ fn resume_case(
     let others: Vec<(usize, Plan)> = accepted.iter().filter(|a| a.0 != f).cloned().collect();
     let mut schedule = Schedule::new(&full.airspace, &full.params, &full.closures);
     for (i, p) in &others {
-        schedule.insert(&full.airspace, *i as u64, p);
+        schedule.insert(&full.airspace, FlightId(*i as u64), p);
     }
     let other_plans: Vec<&Plan> = others.iter().map(|a| &a.1).collect();
     let swap = full.params.battery_swap.map_or(0, |s| s.time.0);

@@ -7,7 +7,7 @@ use muse_model::{
     Airspace, Edge, EdgeRule, FlightParams, Instant, LonLat, Millis, Node, NodeId, NodeKind,
     Period, Plan, Request, Speed, Stay, Zone,
 };
-use muse_planner::{Planner, Schedule, Scratch};
+use muse_planner::{FlightId, Planner, Schedule, Scratch};
 use muse_verify::{Flight, verify};
 
 fn node(id: &str, lon: f64) -> Node {
@@ -82,7 +82,7 @@ fn plan_against(other: &Plan) -> Plan {
     let closures = b_closed(&a);
     let planner = Planner::new(&a, params);
     let mut schedule = Schedule::new(&a, &params, &closures);
-    schedule.insert(&a, 0, other);
+    schedule.insert(&a, FlightId(0), other);
     let other_request = Request {
         id: "other".into(),
         origin: other.path[0].node,
@@ -185,7 +185,7 @@ fn tau_zero_touching_stays_are_fine() {
             stay(3, 20_000, 20_000),
         ],
     };
-    schedule.insert(&a, 0, &other);
+    schedule.insert(&a, FlightId(0), &other);
     let request = Request {
         id: "r".into(),
         origin: NodeId(0),

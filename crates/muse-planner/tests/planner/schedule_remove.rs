@@ -6,7 +6,7 @@ use crate::scenario;
 
 use crate::scenario::{Instance, Shape, ZoneSpec};
 use muse_model::Plan;
-use muse_planner::{Outcome, Planner, Schedule, Scratch, plan_day};
+use muse_planner::{FlightId, Outcome, Planner, Schedule, Scratch, plan_day};
 use proptest::test_runner::TestCaseError;
 
 fn results(outcomes: &[Outcome]) -> Vec<Result<Plan, muse_model::RejectReason>> {
@@ -30,16 +30,16 @@ fn check(instance: &Instance, pick: usize) -> Result<(), String> {
         return Ok(());
     }
     let (k, removed) = &accepted[pick % accepted.len()];
-    if !schedule.remove(&b.airspace, *k as u64, removed) {
+    if !schedule.remove(&b.airspace, FlightId(*k as u64), removed) {
         return Err(format!("remove of flight {k} returned false"));
     }
-    if schedule.remove(&b.airspace, *k as u64, removed) {
+    if schedule.remove(&b.airspace, FlightId(*k as u64), removed) {
         return Err(format!("a second remove of flight {k} returned true"));
     }
     let mut fresh = Schedule::new(&b.airspace, &b.params, &b.closures);
     let rest: Vec<(usize, Plan)> = accepted.iter().filter(|(i, _)| i != k).cloned().collect();
     for (i, p) in &rest {
-        fresh.insert(&b.airspace, *i as u64, p);
+        fresh.insert(&b.airspace, FlightId(*i as u64), p);
     }
     let others: Vec<&Plan> = rest.iter().map(|(_, p)| p).collect();
     for request in &b.requests {
@@ -72,7 +72,7 @@ fn check(instance: &Instance, pick: usize) -> Result<(), String> {
         }
     }
     // Re-inserting restores the day's schedule: replanning the removed request gives its plan.
-    schedule.insert(&b.airspace, *k as u64, removed);
+    schedule.insert(&b.airspace, FlightId(*k as u64), removed);
     let mut again = Schedule::new(&b.airspace, &b.params, &b.closures);
     let replay = plan_day(&planner, &mut again, &b.requests, &mut scratch, |_| {});
     if results(&replay) != results(&day) {
@@ -134,7 +134,7 @@ fn plan_insert_remove_replan() {
         .map(|r| planner.plan(&schedule, r, &mut scratch))
         .collect();
     let first = before[0].result.clone().unwrap();
-    schedule.insert(&b.airspace, 0, &first);
+    schedule.insert(&b.airspace, FlightId(0), &first);
     let during: Vec<Outcome> = b
         .requests
         .iter()
@@ -145,14 +145,17 @@ fn plan_insert_remove_replan() {
         results(&during),
         "the flight is in the way"
     );
-    assert!(schedule.remove(&b.airspace, 0, &first));
+    assert!(schedule.remove(&b.airspace, FlightId(0), &first));
     let after: Vec<Outcome> = b
         .requests
         .iter()
         .map(|r| planner.plan(&schedule, r, &mut scratch))
         .collect();
     assert_eq!(results(&before), results(&after));
-    assert!(!schedule.remove(&b.airspace, 0, &first), "already removed");
+    assert!(
+        !schedule.remove(&b.airspace, FlightId(0), &first),
+        "already removed"
+    );
     check(&instance, 0).unwrap();
     check(&instance, 1).unwrap();
 }

@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use muse_airspace::closures::Closures;
 use muse_model::Instant;
+use muse_planner::FlightId;
 
 use super::{Engine, ZoneChange};
 use crate::flights::FlightEntry;
@@ -43,7 +44,7 @@ impl Engine<'_> {
             Change::Flights(flights) => {
                 let holdings: Vec<_> = flights
                     .iter()
-                    .map(|e| (e.seq, &e.request, e.holding()))
+                    .map(|e| (FlightId(e.seq), &e.request, e.holding()))
                     .collect();
                 self.live.hold_all(&holdings);
                 // Staged under the number the group being decided will be sent under, until

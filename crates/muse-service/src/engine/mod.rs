@@ -35,7 +35,7 @@ use std::time::Instant as WallInstant;
 
 use muse_model::{Instant, Request};
 use muse_planner::CancelError;
-use muse_planner::{Live, Planner};
+use muse_planner::{FlightId, Live, Planner};
 use tokio::sync::{mpsc, oneshot};
 
 use crate::auth::Caller;
@@ -399,7 +399,7 @@ impl Engine<'_> {
         let decided = if took_off {
             Err(CancelError::TookOff)
         } else {
-            self.live.can_cancel(known.seq).map(drop)
+            self.live.can_cancel(FlightId(known.seq)).map(drop)
         };
         match decided {
             Ok(()) => {}

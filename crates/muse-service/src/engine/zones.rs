@@ -110,7 +110,7 @@ impl Engine<'_> {
                 .index
                 .read()
                 .unwrap_or_else(std::sync::PoisonError::into_inner)
-                .get_seq(a.flight)
+                .get_seq(a.flight.0)
                 .cloned();
             let Some(known) = known else {
                 return AnnounceReply::Failed(format!(

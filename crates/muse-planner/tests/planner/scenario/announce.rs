@@ -116,7 +116,7 @@ struct Replay<'a> {
 
 impl Replay<'_> {
     fn request(&self, f: FlightId) -> &Request {
-        &self.base.requests[f as usize]
+        &self.base.requests[f.index()]
     }
 
     /// The affected flights by the SPEC, in their order.
@@ -335,8 +335,8 @@ pub fn run_announce(instance: &Instance, at: i64) -> Result<(Tally, Announcement
         Live::new(planner, &base.closures, Instant(0)).with_forget_every(Millis(instance.unit));
     let mut plans: HashMap<FlightId, Plan> = HashMap::new();
     for (i, r) in base.requests.iter().enumerate() {
-        if let Ok(plan) = live.book(i as FlightId, r).result {
-            plans.insert(i as FlightId, plan);
+        if let Ok(plan) = live.book(FlightId::from(i), r).result {
+            plans.insert(FlightId::from(i), plan);
         }
     }
     live.advance(Instant(n));

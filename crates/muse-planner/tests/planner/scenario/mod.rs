@@ -13,7 +13,7 @@ use muse_model::{
     NodeKind, Period, Plan, RejectReason, Request, Speed, Zone,
 };
 use muse_planner::CancelError;
-use muse_planner::{Live, Outcome, Planner, Schedule, Scratch};
+use muse_planner::{FlightId, Live, Outcome, Planner, Schedule, Scratch};
 use muse_verify::{Flight, verify};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, RngSeed, TestRunner};
@@ -466,7 +466,7 @@ pub fn run(instance: &Instance) -> Result<Tally, String> {
         });
         judge_with_oracle(&b, &accepted, request, &outcome, instance.unit, &mut tally)?;
         if let Ok(plan) = &outcome.result {
-            schedule.insert(&b.airspace, i as u64, plan);
+            schedule.insert(&b.airspace, FlightId(i as u64), plan);
             accepted.push((i, plan.clone()));
         }
     }
@@ -497,7 +497,9 @@ pub fn run_online(instance: &Instance) -> Result<Tally, String> {
     let mut booked = 0usize;
     for (i, request) in b.requests.iter().enumerate() {
         live.advance(Instant(last * 3 * i as i64 / (4 * n)));
-        let outcome = watched(&context, &request.id, || live.book(i as u64, request));
+        let outcome = watched(&context, &request.id, || {
+            live.book(FlightId(i as u64), request)
+        });
         if request.departure < live.now() {
             if outcome.result != Err(RejectReason::DepartureInPast) {
                 return Err(format!(
@@ -522,7 +524,7 @@ pub fn run_online(instance: &Instance) -> Result<Tally, String> {
         let k = accepted.len() / 2;
         let (j, plan) = accepted[k].clone();
         let took_off = plan.takeoff() <= live.now();
-        match (live.cancel(j as u64), took_off) {
+        match (live.cancel(FlightId(j as u64)), took_off) {
             (Ok(held), false) if held == plan => {
                 accepted.remove(k);
                 tally.cancelled += 1;
