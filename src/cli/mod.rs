@@ -6,6 +6,7 @@ mod common;
 mod demand;
 mod experiment;
 mod load;
+mod optimize;
 mod output;
 mod plan;
 mod progress;

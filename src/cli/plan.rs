@@ -12,7 +12,7 @@ use muse_formats::stays_csv::write_stays_csv;
 use muse_model::{Instant, Millis};
 use muse_sim::day::{DayRun, plan_requests};
 use muse_sim::demand::BookingLead;
-use muse_sim::metrics::{Provenance, ReplanSummary, RunItem, Summary};
+use muse_sim::metrics::{OptimizerSummary, Provenance, ReplanSummary, RunItem, Summary};
 
 use super::common::{FlightArgs, World, WorldArgs};
 use super::output;
@@ -129,6 +129,9 @@ pub fn write_outputs(
     }
     if !run.zones.announced.is_empty() {
         summary = summary.with_replanning(ReplanSummary::of(run, world.offset));
+    }
+    if let Some(report) = &run.optimizer {
+        summary = summary.with_optimizer(OptimizerSummary::of(report, &run.requests));
     }
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     write_atomically(&out.join("plans.jsonl"), &text)?;

@@ -111,6 +111,14 @@ ranges! {
     timeout_s: f64 = 0.1, 86_400.0, "a number of seconds";
     /// `muse verify --max-listed`.
     max_listed: usize = 0, 1_000_000, "a whole number of violations";
+    /// `--iterations` of the optimiser.
+    iterations: u64 = 0, 1_000_000_000, "a whole number of steps";
+    /// `--time-budget-s` of the optimiser: up to a day.
+    time_budget_s: f64 = 0.001, 86_400.0, "a number of seconds";
+    /// `--restarts` of the optimiser.
+    restarts: u32 = 0, 10_000, "a whole number of orders";
+    /// `--neighbourhood` of the optimiser.
+    neighbourhood: usize = 1, 1_000, "a whole number of flights";
     /// `muse airspace map --width`.
     width_px: u32 = 100, 20_000, "a whole number of pixels";
 }

@@ -10,13 +10,14 @@ use muse_formats::flights::{FlightFeature, write_flights};
 use muse_formats::plans::PlanRecord;
 use muse_formats::requests::{LocalDay, read_requests_file, write_requests};
 use muse_model::Request;
-use muse_sim::day::{DayRun, plan_requests};
+use muse_sim::day::{DayRun, plan_requests_by};
 use muse_sim::demand::generate;
 use muse_sim::metrics::{Provenance, Summary};
 use muse_verify::{Flight, verify_known_in};
 
 use super::common::{FlightArgs, World, WorldArgs, render_world_map};
 use super::demand::DemandArgs;
+use super::optimize::{OptimizeArgs, report_lines};
 use super::output;
 use super::output::write_atomically;
 use super::plan::write_outputs;
@@ -39,6 +40,8 @@ pub struct SimulateArgs {
     world: WorldArgs,
     #[command(flatten)]
     flight: FlightArgs,
+    #[command(flatten)]
+    optimize: OptimizeArgs,
     /// Output folder, written whole: it replaces an earlier run's folder as a whole, and a
     /// folder holding files muse does not write is refused (docs/reference.md#outputs).
     #[arg(long, value_name = "DIR", default_value = "out")]
@@ -87,10 +90,16 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         );
         (reqs, source, Some(spec.seed), Some(spec.booking_lead))
     };
-    let mut progress = LazyProgress::new(requests.len() as u64, "planning");
-    let run = plan_requests(&world.airspace, &world.zones, params, requests, |done| {
-        progress.set(done as u64);
-    })?;
+    let (total, what) = args.optimize.progress_total(requests.len());
+    let mut progress = LazyProgress::new(total, what);
+    let run = plan_requests_by(
+        &world.airspace,
+        &world.zones,
+        params,
+        requests,
+        args.optimize.planning(),
+        |done| progress.set(done as u64),
+    )?;
     progress.finish();
 
     let flights: Vec<Flight<'_>> = run
@@ -245,6 +254,11 @@ fn report(
         .map(|(k, v)| format!("{k} {v}"))
         .collect();
     let _ = writeln!(o, "  rejected      {} ({})", s.rejected, reasons.join(", "));
+    if let Some(r) = &s.optimizer {
+        for line in report_lines(r) {
+            let _ = writeln!(o, "{line}");
+        }
+    }
     let d = |x: muse_sim::metrics::Distribution| {
         format!(
             "mean {:.1} s, median {:.1} s, p95 {:.1} s, max {:.1} s",

@@ -30,6 +30,23 @@ pub enum DayError {
          and `muse view` read withdrawn zones)"
     )]
     Withdrawn(String),
+    /// Batch planning (SPEC §14) was asked for a day with zones announced during it.
+    #[error(
+        "zone `{0}` is announced during the day: the optimiser plans a batch known in advance \
+         against zones known from the start (SPEC §14); leave out `--optimize` or the \
+         zone's `announced` instant"
+    )]
+    OptimizeAnnounced(String),
+}
+
+/// How a day's requests are planned.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Planning {
+    /// One at a time in planning order, each against those before it (SPEC §5–§6).
+    #[default]
+    FirstComeFirstServed,
+    /// As one batch, better than first come, first served (SPEC §14).
+    Optimized(muse_optimize::Options),
 }
 
 /// The result of planning a day.
@@ -53,6 +70,8 @@ pub struct DayRun {
     pub replan_expanded: u64,
     /// The zones planned against: known from the start, and announced.
     pub zones: KnownZones,
+    /// What the optimiser did, when the day was planned as a batch (SPEC §14).
+    pub optimizer: Option<muse_optimize::Report>,
 }
 
 impl DayRun {
@@ -74,6 +93,7 @@ impl DayRun {
             planner_wall,
             replan_expanded: 0,
             zones,
+            optimizer: None,
         }
     }
 
@@ -88,6 +108,7 @@ impl DayRun {
             planner_wall: run.planner_wall,
             replan_expanded: run.replan_expanded,
             zones,
+            optimizer: None,
         }
     }
 
@@ -134,11 +155,52 @@ pub fn plan_requests(
     airspace: &Airspace,
     zones: &[Zone],
     params: FlightParams,
+    requests: Vec<Request>,
+    progress: impl FnMut(usize),
+) -> Result<DayRun, DayError> {
+    plan_requests_by(
+        airspace,
+        zones,
+        params,
+        requests,
+        Planning::FirstComeFirstServed,
+        progress,
+    )
+}
+
+/// [`plan_requests`], or with [`Planning::Optimized`] as one batch (SPEC §14): `progress` is
+/// then called with the optimiser's steps done. Zones announced during the day cannot be
+/// optimised ([`DayError::OptimizeAnnounced`]).
+pub fn plan_requests_by(
+    airspace: &Airspace,
+    zones: &[Zone],
+    params: FlightParams,
     mut requests: Vec<Request>,
+    planning: Planning,
     progress: impl FnMut(usize),
 ) -> Result<DayRun, DayError> {
     if let Some(z) = zones.iter().find(|z| z.withdrawn.is_some()) {
         return Err(DayError::Withdrawn(z.id.clone()));
+    }
+    if let (Planning::Optimized(options), None) =
+        (planning, zones.iter().find(|z| z.announced.is_some()))
+    {
+        sort_for_planning(&mut requests);
+        let (from, to) = closure_range(&requests, &params);
+        let known = KnownZones::resolve(airspace, zones, from, to)?;
+        let planner = Planner::new(airspace, params);
+        let mut progress = progress;
+        let out = muse_optimize::optimize(&planner, &known.base, &requests, &options, |n| {
+            progress(usize::try_from(n).unwrap_or(usize::MAX));
+        });
+        let mut run = DayRun::unchanged(requests, out.outcomes, out.report.elapsed, known);
+        run.optimizer = Some(out.report);
+        return Ok(run);
+    }
+    if let (Planning::Optimized(_), Some(z)) =
+        (planning, zones.iter().find(|z| z.announced.is_some()))
+    {
+        return Err(DayError::OptimizeAnnounced(z.id.clone()));
     }
     sort_for_planning(&mut requests);
     let (from, to) = closure_range(&requests, &params);

@@ -8,12 +8,14 @@ use serde::Serialize;
 use crate::demand::BookingLead;
 
 mod distribution;
+mod optimizer;
 mod params;
 pub mod recorded;
 pub mod replanning;
 
 pub use distribution::Distribution;
 pub use muse_formats::params::{BookingLeadRecord, ParamsRecord};
+pub use optimizer::{ObjectiveRecord, OptimizerSummary};
 pub use recorded::WorldRecord;
 pub use replanning::ReplanSummary;
 
@@ -100,6 +102,11 @@ pub struct Summary {
     /// answers, as given at submission.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub replanning: Option<ReplanSummary>,
+    /// The day planned as one batch (SPEC §14): first come, first served beside the
+    /// optimised schedule (only with `--optimize`). `planned`, `rejected` and the delays
+    /// above are the optimised schedule's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub optimizer: Option<OptimizerSummary>,
 }
 
 /// One planned-or-rejected request, as the metrics see it.
@@ -185,6 +192,7 @@ impl Summary {
             provenance,
             world: None,
             replanning: None,
+            optimizer: None,
         }
     }
 
@@ -217,6 +225,13 @@ impl Summary {
     #[must_use]
     pub fn with_replanning(mut self, replanning: ReplanSummary) -> Summary {
         self.replanning = Some(replanning);
+        self
+    }
+
+    /// Adds the `optimizer` section.
+    #[must_use]
+    pub fn with_optimizer(mut self, optimizer: OptimizerSummary) -> Summary {
+        self.optimizer = Some(optimizer);
         self
     }
 

@@ -1,0 +1,295 @@
+//! The optimiser of SPEC §14: first come, first served, then priority orders, then
+//! large-neighbourhood search, keeping the best schedule found and never a worse one.
+
+use std::time::{Duration, Instant as WallInstant};
+
+use muse_airspace::closures::Closures;
+use muse_model::{Millis, Plan, RejectReason, Request};
+use muse_planner::{Outcome, Planner, Schedule, Scratch};
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::lns::{Step, in_the_way, pick, size, step};
+use crate::objective::Objective;
+use crate::order::Order;
+use crate::working::Working;
+
+/// How hard to try.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Options {
+    /// Steps of large-neighbourhood search: the reproducible budget (SPEC §14).
+    pub iterations: u64,
+    /// Stop early after this much wall time, if given (then the result depends on the
+    /// machine's speed: not reproducible).
+    pub time_budget: Option<Duration>,
+    /// Seed of every random choice.
+    pub seed: u64,
+    /// Random orders tried besides the fixed ones.
+    pub restarts: u32,
+    /// Most flights taken out in one step.
+    pub neighbourhood: usize,
+}
+
+impl Default for Options {
+    /// 10,000 steps, no time budget, seed 1, 4 random orders, neighbourhoods of up to 8.
+    fn default() -> Self {
+        Options {
+            iterations: 10_000,
+            time_budget: None,
+            seed: 1,
+            restarts: 4,
+            neighbourhood: 8,
+        }
+    }
+}
+
+/// What the optimiser did (SPEC §14's report).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Report {
+    /// First come, first served: the starting point.
+    pub fcfs: Objective,
+    /// The schedule returned: never worse than `fcfs`.
+    pub result: Objective,
+    /// Requests that can fly alone (on the empty schedule, with the zones): no schedule
+    /// plans more.
+    pub alone: usize,
+    /// The order whose schedule the search started from (`arrival` is FCFS).
+    pub start: &'static str,
+    /// Orders tried, each with its objective.
+    pub orders: Vec<(&'static str, Objective)>,
+    /// Steps of large-neighbourhood search done.
+    pub iterations: u64,
+    /// Of which improved the objective.
+    pub improved: u64,
+    /// Whether the time budget ended the search before the iteration budget.
+    pub timed_out: bool,
+    /// Wall time, first come first served included.
+    pub elapsed: Duration,
+    /// Labels expanded by every search.
+    pub expanded: u64,
+    /// Requests served by first come, first served but rejected by the result (indices).
+    pub displaced: Vec<usize>,
+}
+
+impl Report {
+    /// Steps per second of wall time (`0` if none).
+    pub fn iterations_per_s(&self) -> f64 {
+        let s = self.elapsed.as_secs_f64();
+        if s > 0.0 {
+            self.iterations as f64 / s
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The optimised schedule: one outcome per request, in the order given, and the report.
+#[derive(Debug)]
+pub struct Optimized {
+    /// The answer to each request: its plan, or why it has none.
+    pub outcomes: Vec<Outcome>,
+    /// What the optimiser did.
+    pub report: Report,
+}
+
+/// Plans `requests` (in planning order `(submitted, id)`, SPEC §5) as a batch against
+/// `closures`: first come, first served, then the priority orders and `options.restarts`
+/// random ones, then `options.iterations` steps of large-neighbourhood search from the best
+/// of them, keeping only steps that leave the objective no worse. The result is never worse
+/// than first come, first served, and with no time budget the same inputs give the same
+/// schedule on every machine. `progress` is called with the steps done.
+///
+/// ```
+/// use muse_airspace::closures::Closures;
+/// use muse_model::{Airspace, FlightParams, Instant, NodeId, Request};
+/// use muse_optimize::{Options, optimize};
+/// use muse_planner::Planner;
+/// // A - B - C, 1 km each. A long trip A→C leaves first; a short one B→A a minute later
+/// // meets it... whichever order, both fit here: the optimiser never does worse than FCFS.
+/// let air = Airspace::line(&[1_000.0, 1_000.0]);
+/// let planner = Planner::new(&air, FlightParams::default());
+/// let r = |id: &str, o, d, t| Request { id: id.into(), origin: NodeId(o), destination: NodeId(d),
+///                                       departure: Instant(t), submitted: Instant(0) };
+/// let requests = [r("long", 0, 2, 0), r("short", 1, 0, 60_000)];
+/// let out = optimize(&planner, &Closures::none(&air), &requests, &Options::default(), |_| {});
+/// assert!(out.report.result >= out.report.fcfs);
+/// assert_eq!(out.outcomes.len(), 2);
+/// ```
+pub fn optimize(
+    planner: &Planner<'_>,
+    closures: &Closures,
+    requests: &[Request],
+    options: &Options,
+    mut progress: impl FnMut(u64),
+) -> Optimized {
+    let started = WallInstant::now();
+    let free_flow: Vec<Option<Millis>> = requests.iter().map(|r| planner.free_flow(r)).collect();
+    let alone = plans_alone(planner, closures, requests);
+    let mut expanded = 0;
+
+    let mut orders = vec![
+        Order::Arrival,
+        Order::EarliestDeparture,
+        Order::ShortestFirst,
+        Order::LongestFirst,
+    ];
+    let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
+    for _ in 0..options.restarts {
+        orders.push(Order::Random(rng.random()));
+    }
+    let mut tried = Vec::with_capacity(orders.len());
+    let mut best: Option<(Working<'_>, Order)> = None;
+    let mut fcfs_plans: Vec<bool> = Vec::new();
+    for order in orders {
+        let mut w = Working::new(planner, closures, requests, &free_flow);
+        for i in order.ranked(requests, &free_flow) {
+            w.try_plan(i);
+        }
+        expanded += w.expanded;
+        w.expanded = 0;
+        if order == Order::Arrival {
+            fcfs_plans = w.plans().iter().map(Option::is_some).collect();
+        }
+        tried.push((order.name(), w.objective()));
+        if best
+            .as_ref()
+            .is_none_or(|(b, _)| w.objective() > b.objective())
+        {
+            best = Some((w, order));
+        }
+    }
+    let (mut working, start) = best.expect("the arrival order is always tried");
+    let fcfs = tried[0].1;
+
+    let params = planner.params();
+    let tau = params.node_separation;
+    let mut iterations = 0;
+    let mut improved = 0;
+    let mut timed_out = false;
+    let mut waiting: Vec<usize> = unplanned(&working, &alone);
+    while iterations < options.iterations {
+        if options
+            .time_budget
+            .is_some_and(|budget| started.elapsed() >= budget)
+        {
+            timed_out = true;
+            break;
+        }
+        iterations += 1;
+        let k = size(options.neighbourhood, &mut rng);
+        let outcome = if waiting.is_empty() {
+            // Everything that can fly flies: shorten delays instead.
+            let Some(target) = delayed(&working, requests, &free_flow, &mut rng) else {
+                break;
+            };
+            let path = working
+                .plan(target)
+                .expect("a delayed request is planned")
+                .clone();
+            let slack = slack(params.max_flight, free_flow[target]) + params.max_ground_delay;
+            let mut out = pick(
+                in_the_way(&working, target, &path, slack, tau),
+                k - 1,
+                &mut rng,
+            );
+            out.push(target);
+            step(&mut working, target, &out, &mut rng)
+        } else {
+            let target = waiting[rng.random_range(0..waiting.len())];
+            let path = alone[target]
+                .as_ref()
+                .expect("a waiting request can fly alone");
+            let slack = slack(params.max_flight, free_flow[target]) + params.max_ground_delay;
+            let out = pick(in_the_way(&working, target, path, slack, tau), k, &mut rng);
+            step(&mut working, target, &out, &mut rng)
+        };
+        match outcome {
+            Step::Better => {
+                improved += 1;
+                waiting = unplanned(&working, &alone);
+            }
+            Step::Same => waiting = unplanned(&working, &alone),
+            Step::Undone => {}
+        }
+        progress(iterations);
+    }
+    expanded += working.expanded;
+
+    let outcomes: Vec<Outcome> = (0..requests.len())
+        .map(|i| {
+            let (labels, reason) = working.last_search(i);
+            Outcome {
+                result: working
+                    .plan(i)
+                    .cloned()
+                    .ok_or(reason.unwrap_or(RejectReason::NoFeasiblePlan)),
+                free_flow: free_flow[i],
+                expanded: labels,
+            }
+        })
+        .collect();
+    let displaced = (0..requests.len())
+        .filter(|&i| fcfs_plans[i] && working.plan(i).is_none())
+        .collect();
+    let result = working.objective();
+    debug_assert!(result >= fcfs);
+    Optimized {
+        outcomes,
+        report: Report {
+            fcfs,
+            result,
+            alone: alone.iter().filter(|p| p.is_some()).count(),
+            start: start.name(),
+            orders: tried,
+            iterations,
+            improved,
+            timed_out,
+            elapsed: started.elapsed(),
+            expanded,
+            displaced,
+        },
+    }
+}
+
+/// Each request's plan on the empty schedule (zones only), if it can fly at all.
+fn plans_alone(
+    planner: &Planner<'_>,
+    closures: &Closures,
+    requests: &[Request],
+) -> Vec<Option<Plan>> {
+    let empty = Schedule::new(planner.airspace(), planner.params(), closures);
+    let mut scratch = Scratch::new();
+    requests
+        .iter()
+        .map(|r| planner.plan(&empty, r, &mut scratch).result.ok())
+        .collect()
+}
+
+/// The requests that could fly alone but hold no plan, in index order.
+fn unplanned(working: &Working<'_>, alone: &[Option<Plan>]) -> Vec<usize> {
+    (0..alone.len())
+        .filter(|&i| alone[i].is_some() && working.plan(i).is_none())
+        .collect()
+}
+
+/// A planned request with some delay, drawn at random; `None` if none is delayed.
+fn delayed(
+    working: &Working<'_>,
+    requests: &[Request],
+    free_flow: &[Option<Millis>],
+    rng: &mut ChaCha8Rng,
+) -> Option<usize> {
+    let late: Vec<usize> = (0..requests.len())
+        .filter(|&i| {
+            working.plan(i).is_some_and(|p| {
+                free_flow[i].is_some_and(|f| Objective::delay_of(&requests[i], p, f) > Millis::ZERO)
+            })
+        })
+        .collect();
+    (!late.is_empty()).then(|| late[rng.random_range(0..late.len())])
+}
+
+/// How much later than its free-flow time a flight may still land: the battery's slack.
+fn slack(max_flight: Millis, free_flow: Option<Millis>) -> Millis {
+    free_flow.map_or(Millis::ZERO, |f| (max_flight - f).max(Millis::ZERO))
+}

@@ -1,0 +1,133 @@
+//! The options of batch planning (SPEC §14) shared by `muse plan` and `muse simulate`.
+
+use std::time::Duration;
+
+use clap::Args;
+use muse_optimize::Options;
+use muse_sim::day::Planning;
+use muse_sim::metrics::OptimizerSummary;
+
+use super::ranges;
+
+/// `--optimize` and its budget.
+#[derive(Debug, Args)]
+pub struct OptimizeArgs {
+    /// Plan the requests as one batch, better than first come, first served: most requests
+    /// planned, then least total delay (SPEC §14). Starts from first come, first served and
+    /// never returns a worse schedule.
+    #[arg(long)]
+    optimize: bool,
+    /// With --optimize: steps of large-neighbourhood search, from 0 to 1000000000 (the
+    /// reproducible budget: the same steps and seed give the same plans on every machine).
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = Options::default().iterations,
+        requires = "optimize",
+        allow_negative_numbers = true,
+        value_parser = ranges::iterations
+    )]
+    iterations: u64,
+    /// With --optimize: stop the search after this many seconds of wall time, from 0.001 to
+    /// 86400 (the result then depends on the machine's speed; not reproducible).
+    #[arg(
+        long,
+        value_name = "S",
+        requires = "optimize",
+        allow_negative_numbers = true,
+        value_parser = ranges::time_budget_s
+    )]
+    time_budget_s: Option<f64>,
+    /// With --optimize: seed of the optimiser's random choices, a whole number from 0 to
+    /// 18446744073709551615.
+    #[arg(
+        long,
+        value_name = "SEED",
+        default_value_t = Options::default().seed,
+        requires = "optimize",
+        allow_negative_numbers = true,
+        value_parser = ranges::seed
+    )]
+    optimize_seed: u64,
+    /// With --optimize: random planning orders tried before the search, from 0 to 10000.
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = Options::default().restarts,
+        requires = "optimize",
+        allow_negative_numbers = true,
+        value_parser = ranges::restarts
+    )]
+    restarts: u32,
+    /// With --optimize: the most flights one search step takes out of the schedule, from 1
+    /// to 1000.
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = Options::default().neighbourhood,
+        requires = "optimize",
+        allow_negative_numbers = true,
+        value_parser = ranges::neighbourhood
+    )]
+    neighbourhood: usize,
+}
+
+impl OptimizeArgs {
+    /// How the day is to be planned.
+    pub fn planning(&self) -> Planning {
+        if !self.optimize {
+            return Planning::FirstComeFirstServed;
+        }
+        Planning::Optimized(Options {
+            iterations: self.iterations,
+            time_budget: self.time_budget_s.map(Duration::from_secs_f64),
+            seed: self.optimize_seed,
+            restarts: self.restarts,
+            neighbourhood: self.neighbourhood,
+        })
+    }
+
+    /// The steps the progress bar counts: requests when planning first come, first served,
+    /// the search's steps when optimising.
+    pub fn progress_total(&self, requests: usize) -> (u64, &'static str) {
+        if self.optimize {
+            (self.iterations, "optimising")
+        } else {
+            (requests as u64, "planning")
+        }
+    }
+}
+
+/// The lines `muse plan` and `muse simulate` print about the optimiser.
+pub fn report_lines(r: &OptimizerSummary) -> Vec<String> {
+    vec![
+        format!(
+            "  fcfs          {} planned, total delay {:.1} s (mean {:.1} s)",
+            r.fcfs.planned, r.fcfs.total_delay_s, r.fcfs.mean_delay_s
+        ),
+        format!(
+            "  optimised     {} planned, total delay {:.1} s (mean {:.1} s); {} displaced; \
+             {} can fly alone",
+            r.optimized.planned,
+            r.optimized.total_delay_s,
+            r.optimized.mean_delay_s,
+            r.displaced,
+            r.can_fly_alone
+        ),
+        format!(
+            "  optimiser     {} steps ({} improved{}) from the {} order, {:.2} s, {:.0} \
+             steps/s, {} labels",
+            r.iterations,
+            r.improved,
+            if r.stopped_by_time_budget {
+                ", stopped by the time budget"
+            } else {
+                ""
+            },
+            r.started_from,
+            r.time_s,
+            r.iterations_per_s,
+            r.expanded
+        ),
+    ]
+}
