@@ -254,10 +254,8 @@ fn report(
         .map(|(k, v)| format!("{k} {v}"))
         .collect();
     let _ = writeln!(o, "  rejected      {} ({})", s.rejected, reasons.join(", "));
-    if let Some(r) = &s.optimizer {
-        for line in report_lines(r) {
-            let _ = writeln!(o, "{line}");
-        }
+    for line in s.optimizer.iter().flat_map(report_lines) {
+        let _ = writeln!(o, "{line}");
     }
     let d = |x: muse_sim::metrics::Distribution| {
         format!(

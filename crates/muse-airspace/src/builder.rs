@@ -447,16 +447,7 @@ fn check_connected(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use muse_model::NodeKind;
-
-    fn node(id: &str, lon: f64, lat: f64) -> Node {
-        Node {
-            id: id.into(),
-            kind: NodeKind::Station,
-            name: String::new(),
-            pos: LonLat::new(lon, lat),
-        }
-    }
+    use muse_model::testing::station;
 
     fn edge_ids(a: &Airspace) -> Vec<String> {
         a.edges().iter().map(|e| e.id.clone()).collect()
@@ -466,11 +457,11 @@ mod tests {
     fn square_with_centre() {
         let d = 0.01;
         let nodes = vec![
-            node("SW", 103.8, 1.3),
-            node("SE", 103.8 + d, 1.3),
-            node("NE", 103.8 + d, 1.3 + d),
-            node("NW", 103.8, 1.3 + d),
-            node("C", 103.8 + d / 2.0, 1.3 + d / 2.0),
+            station("SW", 103.8, 1.3),
+            station("SE", 103.8 + d, 1.3),
+            station("NE", 103.8 + d, 1.3 + d),
+            station("NW", 103.8, 1.3 + d),
+            station("C", 103.8 + d / 2.0, 1.3 + d / 2.0),
         ];
         let a = build_airspace(nodes, &BuildOptions::default()).unwrap();
         // Four sides and four spokes; no diagonal (the centre blocks both).
@@ -499,10 +490,10 @@ mod tests {
         // B is 11 m off the 2.2 km segment A–C: angle ABC ≈ 178.9°.
         let nodes = || {
             vec![
-                node("A", 103.80, 1.30),
-                node("B", 103.81, 1.3001),
-                node("C", 103.82, 1.30),
-                node("D", 103.81, 1.31),
+                station("A", 103.80, 1.30),
+                station("B", 103.81, 1.3001),
+                station("C", 103.82, 1.30),
+                station("D", 103.81, 1.31),
             ]
         };
         let joined = build_airspace(nodes(), &BuildOptions::default()).unwrap();
@@ -527,7 +518,7 @@ mod tests {
         let nodes: Vec<Node> = (0..5)
             .map(|i| {
                 let x = f64::from(i);
-                node(
+                station(
                     &format!("N{i}"),
                     103.8 + 0.01 * x,
                     1.3 + 0.0001 * x * (4.0 - x),
@@ -542,10 +533,10 @@ mod tests {
     #[test]
     fn too_small_max_length_disconnects() {
         let nodes = vec![
-            node("A", 103.80, 1.30),
-            node("B", 103.801, 1.30),
-            node("C", 103.90, 1.30),
-            node("D", 103.901, 1.301),
+            station("A", 103.80, 1.30),
+            station("B", 103.801, 1.30),
+            station("C", 103.90, 1.30),
+            station("D", 103.901, 1.301),
         ];
         let opts = BuildOptions {
             max_edge_length_m: Some(1_000.0),
@@ -576,7 +567,7 @@ mod tests {
         };
         let nodes: Vec<Node> = (0..60)
             .map(|i| {
-                node(
+                station(
                     &format!("P{i:02}"),
                     103.6 + 0.4 * next(),
                     1.25 + 0.2 * next(),
@@ -613,9 +604,9 @@ mod tests {
     #[test]
     fn input_errors() {
         let dup = vec![
-            node("A", 103.8, 1.3),
-            node("B", 103.9, 1.3),
-            node("C", 103.8, 1.3),
+            station("A", 103.8, 1.3),
+            station("B", 103.9, 1.3),
+            station("C", 103.8, 1.3),
         ];
         assert_eq!(
             build_airspace(dup, &BuildOptions::default()).unwrap_err(),
@@ -628,12 +619,12 @@ mod tests {
             build_airspace(vec![], &BuildOptions::default()).unwrap_err(),
             BuildError::NoNodes
         );
-        let bad = vec![node("A", f64::NAN, 1.3)];
+        let bad = vec![station("A", f64::NAN, 1.3)];
         assert!(matches!(
             build_airspace(bad, &BuildOptions::default()),
             Err(BuildError::BadPosition { index: 0, .. })
         ));
-        let same_id = vec![node("A", 103.8, 1.3), node("A", 103.9, 1.3)];
+        let same_id = vec![station("A", 103.8, 1.3), station("A", 103.9, 1.3)];
         assert!(matches!(
             build_airspace(same_id, &BuildOptions::default()),
             Err(BuildError::Airspace(AirspaceError::DuplicateNodeId { .. }))
@@ -643,13 +634,13 @@ mod tests {
             ..BuildOptions::default()
         };
         assert!(matches!(
-            build_airspace(vec![node("A", 103.8, 1.3)], &opts),
+            build_airspace(vec![station("A", 103.8, 1.3)], &opts),
             Err(BuildError::BadOption(_))
         ));
         let spread = vec![
-            node("A", 0.0, 0.0),
-            node("B", 120.0, 0.0),
-            node("C", -120.0, 0.0),
+            station("A", 0.0, 0.0),
+            station("B", 120.0, 0.0),
+            station("C", -120.0, 0.0),
         ];
         assert!(matches!(
             build_airspace(spread, &BuildOptions::default()),
@@ -659,10 +650,10 @@ mod tests {
 
     #[test]
     fn single_node_and_pair() {
-        let one = build_airspace(vec![node("A", 103.8, 1.3)], &BuildOptions::default()).unwrap();
+        let one = build_airspace(vec![station("A", 103.8, 1.3)], &BuildOptions::default()).unwrap();
         assert_eq!(one.edge_count(), 0);
         let two = build_airspace(
-            vec![node("B", 103.81, 1.3), node("A", 103.8, 1.3)],
+            vec![station("B", 103.81, 1.3), station("A", 103.8, 1.3)],
             &BuildOptions::default(),
         )
         .unwrap();

@@ -294,7 +294,8 @@ impl Dijkstra {
 #[allow(clippy::many_single_char_names, clippy::needless_range_loop)]
 mod tests {
     use super::*;
-    use muse_model::{Edge, LonLat, Node, NodeKind, Speed};
+    use muse_model::testing::{airspace, named_edge, station};
+    use muse_model::{Node, Speed};
 
     /// `SplitMix64`: a tiny deterministic generator, enough for test graphs.
     struct Rng(u64);
@@ -314,12 +315,7 @@ mod tests {
     }
 
     fn node(i: usize) -> Node {
-        Node {
-            id: format!("N{i}"),
-            kind: NodeKind::Station,
-            name: String::new(),
-            pos: LonLat::new(103.8 + i as f64 * 0.001, 1.3),
-        }
+        station(&format!("N{i}"), 103.8 + i as f64 * 0.001, 1.3)
     }
 
     /// A random simple graph with `n` nodes, each pair joined with probability `p_percent`,
@@ -337,18 +333,13 @@ mod tests {
                 if rng.below(100) < p_percent {
                     // Random orientation, so both directions of the CSR are exercised.
                     let (from, to) = if rng.below(2) == 0 { (a, b) } else { (b, a) };
-                    edges.push(Edge {
-                        id: format!("E{}", edges.len()),
-                        from: NodeId(from as u32),
-                        to: NodeId(to as u32),
-                        length_m: 1.0,
-                    });
+                    let id = format!("E{}", edges.len());
+                    edges.push(named_edge(&id, from as u32, to as u32, 1.0));
                     times.push(Millis(rng.below(max_ms + 1) as i64));
                 }
             }
         }
-        let airspace = Airspace::new((0..n).map(node).collect(), edges).unwrap();
-        (airspace, times)
+        (airspace((0..n).map(node).collect(), edges), times)
     }
 
     fn floyd_warshall(airspace: &Airspace, times: &[Millis]) -> Vec<Vec<Option<i64>>> {
@@ -441,30 +432,14 @@ mod tests {
     #[test]
     fn excluded_edges_are_not_used() {
         // A - B - C, A - C. Excluding A - C forces the detour.
-        let airspace = Airspace::new(
+        let airspace = airspace(
             (0..3).map(node).collect(),
             vec![
-                Edge {
-                    id: "AB".into(),
-                    from: NodeId(0),
-                    to: NodeId(1),
-                    length_m: 1_000.0,
-                },
-                Edge {
-                    id: "BC".into(),
-                    from: NodeId(1),
-                    to: NodeId(2),
-                    length_m: 1_000.0,
-                },
-                Edge {
-                    id: "AC".into(),
-                    from: NodeId(0),
-                    to: NodeId(2),
-                    length_m: 1_500.0,
-                },
+                named_edge("AB", 0, 1, 1_000.0),
+                named_edge("BC", 1, 2, 1_000.0),
+                named_edge("AC", 0, 2, 1_500.0),
             ],
-        )
-        .unwrap();
+        );
         let times = airspace.traversal_times(Speed::PAPER);
         let mut search = Dijkstra::new(3);
         search.run(&airspace, &times, NodeId(0));

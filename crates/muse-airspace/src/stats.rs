@@ -273,25 +273,8 @@ impl fmt::Display for AirspaceStats {
 #[allow(clippy::float_cmp)] // the lengths are exact in binary
 mod tests {
     use super::*;
-    use muse_model::{Edge, LonLat, Node, NodeKind};
-
-    fn node(id: &str, kind: NodeKind) -> Node {
-        Node {
-            id: id.into(),
-            kind,
-            name: String::new(),
-            pos: LonLat::new(103.8, 1.3),
-        }
-    }
-
-    fn edge(a: u32, b: u32, m: f64) -> Edge {
-        Edge {
-            id: format!("{a}-{b}"),
-            from: NodeId(a),
-            to: NodeId(b),
-            length_m: m,
-        }
-    }
+    use muse_model::testing::{airspace, edge, node, station, waypoint};
+    use muse_model::{Node, NodeKind};
 
     /// Hand-checked graph (times at 30 km/h: 1 km = 2 min):
     ///
@@ -307,14 +290,14 @@ mod tests {
     /// S0–S2 5 km either way (10 min); S1–W4 4 km; W3–S2 3 km; S0–W4 3 km. The largest is
     /// S0–S2, so both diameters are 10 min.
     fn sample() -> Airspace {
-        Airspace::new(
+        airspace(
             vec![
-                node("S0", NodeKind::Station),
-                node("S1", NodeKind::Station),
-                node("S2", NodeKind::Station),
-                node("W3", NodeKind::Waypoint),
-                node("W4", NodeKind::Waypoint),
-                node("S5", NodeKind::Station),
+                station("S0", 103.8, 1.3),
+                station("S1", 103.8, 1.3),
+                station("S2", 103.8, 1.3),
+                waypoint("W3", 103.8, 1.3),
+                waypoint("W4", 103.8, 1.3),
+                station("S5", 103.8, 1.3),
             ],
             vec![
                 edge(0, 1, 1_000.0),
@@ -324,7 +307,6 @@ mod tests {
                 edge(4, 2, 2_000.0),
             ],
         )
-        .unwrap()
     }
 
     #[test]
@@ -366,14 +348,14 @@ mod tests {
 
     #[test]
     fn empty_and_tiny_airspaces() {
-        let empty = Airspace::new(vec![], vec![]).unwrap();
+        let empty = airspace(vec![], vec![]);
         let s = airspace_stats(&empty, Speed::PAPER, Millis::from_mins(20));
         assert_eq!((s.nodes, s.edges, s.station_pairs), (0, 0, 0));
         assert!(s.connected);
         assert_eq!(s.median_edge_m, None);
         assert_eq!(s.diameter, Millis::ZERO);
         assert_eq!(s.share_within_t_max, 0.0);
-        let one = Airspace::new(vec![node("S0", NodeKind::Station)], vec![]).unwrap();
+        let one = airspace(vec![station("S0", 103.8, 1.3)], vec![]);
         let s = airspace_stats(&one, Speed::PAPER, Millis::from_mins(20));
         assert!(s.connected);
         assert_eq!(s.station_pairs, 0);
@@ -412,20 +394,19 @@ mod tests {
             let count = 3 + round * 5;
             let station_every = 1 + round % 7;
             let nodes: Vec<Node> = (0..count)
-                .map(|i| Node {
-                    id: format!("N{i}"),
-                    kind: if i % station_every == 0 {
+                .map(|i| {
+                    let kind = if i % station_every == 0 {
                         NodeKind::Station
                     } else {
                         NodeKind::Waypoint
-                    },
-                    name: String::new(),
-                    pos: LonLat::new(103.6 + 0.4 * next(), 1.2 + 0.2 * next()),
+                    };
+                    let (lon, lat) = (103.6 + 0.4 * next(), 1.2 + 0.2 * next());
+                    node(&format!("N{i}"), kind, lon, lat)
                 })
                 .collect();
             let a = build_airspace(nodes, &BuildOptions::default()).unwrap();
             // Also a disconnected variant: drop every third edge.
-            let cut = Airspace::new(
+            let cut = airspace(
                 a.nodes().to_vec(),
                 a.edges()
                     .iter()
@@ -433,8 +414,7 @@ mod tests {
                     .filter(|(k, _)| k % 3 != 1)
                     .map(|(_, e)| e.clone())
                     .collect(),
-            )
-            .unwrap();
+            );
             for air in [&a, &cut] {
                 let s = airspace_stats(air, Speed::PAPER, Millis::from_mins(20));
                 let (d, connected) = brute_force_diameter(air, Speed::PAPER);
@@ -442,13 +422,12 @@ mod tests {
             }
         }
         // Without stations, and with isolated nodes.
-        let waypoints = Airspace::new(
+        let waypoints = airspace(
             (0..4)
-                .map(|i| node(&format!("W{i}"), NodeKind::Waypoint))
+                .map(|i| waypoint(&format!("W{i}"), 103.8, 1.3))
                 .collect(),
             vec![edge(0, 1, 1_000.0), edge(1, 2, 3_000.0)],
-        )
-        .unwrap();
+        );
         let s = airspace_stats(&waypoints, Speed::PAPER, Millis::from_mins(20));
         assert_eq!((s.diameter, s.connected), (Millis::from_mins(8), false));
     }

@@ -123,7 +123,8 @@ fn features(f: &FlightFeature<'_>, airspace: &Airspace, offset: UtcOffset) -> Ve
 
 #[cfg(test)]
 mod tests {
-    use muse_model::{Instant, NodeId, Stay};
+    use muse_model::Instant;
+    use muse_model::testing::plan;
 
     use super::*;
     use crate::airspace_geojson::read_airspace;
@@ -141,23 +142,13 @@ mod tests {
         .unwrap()
     }
 
-    fn stay(n: u32, a: i64, d: i64) -> Stay {
-        Stay {
-            node: NodeId(n),
-            arrive: Instant(a),
-            depart: Instant(d),
-        }
-    }
-
     #[test]
     fn single_leg_golden() {
-        let plan = Plan {
-            path: vec![
-                stay(0, 1_000, 3_500),
-                stay(1, 123_500, 123_500),
-                stay(2, 243_500, 243_500),
-            ],
-        };
+        let plan = plan(&[
+            (0, 1_000, 3_500),
+            (1, 123_500, 123_500),
+            (2, 243_500, 243_500),
+        ]);
         let f = FlightFeature {
             request: "r1",
             plan: &plan,
@@ -175,14 +166,12 @@ mod tests {
     #[test]
     fn one_feature_per_leg() {
         // A -> B, on the ground at B from 121 s to 421 s, B -> C.
-        let plan = Plan {
-            path: vec![
-                stay(0, 1_000, 1_000),
-                stay(1, 121_000, 121_000),
-                stay(1, 421_000, 423_000),
-                stay(2, 543_000, 543_000),
-            ],
-        };
+        let plan = plan(&[
+            (0, 1_000, 1_000),
+            (1, 121_000, 121_000),
+            (1, 421_000, 423_000),
+            (2, 543_000, 543_000),
+        ]);
         let f = FlightFeature {
             request: "r1",
             plan: &plan,

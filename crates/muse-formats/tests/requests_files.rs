@@ -6,7 +6,8 @@ use std::path::PathBuf;
 use muse_formats::Location;
 use muse_formats::airspace_geojson::read_airspace_file;
 use muse_formats::requests::{LocalDay, read_requests, read_requests_file, write_requests};
-use muse_model::{Airspace, Instant, Millis, NodeId, Request, UtcOffset};
+use muse_model::testing::request;
+use muse_model::{Airspace, Instant, Millis, Request, UtcOffset};
 use proptest::prelude::*;
 
 fn fixture(name: &str) -> PathBuf {
@@ -125,11 +126,8 @@ fn arb_requests() -> impl Strategy<Value = Vec<Request>> {
         rows.into_iter()
             .enumerate()
             .map(|(i, ((o, d), departure, lead))| Request {
-                id: format!("r{i}"),
-                origin: NodeId(o),
-                destination: NodeId(d),
-                departure: Instant(departure),
                 submitted: Instant(departure - lead.unwrap_or(0)),
+                ..request(&format!("r{i}"), o, d, departure)
             })
             .collect()
     })

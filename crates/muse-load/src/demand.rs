@@ -176,33 +176,25 @@ impl Demand {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use muse_model::{Edge, LonLat, Node, NodeKind, Speed};
+    use muse_model::Speed;
+    use muse_model::testing::{edge, station, waypoint};
 
     /// `A -1 km- B -9 km- C` plus a waypoint `W`: at 30 km/h with a 19-minute battery only
     /// `A–B` and `B–C` are in range.
     fn airspace() -> Airspace {
-        let n = |id: &str, lon, kind| Node {
-            id: id.into(),
-            kind,
-            name: String::new(),
-            pos: LonLat::new(lon, 1.3),
-        };
-        let e = |a: u32, b: u32, m| Edge {
-            id: format!("{a}-{b}"),
-            from: NodeId(a),
-            to: NodeId(b),
-            length_m: m,
-        };
-        Airspace::new(
+        muse_model::testing::airspace(
             vec![
-                n("A", 103.8, NodeKind::Station),
-                n("B", 103.81, NodeKind::Station),
-                n("C", 103.9, NodeKind::Station),
-                n("W", 103.95, NodeKind::Waypoint),
+                station("A", 103.8, 1.3),
+                station("B", 103.81, 1.3),
+                station("C", 103.9, 1.3),
+                waypoint("W", 103.95, 1.3),
             ],
-            vec![e(0, 1, 1_000.0), e(1, 2, 9_000.0), e(2, 3, 1_000.0)],
+            vec![
+                edge(0, 1, 1_000.0),
+                edge(1, 2, 9_000.0),
+                edge(2, 3, 1_000.0),
+            ],
         )
-        .unwrap()
     }
 
     fn params() -> FlightParams {

@@ -424,30 +424,17 @@ impl Airspace {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn node(id: &str, lon: f64) -> Node {
-        Node {
-            id: id.into(),
-            kind: NodeKind::Station,
-            name: String::new(),
-            pos: LonLat::new(lon, 1.3),
-        }
-    }
-
-    fn edge(id: &str, a: u32, b: u32, len: f64) -> Edge {
-        Edge {
-            id: id.into(),
-            from: NodeId(a),
-            to: NodeId(b),
-            length_m: len,
-        }
-    }
+    use crate::testing::{named_edge, station};
 
     #[test]
     fn csr_adjacency_and_lookup() {
         let a = Airspace::new(
-            vec![node("A", 103.8), node("B", 103.81), node("C", 103.82)],
-            vec![edge("A-B", 0, 1, 10.0), edge("B-C", 1, 2, 20.0)],
+            vec![
+                station("A", 103.8, 1.3),
+                station("B", 103.81, 1.3),
+                station("C", 103.82, 1.3),
+            ],
+            vec![named_edge("A-B", 0, 1, 10.0), named_edge("B-C", 1, 2, 20.0)],
         )
         .unwrap();
         assert_eq!(a.neighbours(NodeId(1)).len(), 2);
@@ -459,23 +446,30 @@ mod tests {
 
     #[test]
     fn validation_errors() {
-        let two = || vec![node("A", 103.8), node("B", 103.81)];
-        let err = Airspace::new(vec![node("A", 1.0), node("A", 2.0)], vec![]).unwrap_err();
+        let two = || vec![station("A", 103.8, 1.3), station("B", 103.81, 1.3)];
+        let err = Airspace::new(vec![station("A", 1.0, 1.3), station("A", 2.0, 1.3)], vec![])
+            .unwrap_err();
         assert!(matches!(
             err,
             AirspaceError::DuplicateNodeId { second: 1, .. }
         ));
-        let err = Airspace::new(two(), vec![edge("x", 0, 0, 1.0)]).unwrap_err();
+        let err = Airspace::new(two(), vec![named_edge("x", 0, 0, 1.0)]).unwrap_err();
         assert!(err.to_string().contains("self-loop"));
-        let err = Airspace::new(two(), vec![edge("x", 0, 1, 0.0)]).unwrap_err();
+        let err = Airspace::new(two(), vec![named_edge("x", 0, 1, 0.0)]).unwrap_err();
         assert!(matches!(err, AirspaceError::BadLength { .. }));
-        let err =
-            Airspace::new(two(), vec![edge("x", 0, 1, 1.0), edge("y", 1, 0, 1.0)]).unwrap_err();
+        let err = Airspace::new(
+            two(),
+            vec![named_edge("x", 0, 1, 1.0), named_edge("y", 1, 0, 1.0)],
+        )
+        .unwrap_err();
         assert!(matches!(err, AirspaceError::ParallelEdge { .. }));
-        let err =
-            Airspace::new(two(), vec![edge("x", 0, 1, 1.0), edge("x", 0, 1, 1.0)]).unwrap_err();
+        let err = Airspace::new(
+            two(),
+            vec![named_edge("x", 0, 1, 1.0), named_edge("x", 0, 1, 1.0)],
+        )
+        .unwrap_err();
         assert!(matches!(err, AirspaceError::DuplicateEdgeId { .. }));
-        let err = Airspace::new(two(), vec![edge("x", 0, 5, 1.0)]).unwrap_err();
+        let err = Airspace::new(two(), vec![named_edge("x", 0, 5, 1.0)]).unwrap_err();
         assert!(matches!(err, AirspaceError::NodeOutOfRange { .. }));
         let disconnected = Airspace::new(two(), vec![]).unwrap();
         assert!(!disconnected.is_connected());

@@ -11,7 +11,9 @@
 //! - [`zone`]: no-fly zones (area and/or explicit elements, with time windows) and the
 //!   polygons of their areas;
 //! - [`params`]: the flight model parameters (speed, battery, separations, ground delay);
-//! - [`plan`]: planned flights and rejections.
+//! - [`plan`]: planned flights and rejections;
+//! - `testing` (with the `testing` feature, for other crates' tests only): one-line
+//!   builders of nodes, edges, airspaces, requests, stays and plans.
 #![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 pub mod airspace;
@@ -20,6 +22,8 @@ pub mod ids;
 pub mod params;
 pub mod plan;
 pub mod request;
+#[cfg(any(test, feature = "testing"))]
+pub mod testing;
 pub mod time;
 pub mod units;
 pub mod zone;

@@ -120,102 +120,206 @@ pub fn optimize(
     closures: &Closures,
     requests: &[Request],
     options: &Options,
-    mut progress: impl FnMut(u64),
+    progress: impl FnMut(u64),
 ) -> Optimized {
     let started = WallInstant::now();
     let free_flow: Vec<Option<Millis>> = requests.iter().map(|r| planner.free_flow(r)).collect();
     let alone = plans_alone(planner, closures, requests);
-    let mut expanded = 0;
+    let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
+    let first = best_order(
+        planner,
+        closures,
+        requests,
+        &free_flow,
+        options.restarts,
+        &mut rng,
+    );
+    let mut working = first.working;
+    let search = Search {
+        requests,
+        free_flow: &free_flow,
+        alone: &alone,
+        options,
+        started,
+    };
+    let done = search.run(&mut working, &mut rng, progress);
+    let outcomes = answers(&working, &free_flow);
+    let displaced = (0..requests.len())
+        .filter(|&i| first.fcfs_planned[i] && working.plan(i).is_none())
+        .collect();
+    let result = working.objective();
+    debug_assert!(result >= first.tried[0].1);
+    Optimized {
+        outcomes,
+        report: Report {
+            fcfs: first.tried[0].1,
+            result,
+            alone: alone.iter().filter(|p| p.is_some()).count(),
+            start: first.start.name(),
+            orders: first.tried,
+            iterations: done.iterations,
+            improved: done.improved,
+            timed_out: done.timed_out,
+            elapsed: started.elapsed(),
+            expanded: first.expanded + working.expanded,
+            displaced,
+        },
+    }
+}
 
+/// The schedules of the priority orders, the best kept.
+struct FirstSchedules<'a> {
+    /// The best schedule.
+    working: Working<'a>,
+    /// The order that made it.
+    start: Order,
+    /// Every order tried (first come, first served first), with its objective.
+    tried: Vec<(&'static str, Objective)>,
+    /// Which requests first come, first served planned.
+    fcfs_planned: Vec<bool>,
+    /// Labels expanded by the orders other than the best.
+    expanded: u64,
+}
+
+/// Plans the batch in arrival order (first come, first served), the fixed priority orders
+/// and `restarts` random ones, and keeps the best (the first of equals).
+fn best_order<'a>(
+    planner: &'a Planner<'a>,
+    closures: &Closures,
+    requests: &'a [Request],
+    free_flow: &'a [Option<Millis>],
+    restarts: u32,
+    rng: &mut ChaCha8Rng,
+) -> FirstSchedules<'a> {
     let mut orders = vec![
         Order::Arrival,
         Order::EarliestDeparture,
         Order::ShortestFirst,
         Order::LongestFirst,
     ];
-    let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
-    for _ in 0..options.restarts {
+    for _ in 0..restarts {
         orders.push(Order::Random(rng.random()));
     }
     let mut tried = Vec::with_capacity(orders.len());
-    let mut best: Option<(Working<'_>, Order)> = None;
-    let mut fcfs_plans: Vec<bool> = Vec::new();
+    let mut best: Option<(Working<'a>, Order)> = None;
+    let mut fcfs_planned = Vec::new();
+    let mut expanded = 0;
     for order in orders {
-        let mut w = Working::new(planner, closures, requests, &free_flow);
-        for i in order.ranked(requests, &free_flow) {
+        let mut w = Working::new(planner, closures, requests, free_flow);
+        for i in order.ranked(requests, free_flow) {
             w.try_plan(i);
         }
-        expanded += w.expanded;
-        w.expanded = 0;
         if order == Order::Arrival {
-            fcfs_plans = w.plans().iter().map(Option::is_some).collect();
+            fcfs_planned = w.plans().iter().map(Option::is_some).collect();
         }
         tried.push((order.name(), w.objective()));
-        if best
-            .as_ref()
-            .is_none_or(|(b, _)| w.objective() > b.objective())
-        {
-            best = Some((w, order));
-        }
-    }
-    let (mut working, start) = best.expect("the arrival order is always tried");
-    let fcfs = tried[0].1;
-
-    let params = planner.params();
-    let tau = params.node_separation;
-    let mut iterations = 0;
-    let mut improved = 0;
-    let mut timed_out = false;
-    let mut waiting: Vec<usize> = unplanned(&working, &alone);
-    while iterations < options.iterations {
-        if options
-            .time_budget
-            .is_some_and(|budget| started.elapsed() >= budget)
-        {
-            timed_out = true;
-            break;
-        }
-        iterations += 1;
-        let k = size(options.neighbourhood, &mut rng);
-        let outcome = if waiting.is_empty() {
-            // Everything that can fly flies: shorten delays instead.
-            let Some(target) = delayed(&working, requests, &free_flow, &mut rng) else {
-                break;
-            };
-            let path = working
-                .plan(target)
-                .expect("a delayed request is planned")
-                .clone();
-            let slack = slack(params.max_flight, free_flow[target]) + params.max_ground_delay;
-            let mut out = pick(
-                in_the_way(&working, target, &path, slack, tau),
-                k - 1,
-                &mut rng,
-            );
-            out.push(target);
-            step(&mut working, target, &out, &mut rng)
-        } else {
-            let target = waiting[rng.random_range(0..waiting.len())];
-            let path = alone[target]
-                .as_ref()
-                .expect("a waiting request can fly alone");
-            let slack = slack(params.max_flight, free_flow[target]) + params.max_ground_delay;
-            let out = pick(in_the_way(&working, target, path, slack, tau), k, &mut rng);
-            step(&mut working, target, &out, &mut rng)
-        };
-        match outcome {
-            Step::Better => {
-                improved += 1;
-                waiting = unplanned(&working, &alone);
+        match &best {
+            Some((b, _)) if w.objective() <= b.objective() => expanded += w.expanded,
+            _ => {
+                if let Some((old, _)) = best.take() {
+                    expanded += old.expanded;
+                }
+                best = Some((w, order));
             }
-            Step::Same => waiting = unplanned(&working, &alone),
-            Step::Undone => {}
         }
-        progress(iterations);
     }
-    expanded += working.expanded;
+    let (working, start) = best.expect("the arrival order is always tried");
+    FirstSchedules {
+        working,
+        start,
+        tried,
+        fcfs_planned,
+        expanded,
+    }
+}
 
-    let outcomes: Vec<Outcome> = (0..requests.len())
+/// The large-neighbourhood search over one batch.
+struct Search<'a> {
+    requests: &'a [Request],
+    free_flow: &'a [Option<Millis>],
+    alone: &'a [Option<Plan>],
+    options: &'a Options,
+    started: WallInstant,
+}
+
+/// What a search did.
+struct Done {
+    iterations: u64,
+    improved: u64,
+    timed_out: bool,
+}
+
+impl Search<'_> {
+    /// Runs the steps of the budget on `working`: a waiting request (one that can fly alone
+    /// but holds no plan) and the flights in its way, or, once none waits, a delayed flight
+    /// and the flights in its way.
+    fn run(
+        &self,
+        working: &mut Working<'_>,
+        rng: &mut ChaCha8Rng,
+        mut progress: impl FnMut(u64),
+    ) -> Done {
+        let mut done = Done {
+            iterations: 0,
+            improved: 0,
+            timed_out: false,
+        };
+        let mut waiting: Vec<usize> = unplanned(working, self.alone);
+        while done.iterations < self.options.iterations {
+            if self
+                .options
+                .time_budget
+                .is_some_and(|budget| self.started.elapsed() >= budget)
+            {
+                done.timed_out = true;
+                break;
+            }
+            done.iterations += 1;
+            let k = size(self.options.neighbourhood, rng);
+            let outcome = if waiting.is_empty() {
+                let Some(target) = delayed(working, self.requests, self.free_flow, rng) else {
+                    break;
+                };
+                let path = working
+                    .plan(target)
+                    .expect("a delayed request is planned")
+                    .clone();
+                let mut out = pick(self.in_the_way(working, target, &path), k - 1, rng);
+                out.push(target);
+                step(working, target, &out, rng)
+            } else {
+                let target = waiting[rng.random_range(0..waiting.len())];
+                let path = self.alone[target]
+                    .as_ref()
+                    .expect("a waiting request can fly alone");
+                let out = pick(self.in_the_way(working, target, path), k, rng);
+                step(working, target, &out, rng)
+            };
+            match outcome {
+                Step::Better => {
+                    done.improved += 1;
+                    waiting = unplanned(working, self.alone);
+                }
+                Step::Same => waiting = unplanned(working, self.alone),
+                Step::Undone => {}
+            }
+            progress(done.iterations);
+        }
+        done
+    }
+
+    /// The flights in the way of `target` flying `path`, within the time it could still be
+    /// at each node (its ground delay and its battery's slack).
+    fn in_the_way(&self, working: &Working<'_>, target: usize, path: &Plan) -> Vec<usize> {
+        let params = working.params();
+        let slack = slack(params.max_flight, self.free_flow[target]) + params.max_ground_delay;
+        in_the_way(working, target, path, slack, params.node_separation)
+    }
+}
+
+/// Each request's answer in `working`: its plan, or the reason its last search gave.
+fn answers(working: &Working<'_>, free_flow: &[Option<Millis>]) -> Vec<Outcome> {
+    (0..free_flow.len())
         .map(|i| {
             let (labels, reason) = working.last_search(i);
             Outcome {
@@ -227,28 +331,7 @@ pub fn optimize(
                 expanded: labels,
             }
         })
-        .collect();
-    let displaced = (0..requests.len())
-        .filter(|&i| fcfs_plans[i] && working.plan(i).is_none())
-        .collect();
-    let result = working.objective();
-    debug_assert!(result >= fcfs);
-    Optimized {
-        outcomes,
-        report: Report {
-            fcfs,
-            result,
-            alone: alone.iter().filter(|p| p.is_some()).count(),
-            start: start.name(),
-            orders: tried,
-            iterations,
-            improved,
-            timed_out,
-            elapsed: started.elapsed(),
-            expanded,
-            displaced,
-        },
-    }
+        .collect()
 }
 
 /// Each request's plan on the empty schedule (zones only), if it can fly at all.

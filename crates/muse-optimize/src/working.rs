@@ -3,7 +3,7 @@
 //! step as flights are taken out and planned again.
 
 use muse_airspace::closures::Closures;
-use muse_model::{Instant, Millis, Plan, RejectReason, Request};
+use muse_model::{FlightParams, Instant, Millis, Plan, RejectReason, Request};
 use muse_planner::{FlightId, Planner, Schedule, Scratch};
 
 use crate::objective::Objective;
@@ -59,6 +59,11 @@ impl<'a> Working<'a> {
     /// The objective of the schedule as it stands.
     pub(crate) fn objective(&self) -> Objective {
         self.objective
+    }
+
+    /// The flight parameters planned with.
+    pub(crate) fn params(&self) -> &FlightParams {
+        self.planner.params()
     }
 
     /// Request `i`'s plan, if it holds one.
@@ -147,7 +152,7 @@ impl<'a> Working<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use muse_model::{Airspace, FlightParams, NodeId};
+    use muse_model::{Airspace, NodeId};
 
     fn request(id: &str, departure_s: i64) -> Request {
         Request {

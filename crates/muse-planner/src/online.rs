@@ -416,21 +416,12 @@ impl<'a> Live<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use muse_model::{Airspace, FlightParams, NodeId};
+    use muse_model::testing::{joined, request, station};
+    use muse_model::{Airspace, FlightParams};
 
     /// A line of `n` stations 1 km apart.
     fn line(n: u32) -> Airspace {
         Airspace::line(&vec![1_000.0; n as usize - 1])
-    }
-
-    fn request(id: &str, from: u32, to: u32, t: i64) -> Request {
-        Request {
-            id: id.into(),
-            origin: NodeId(from),
-            destination: NodeId(to),
-            departure: Instant(t),
-            submitted: Instant(t),
-        }
     }
 
     #[test]
@@ -536,33 +527,20 @@ mod tests {
     /// A ring `A — B — C — D — A`: `A-B`, `B-C`, `A-D` 1 km, `D-C` 1.5 km, so `A` to `C`
     /// goes by `B` unless `B` is closed.
     fn ring() -> Airspace {
-        let node = |id: &str, lon: f64, lat: f64| muse_model::Node {
-            id: id.into(),
-            kind: muse_model::NodeKind::Station,
-            name: String::new(),
-            pos: muse_model::LonLat::new(lon, lat),
-        };
-        let edge = |id: &str, from: u32, to: u32, length_m: f64| muse_model::Edge {
-            id: id.into(),
-            from: NodeId(from),
-            to: NodeId(to),
-            length_m,
-        };
-        Airspace::new(
+        joined(
             vec![
-                node("A", 103.80, 1.30),
-                node("B", 103.81, 1.30),
-                node("C", 103.81, 1.31),
-                node("D", 103.80, 1.31),
+                station("A", 103.80, 1.30),
+                station("B", 103.81, 1.30),
+                station("C", 103.81, 1.31),
+                station("D", 103.80, 1.31),
             ],
-            vec![
-                edge("A-B", 0, 1, 1_000.0),
-                edge("B-C", 1, 2, 1_000.0),
-                edge("A-D", 0, 3, 1_000.0),
-                edge("D-C", 3, 2, 1_500.0),
+            &[
+                ("A", "B", 1_000.0),
+                ("B", "C", 1_000.0),
+                ("A", "D", 1_000.0),
+                ("D", "C", 1_500.0),
             ],
         )
-        .unwrap()
     }
 
     /// Flights on the ring around B, whom a zone closing B announced at 60 s treats each its

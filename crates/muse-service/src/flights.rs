@@ -325,37 +325,21 @@ impl FlightIndex {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use muse_model::{NodeId, Stay};
+    use muse_model::testing::{plan, request};
 
     fn entry(seq: u64, departure: i64, planned: bool) -> Arc<FlightEntry> {
         let result = if planned {
-            Ok(Plan {
-                path: vec![
-                    Stay {
-                        node: NodeId(0),
-                        arrive: Instant(departure),
-                        depart: Instant(departure),
-                    },
-                    Stay {
-                        node: NodeId(1),
-                        arrive: Instant(departure + 100),
-                        depart: Instant(departure + 100),
-                    },
-                ],
-            })
+            Ok(plan(&[
+                (0, departure, departure),
+                (1, departure + 100, departure + 100),
+            ]))
         } else {
             Err(RejectReason::NoFeasiblePlan)
         };
         Arc::new(FlightEntry {
             seq,
             operator: "op".into(),
-            request: Request {
-                id: format!("f{seq}"),
-                origin: NodeId(0),
-                destination: NodeId(1),
-                departure: Instant(departure),
-                submitted: Instant(departure),
-            },
+            request: request(&format!("f{seq}"), 0, 1, departure),
             result,
             free_flow: Some(Millis(100)),
             expanded: 1,

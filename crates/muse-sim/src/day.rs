@@ -237,7 +237,7 @@ pub fn plan_sorted(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use muse_model::{NodeId, Plan, RejectReason};
+    use muse_model::{Plan, RejectReason};
 
     /// Two stations one kilometre apart: two minutes of flight at 30 km/h.
     fn pair() -> Airspace {
@@ -246,11 +246,8 @@ mod tests {
 
     fn request(id: &str, from: u32, departure_min: i64, submitted_min: i64) -> Request {
         Request {
-            id: id.into(),
-            origin: NodeId(from),
-            destination: NodeId(1 - from),
-            departure: Instant(departure_min * 60_000),
             submitted: Instant(submitted_min * 60_000),
+            ..muse_model::testing::request(id, from, 1 - from, departure_min * 60_000)
         }
     }
 

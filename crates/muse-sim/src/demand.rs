@@ -251,27 +251,18 @@ pub fn draw_request<R: Rng + ?Sized>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use muse_model::{Edge, LonLat, Node, NodeKind};
+    use muse_model::testing::{airspace, edge, station};
 
     fn line_airspace() -> Airspace {
-        let n = |id: &str, lon| Node {
-            id: id.into(),
-            kind: NodeKind::Station,
-            name: String::new(),
-            pos: LonLat::new(lon, 1.3),
-        };
-        let e = |a: u32, b: u32, m| Edge {
-            id: format!("{a}-{b}"),
-            from: NodeId(a),
-            to: NodeId(b),
-            length_m: m,
-        };
         // A -1 km- B -9 km- C: at 30 km/h A-B is 2 min, B-C 18 min, A-C 20 min.
-        Airspace::new(
-            vec![n("A", 103.8), n("B", 103.81), n("C", 103.9)],
-            vec![e(0, 1, 1_000.0), e(1, 2, 9_000.0)],
+        airspace(
+            vec![
+                station("A", 103.8, 1.3),
+                station("B", 103.81, 1.3),
+                station("C", 103.9, 1.3),
+            ],
+            vec![edge(0, 1, 1_000.0), edge(1, 2, 9_000.0)],
         )
-        .unwrap()
     }
 
     #[test]

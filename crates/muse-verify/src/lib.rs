@@ -448,7 +448,8 @@ fn single(rule: Rule, flight: &Flight<'_>, element: String, detail: String) -> V
 #[cfg(test)]
 pub(crate) mod tests {
     use muse_airspace::closures::resolve;
-    use muse_model::{Edge, EdgeRule, LonLat, Node, NodeKind, Period, Speed, Stay, Zone};
+    use muse_model::testing::joined;
+    use muse_model::{EdgeRule, NodeKind, Period, Speed, Stay, Zone};
 
     use super::*;
 
@@ -459,23 +460,15 @@ pub(crate) mod tests {
 
     /// [`airspace`] with `waypoints` waypoints instead of stations.
     pub(crate) fn airspace_with(waypoints: &[&str]) -> Airspace {
-        let node = |id: &str, lon| Node {
-            id: id.into(),
-            kind: if waypoints.contains(&id) {
+        let node = |id: &str, lon| {
+            let kind = if waypoints.contains(&id) {
                 NodeKind::Waypoint
             } else {
                 NodeKind::Station
-            },
-            name: String::new(),
-            pos: LonLat::new(lon, 1.3),
+            };
+            muse_model::testing::node(id, kind, lon, 1.3)
         };
-        let edge = |id: &str, a, b| Edge {
-            id: id.into(),
-            from: NodeId(a),
-            to: NodeId(b),
-            length_m: 100.0,
-        };
-        Airspace::new(
+        joined(
             vec![
                 node("A", 103.80),
                 node("B", 103.81),
@@ -483,14 +476,13 @@ pub(crate) mod tests {
                 node("D", 103.83),
                 node("E", 103.84),
             ],
-            vec![
-                edge("A-B", 0, 1),
-                edge("B-C", 1, 2),
-                edge("B-D", 1, 3),
-                edge("B-E", 1, 4),
+            &[
+                ("A", "B", 100.0),
+                ("B", "C", 100.0),
+                ("B", "D", 100.0),
+                ("B", "E", 100.0),
             ],
         )
-        .unwrap()
     }
 
     pub(crate) fn params() -> FlightParams {

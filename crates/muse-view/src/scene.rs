@@ -412,7 +412,8 @@ fn polygon_rings(p: &Polygon<f64>) -> Vec<Vec<[f64; 2]>> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use muse_model::{Millis, NodeId, Stay};
+    use muse_model::Millis;
+    use muse_model::testing::plan;
 
     fn record(id: &str, stays: &[(u32, i64, i64)]) -> PlanRecord {
         PlanRecord::first(
@@ -420,16 +421,7 @@ mod tests {
             "A".into(),
             "B".into(),
             Instant(stays[0].1),
-            Ok(Plan {
-                path: stays
-                    .iter()
-                    .map(|&(n, a, d)| Stay {
-                        node: NodeId(n),
-                        arrive: Instant(a),
-                        depart: Instant(d),
-                    })
-                    .collect(),
-            }),
+            Ok(plan(stays)),
             Some(Millis(60_000)),
             1,
         )

@@ -379,9 +379,9 @@ fn merge(list: &mut Vec<Window>) {
 #[cfg(test)]
 mod fixtures {
     use geo_types::polygon;
+    use muse_model::testing::{joined, station};
     use muse_model::{
-        Airspace, DailyWindow, Edge, EdgeId, Instant, LonLat, Node, NodeId, NodeKind, Period,
-        UtcOffset, Weekday, Zone, ZoneArea,
+        Airspace, DailyWindow, EdgeId, Instant, NodeId, Period, UtcOffset, Weekday, Zone, ZoneArea,
     };
 
     use super::Window;
@@ -394,31 +394,17 @@ mod fixtures {
         Window::new(t(a), t(b))
     }
 
-    /// Nodes by (id, lon, lat); edges as "A-B" between named nodes.
+    /// Stations by (id, lon, lat); edges of 1 km as "A-B" between named nodes.
     pub(super) fn airspace(nodes: &[(&str, f64, f64)], edges: &[&str]) -> Airspace {
-        let ns = nodes
-            .iter()
-            .map(|&(id, lon, lat)| Node {
-                id: id.into(),
-                kind: NodeKind::Station,
-                name: String::new(),
-                pos: LonLat::new(lon, lat),
-            })
-            .collect();
-        let idx = |id: &str| NodeId(nodes.iter().position(|n| n.0 == id).unwrap() as u32);
-        let es = edges
+        let edges: Vec<(&str, &str, f64)> = edges
             .iter()
             .map(|e| {
                 let (a, b) = e.split_once('-').unwrap();
-                Edge {
-                    id: (*e).into(),
-                    from: idx(a),
-                    to: idx(b),
-                    length_m: 1_000.0,
-                }
+                (a, b, 1_000.0)
             })
             .collect();
-        Airspace::new(ns, es).unwrap()
+        let nodes = nodes.iter().map(|&(id, lon, lat)| station(id, lon, lat));
+        joined(nodes.collect(), &edges)
     }
 
     pub(super) fn zone(id: &str, area: Option<ZoneArea>, periods: Vec<Period>) -> Zone {
@@ -489,9 +475,8 @@ mod fixtures {
 
 #[cfg(test)]
 mod tests {
-    use muse_model::{
-        DailyWindow, Edge, LonLat, Millis, Node, NodeKind, Period, UtcOffset, Weekday,
-    };
+    use muse_model::testing::{airspace, named_edge, station};
+    use muse_model::{DailyWindow, Millis, Period, UtcOffset, Weekday};
     use proptest::prelude::*;
     use proptest::test_runner::{Config, RngAlgorithm, RngSeed, TestRunner};
 
@@ -699,11 +684,9 @@ mod tests {
     /// where `chords[i]`.
     fn line_airspace(n: usize, chords: &[bool]) -> Airspace {
         let nodes = (0..n)
-            .map(|i| Node {
-                id: format!("N{i}"),
-                kind: NodeKind::Station,
-                name: String::new(),
-                pos: LonLat::new(103.80 + 0.01 * i as f64, 1.30 + 0.002 * (i % 2) as f64),
+            .map(|i| {
+                let pos = (103.80 + 0.01 * i as f64, 1.30 + 0.002 * (i % 2) as f64);
+                station(&format!("N{i}"), pos.0, pos.1)
             })
             .collect();
         let pairs = (0..n - 1).map(|i| (i, i + 1)).chain(
@@ -713,14 +696,9 @@ mod tests {
         );
         let edges = pairs
             .enumerate()
-            .map(|(k, (i, j))| Edge {
-                id: format!("E{k}"),
-                from: NodeId(i as u32),
-                to: NodeId(j as u32),
-                length_m: 1_000.0,
-            })
+            .map(|(k, (i, j))| named_edge(&format!("E{k}"), i as u32, j as u32, 1_000.0))
             .collect();
-        Airspace::new(nodes, edges).unwrap()
+        airspace(nodes, edges)
     }
 
     const HOUR_MS: i64 = 3_600_000;

@@ -170,7 +170,8 @@ impl LineReader<'_> {
 #[cfg(test)]
 mod tests {
     use muse_model::plan::{Change, Fate};
-    use muse_model::{Instant, Millis, NodeId};
+    use muse_model::testing::plan;
+    use muse_model::{Instant, Millis};
 
     use super::super::tests::air;
     use super::super::{PlanLine, PlanRecord, plan_line, read_plans};
@@ -178,19 +179,12 @@ mod tests {
 
     /// `A -> B`, 5 minutes on the ground at `B`, `B -> A`; hovering 2.5 s at take-off.
     fn there_and_back(t: i64) -> Plan {
-        let stay = |n, a, d| Stay {
-            node: NodeId(n),
-            arrive: Instant(t + a),
-            depart: Instant(t + d),
-        };
-        Plan {
-            path: vec![
-                stay(0, 0, 2_500),
-                stay(1, 122_500, 122_500),
-                stay(1, 422_500, 422_500),
-                stay(0, 542_500, 542_500),
-            ],
-        }
+        plan(&[
+            (0, t, t + 2_500),
+            (1, t + 122_500, t + 122_500),
+            (1, t + 422_500, t + 422_500),
+            (0, t + 542_500, t + 542_500),
+        ])
     }
 
     fn record(fate: Option<Fate>) -> PlanRecord {

@@ -496,24 +496,12 @@ fn for_each_reservation(
 mod tests {
     use super::*;
     use muse_airspace::closures::resolve;
-    use muse_model::{Period, Stay, Zone};
+    use muse_model::testing::plan;
+    use muse_model::{Period, Zone};
 
     /// A — B, 1 km (120 s at 30 km/h).
     fn line() -> Airspace {
         Airspace::line(&[1_000.0])
-    }
-
-    fn plan(stays: &[(u32, i64, i64)]) -> Plan {
-        Plan {
-            path: stays
-                .iter()
-                .map(|&(n, a, d)| Stay {
-                    node: NodeId(n),
-                    arrive: Instant(a),
-                    depart: Instant(d),
-                })
-                .collect(),
-        }
     }
 
     /// The free run of entries of the line's edge from `t` on, in ms.

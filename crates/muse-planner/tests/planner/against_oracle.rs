@@ -11,10 +11,8 @@ use crate::scenario;
 
 use crate::scenario::{Instance, Shape, Tally, ZoneSpec, runner};
 use muse_airspace::closures::Closures;
-use muse_model::{
-    Airspace, Edge, EdgeRule, FlightParams, Instant, LonLat, Millis, Node, NodeId, NodeKind, Plan,
-    RejectReason, Request,
-};
+use muse_model::testing::{airspace, edge, request, station, waypoint};
+use muse_model::{EdgeRule, FlightParams, Instant, Millis, NodeId, Plan, RejectReason};
 use muse_planner::{FlightId, Planner, Schedule, Scratch};
 use proptest::prelude::{Strategy, prop_assert_eq};
 
@@ -377,27 +375,14 @@ fn hand_tau_zero_point_stay_inside_a_hover() {
 
 #[test]
 fn oracle_free_flow_and_plan_shape() {
-    let node = |id: &str, kind| Node {
-        id: id.into(),
-        kind,
-        name: String::new(),
-        pos: LonLat::new(103.8, 1.3),
-    };
-    let edge = |a: u32, b: u32, m: f64| Edge {
-        id: format!("{a}-{b}"),
-        from: NodeId(a),
-        to: NodeId(b),
-        length_m: m,
-    };
-    let airspace = Airspace::new(
+    let airspace = airspace(
         vec![
-            node("A", NodeKind::Station),
-            node("W", NodeKind::Waypoint),
-            node("B", NodeKind::Station),
+            station("A", 103.8, 1.3),
+            waypoint("W", 103.8, 1.3),
+            station("B", 103.8, 1.3),
         ],
         vec![edge(0, 1, 100.0), edge(1, 2, 100.0), edge(0, 2, 300.0)],
-    )
-    .unwrap();
+    );
     let params = FlightParams {
         speed: scenario::speed(),
         max_flight: Millis::from_secs(60),
@@ -415,13 +400,7 @@ fn oracle_free_flow_and_plan_shape() {
         nodes: vec![vec![]; 3],
         edges: vec![vec![]; 3],
     };
-    let request = Request {
-        id: "r".into(),
-        origin: NodeId(0),
-        destination: NodeId(2),
-        departure: Instant(0),
-        submitted: Instant(0),
-    };
+    let request = request("r", 0, 2, 0);
     let answer = oracle::solve(&airspace, &params, &raw, &[], &request, 1000);
     assert_eq!(answer.result, Ok((Instant(0), Instant(20_000))));
     let plan = answer.plan.unwrap();

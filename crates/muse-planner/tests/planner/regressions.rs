@@ -3,43 +3,23 @@
 //! answer with the independent verifier.
 
 use muse_airspace::closures::{Closures, resolve};
+use muse_model::testing::{joined, plan as plan_of, request, station};
 use muse_model::{
-    Airspace, Edge, EdgeRule, FlightParams, Instant, LonLat, Millis, Node, NodeId, NodeKind,
-    Period, Plan, Request, Speed, Stay, Zone,
+    Airspace, EdgeRule, FlightParams, Instant, Millis, Period, Plan, Request, Speed, Zone,
 };
 use muse_planner::{FlightId, Planner, Schedule, Scratch};
 use muse_verify::{Flight, verify};
 
-fn node(id: &str, lon: f64) -> Node {
-    Node {
-        id: id.into(),
-        kind: NodeKind::Station,
-        name: String::new(),
-        pos: LonLat::new(lon, 1.3),
-    }
-}
-
 /// `A - H - B`, 10 s each at 36 km/h.
 fn a_h_b() -> Airspace {
-    let edge = |id: &str, a, b| Edge {
-        id: id.into(),
-        from: NodeId(a),
-        to: NodeId(b),
-        length_m: 100.0,
-    };
-    Airspace::new(
-        vec![node("A", 103.80), node("H", 103.81), node("B", 103.82)],
-        vec![edge("A-H", 0, 1), edge("H-B", 1, 2)],
+    joined(
+        vec![
+            station("A", 103.80, 1.3),
+            station("H", 103.81, 1.3),
+            station("B", 103.82, 1.3),
+        ],
+        &[("A", "H", 100.0), ("H", "B", 100.0)],
     )
-    .unwrap()
-}
-
-fn stay(n: u32, arrive: i64, depart: i64) -> Stay {
-    Stay {
-        node: NodeId(n),
-        arrive: Instant(arrive),
-        depart: Instant(depart),
-    }
 }
 
 /// tau = 0, exclusive edges, no ground delay.
@@ -90,13 +70,7 @@ fn plan_against(other: &Plan) -> Plan {
         departure: other.takeoff(),
         submitted: other.takeoff(),
     };
-    let request = Request {
-        id: "r".into(),
-        origin: NodeId(0),
-        destination: NodeId(2),
-        departure: Instant(0),
-        submitted: Instant(0),
-    };
+    let request = request("r", 0, 2, 0);
     let plan = planner
         .plan(&schedule, &request, &mut Scratch::new())
         .result
@@ -128,9 +102,7 @@ fn plan_against(other: &Plan) -> Plan {
 #[test]
 fn tau_zero_hover_across_an_instantaneous_stay() {
     // The other flight takes off at H at 12 s and lands at A at 22 s.
-    let other = Plan {
-        path: vec![stay(1, 12_000, 12_000), stay(0, 22_000, 22_000)],
-    };
+    let other = plan_of(&[(1, 12_000, 12_000), (0, 22_000, 22_000)]);
     let plan = plan_against(&other);
     assert_eq!(
         (plan.takeoff(), plan.landing()),
@@ -143,9 +115,7 @@ fn tau_zero_hover_across_an_instantaneous_stay() {
 /// Found by the oracle (as `[40.999 s, 41 s]` inside a hover `[36 s, 46 s]`).
 #[test]
 fn tau_zero_hover_across_a_one_millisecond_stay() {
-    let other = Plan {
-        path: vec![stay(1, 12_000, 12_001), stay(0, 22_001, 22_001)],
-    };
+    let other = plan_of(&[(1, 12_000, 12_001), (0, 22_001, 22_001)]);
     let plan = plan_against(&other);
     assert_eq!(
         (plan.takeoff(), plan.landing()),
@@ -157,42 +127,23 @@ fn tau_zero_hover_across_a_one_millisecond_stay() {
 /// arriving at 10 s and hovering to 15 s (`a_ours >= d_other`).
 #[test]
 fn tau_zero_touching_stays_are_fine() {
-    let edge = |id: &str, a, b| Edge {
-        id: id.into(),
-        from: NodeId(a),
-        to: NodeId(b),
-        length_m: 100.0,
-    };
     // A second way into H, from C, so that the other flight does not use A - H.
-    let a = Airspace::new(
+    let a = joined(
         vec![
-            node("A", 103.80),
-            node("H", 103.81),
-            node("B", 103.82),
-            node("C", 103.83),
+            station("A", 103.80, 1.3),
+            station("H", 103.81, 1.3),
+            station("B", 103.82, 1.3),
+            station("C", 103.83, 1.3),
         ],
-        vec![edge("A-H", 0, 1), edge("H-B", 1, 2), edge("C-H", 3, 1)],
-    )
-    .unwrap();
+        &[("A", "H", 100.0), ("H", "B", 100.0), ("C", "H", 100.0)],
+    );
     let params = tau_zero();
     let closures = b_closed(&a);
     let planner = Planner::new(&a, params);
     let mut schedule = Schedule::new(&a, &params, &closures);
-    let other = Plan {
-        path: vec![
-            stay(3, 0, 0),
-            stay(1, 10_000, 10_000),
-            stay(3, 20_000, 20_000),
-        ],
-    };
+    let other = plan_of(&[(3, 0, 0), (1, 10_000, 10_000), (3, 20_000, 20_000)]);
     schedule.insert(&a, FlightId(0), &other);
-    let request = Request {
-        id: "r".into(),
-        origin: NodeId(0),
-        destination: NodeId(2),
-        departure: Instant(0),
-        submitted: Instant(0),
-    };
+    let request = request("r", 0, 2, 0);
     let plan = planner
         .plan(&schedule, &request, &mut Scratch::new())
         .result

@@ -275,38 +275,25 @@ impl MapCtx<'_, '_, '_> {
 mod tests {
     use super::*;
     use geo_types::polygon;
-    use muse_model::{Edge, LonLat, Node, NodeKind};
-
-    fn node(id: &str, kind: NodeKind, lon: f64, lat: f64) -> Node {
-        Node {
-            id: id.into(),
-            kind,
-            name: String::new(),
-            pos: LonLat::new(lon, lat),
-        }
-    }
-
-    fn edge(a: u32, b: u32) -> Edge {
-        Edge {
-            id: format!("{a}-{b}"),
-            from: NodeId(a),
-            to: NodeId(b),
-            length_m: 1_000.0,
-        }
-    }
+    use muse_model::testing::{airspace, edge, station, waypoint};
 
     /// Three stations and a waypoint on a square island, with a zone in the middle.
     fn sample() -> (Airspace, Vec<Polygon<f64>>, ZoneLayer) {
-        let airspace = Airspace::new(
+        let airspace = airspace(
             vec![
-                node("S001", NodeKind::Station, 103.70, 1.30),
-                node("S002", NodeKind::Station, 103.80, 1.35),
-                node("S003", NodeKind::Station, 103.90, 1.30),
-                node("W004", NodeKind::Waypoint, 103.80, 1.25),
+                station("S001", 103.70, 1.30),
+                station("S002", 103.80, 1.35),
+                station("S003", 103.90, 1.30),
+                waypoint("W004", 103.80, 1.25),
             ],
-            vec![edge(0, 1), edge(1, 2), edge(0, 3), edge(3, 2), edge(0, 2)],
-        )
-        .unwrap();
+            vec![
+                edge(0, 1, 1_000.0),
+                edge(1, 2, 1_000.0),
+                edge(0, 3, 1_000.0),
+                edge(3, 2, 1_000.0),
+                edge(0, 2, 1_000.0),
+            ],
+        );
         // Two land halves sharing a border, and a lake in one of them.
         let land = vec![
             polygon!(
@@ -471,7 +458,7 @@ mod tests {
             ..MapOptions::default()
         };
         assert!(render_map(&MapInput::new(&airspace), &narrow).is_err());
-        let nothing = Airspace::new(vec![], vec![]).unwrap();
+        let nothing = muse_model::testing::airspace(vec![], vec![]);
         assert_eq!(
             render_map(&MapInput::new(&nothing), &MapOptions::default()),
             Err(RenderError::Empty)
@@ -480,22 +467,17 @@ mod tests {
 
     #[test]
     fn single_node_gets_a_map() {
-        let airspace =
-            Airspace::new(vec![node("S1", NodeKind::Station, 103.8, 1.3)], vec![]).unwrap();
+        let airspace = airspace(vec![station("S1", 103.8, 1.3)], vec![]);
         let svg = render_map(&MapInput::new(&airspace), &MapOptions::default()).unwrap();
         assert!(svg.contains(">\nS1\n</text>"));
     }
 
     #[test]
     fn tall_airspaces_keep_a_page_shape() {
-        let airspace = Airspace::new(
-            vec![
-                node("S1", NodeKind::Station, 103.8, 1.0),
-                node("S2", NodeKind::Station, 103.8, 2.0),
-            ],
-            vec![edge(0, 1)],
-        )
-        .unwrap();
+        let airspace = airspace(
+            vec![station("S1", 103.8, 1.0), station("S2", 103.8, 2.0)],
+            vec![edge(0, 1, 1_000.0)],
+        );
         let svg = render_map(&MapInput::new(&airspace), &MapOptions::default()).unwrap();
         let height: f64 = svg
             .split("height=\"")

@@ -9,44 +9,30 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
-use muse_model::{
-    Airspace, Edge, FlightParams, LonLat, Millis, Node, NodeId, NodeKind, UtcOffset, Zone,
-};
+use muse_model::testing::{joined, station};
+use muse_model::{Airspace, FlightParams, Millis, UtcOffset, Zone};
 use muse_service::auth::Tokens;
 use muse_service::state::{Clock, ServiceWorld};
 use muse_service::{Options, start};
 use serde_json::{Value, json};
 
 fn airspace() -> Airspace {
-    let node = |id: &str, lon: f64, lat: f64| Node {
-        id: id.into(),
-        kind: NodeKind::Station,
-        name: String::new(),
-        pos: LonLat::new(lon, lat),
-    };
-    let edge = |id: &str, from: u32, to: u32, m: f64| Edge {
-        id: id.into(),
-        from: NodeId(from),
-        to: NodeId(to),
-        length_m: m,
-    };
-    Airspace::new(
+    joined(
         vec![
-            node("A", 103.80, 1.30),
-            node("B", 103.81, 1.30),
-            node("C", 103.82, 1.30),
-            node("F", 103.93, 1.30),
-            node("X", 103.80, 1.40),
-            node("Y", 103.81, 1.40),
+            station("A", 103.80, 1.30),
+            station("B", 103.81, 1.30),
+            station("C", 103.82, 1.30),
+            station("F", 103.93, 1.30),
+            station("X", 103.80, 1.40),
+            station("Y", 103.81, 1.40),
         ],
-        vec![
-            edge("A-B", 0, 1, 1_000.0),
-            edge("B-C", 1, 2, 1_000.0),
-            edge("C-F", 2, 3, 12_000.0),
-            edge("X-Y", 4, 5, 1_000.0),
+        &[
+            ("A", "B", 1_000.0),
+            ("B", "C", 1_000.0),
+            ("C", "F", 12_000.0),
+            ("X", "Y", 1_000.0),
         ],
     )
-    .unwrap()
 }
 
 fn temp_dir(name: &str) -> PathBuf {

@@ -10,7 +10,7 @@ use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use muse_model::{Airspace, Edge, FlightParams, LonLat, Millis, Node, NodeId, NodeKind, UtcOffset};
+use muse_model::{Airspace, FlightParams, Millis, UtcOffset};
 use muse_service::auth::Tokens;
 use muse_service::http::Limits;
 use muse_service::state::{Clock, ServiceWorld};
@@ -21,22 +21,7 @@ use tokio::net::TcpStream;
 
 /// Two stations 1 km apart.
 fn airspace() -> Airspace {
-    let node = |id: &str, lon: f64| Node {
-        id: id.into(),
-        kind: NodeKind::Station,
-        name: String::new(),
-        pos: LonLat::new(lon, 1.30),
-    };
-    Airspace::new(
-        vec![node("A", 103.80), node("B", 103.81)],
-        vec![Edge {
-            id: "A-B".into(),
-            from: NodeId(0),
-            to: NodeId(1),
-            length_m: 1_000.0,
-        }],
-    )
-    .unwrap()
+    Airspace::line(&[1_000.0])
 }
 
 /// A running service.

@@ -4,31 +4,14 @@
 
 use std::io::Write as _;
 
-use muse_model::{
-    Airspace, Edge, FlightParams, Instant, LonLat, Millis, Node, NodeId, NodeKind, UtcOffset,
-};
+use muse_model::{Airspace, FlightParams, Instant, Millis, UtcOffset};
 use muse_service::state::{Clock, ServiceWorld};
 use muse_service::{Options, start};
 use serde_json::{Value, json};
 
+/// `A — B — C`, 1 km apart.
 fn airspace() -> Airspace {
-    let node = |id: &str, lon: f64| Node {
-        id: id.into(),
-        kind: NodeKind::Station,
-        name: String::new(),
-        pos: LonLat::new(lon, 1.30),
-    };
-    let edge = |id: &str, from: u32, to: u32| Edge {
-        id: id.into(),
-        from: NodeId(from),
-        to: NodeId(to),
-        length_m: 1_000.0,
-    };
-    Airspace::new(
-        vec![node("A", 103.80), node("B", 103.81), node("C", 103.82)],
-        vec![edge("A-B", 0, 1), edge("B-C", 1, 2)],
-    )
-    .unwrap()
+    Airspace::line(&[1_000.0, 1_000.0])
 }
 
 /// The world of these tests, its zone calendar resolved around `now`.

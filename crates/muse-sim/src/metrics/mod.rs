@@ -247,23 +247,12 @@ impl Summary {
 #[allow(clippy::float_cmp)] // the values compared are exact by construction
 mod tests {
     use super::*;
-    use muse_model::{Instant, NodeId, Stay};
+    use muse_model::Instant;
 
     #[test]
     fn hand_checked_summary() {
-        let plan = |takeoff: i64, landing: i64| Plan {
-            path: vec![
-                Stay {
-                    node: NodeId(0),
-                    arrive: Instant(takeoff),
-                    depart: Instant(takeoff),
-                },
-                Stay {
-                    node: NodeId(1),
-                    arrive: Instant(landing),
-                    depart: Instant(landing),
-                },
-            ],
+        let plan = |takeoff: i64, landing: i64| {
+            muse_model::testing::plan(&[(0, takeoff, takeoff), (1, landing, landing)])
         };
         let results = [
             Ok(plan(0, 100_000)),    // air delay 10 s, ground 0

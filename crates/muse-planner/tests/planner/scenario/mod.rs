@@ -8,9 +8,10 @@ use std::sync::Arc;
 
 use muse_airspace::closures::{Closures, resolve};
 use muse_model::request::sort_for_planning;
+use muse_model::testing::{airspace, named_edge, node, request};
 use muse_model::{
-    Airspace, BatterySwap, Edge, EdgeRule, FlightParams, Instant, LonLat, Millis, Node, NodeId,
-    NodeKind, Period, Plan, RejectReason, Request, Speed, Zone,
+    Airspace, BatterySwap, Edge, EdgeRule, FlightParams, Instant, Millis, Node, NodeId, NodeKind,
+    Period, Plan, RejectReason, Request, Speed, Zone,
 };
 use muse_planner::CancelError;
 use muse_planner::{FlightId, Live, Outcome, Planner, Schedule, Scratch};
@@ -92,19 +93,17 @@ impl Instance {
     pub fn build(&self) -> Built {
         let n = self.waypoint.len();
         let nodes: Vec<Node> = (0..n)
-            .map(|i| Node {
-                id: format!("N{i}"),
-                kind: if i > 0 && i + 1 < n && self.waypoint[i] {
+            .map(|i| {
+                let kind = if i > 0 && i + 1 < n && self.waypoint[i] {
                     NodeKind::Waypoint
                 } else {
                     NodeKind::Station
-                },
-                name: String::new(),
-                pos: LonLat::new(103.8 + 0.01 * i as f64, 1.3 + 0.003 * (i % 3) as f64),
+                };
+                let (lon, lat) = (103.8 + 0.01 * i as f64, 1.3 + 0.003 * (i % 3) as f64);
+                node(&format!("N{i}"), kind, lon, lat)
             })
             .collect();
-        let edges = self.edges(n);
-        let airspace = Airspace::new(nodes, edges).expect("valid airspace");
+        let airspace = airspace(nodes, self.edges(n));
         let units = |k: u32| Millis(i64::from(k) * self.unit);
         let params = FlightParams {
             speed: speed(),
@@ -134,13 +133,12 @@ impl Instance {
                 if destination == origin {
                     destination = stations[(d + 1) % stations.len()];
                 }
-                Request {
-                    id: format!("r{i:02}"),
-                    origin,
-                    destination,
-                    departure: Instant(dep * self.unit),
-                    submitted: Instant(dep * self.unit),
-                }
+                request(
+                    &format!("r{i:02}"),
+                    origin.0,
+                    destination.0,
+                    dep * self.unit,
+                )
             })
             .collect();
         sort_for_planning(&mut requests);
@@ -172,11 +170,9 @@ impl Instance {
         }
         pairs
             .iter()
-            .map(|&(a, b, secs)| Edge {
-                id: format!("N{a}-N{b}"),
-                from: NodeId(a as u32),
-                to: NodeId(b as u32),
-                length_m: (i64::from(secs) * self.unit) as f64 / 100.0,
+            .map(|&(a, b, secs)| {
+                let length_m = (i64::from(secs) * self.unit) as f64 / 100.0;
+                named_edge(&format!("N{a}-N{b}"), a as u32, b as u32, length_m)
             })
             .collect()
     }

@@ -1,6 +1,4 @@
-use muse_model::{
-    Airspace, FlightParams, Instant, Millis, NodeId, Period, Request, UtcOffset, Zone,
-};
+use muse_model::{Airspace, FlightParams, Instant, Millis, Period, Request, UtcOffset, Zone};
 
 use super::*;
 use crate::demand::{BookingLead, OdRule};
@@ -44,11 +42,8 @@ fn day() -> ScenarioDay {
 
 fn request(id: &str, from: u32, to: u32, departure: i64, submitted: i64) -> Request {
     Request {
-        id: id.into(),
-        origin: NodeId(from),
-        destination: NodeId(to),
-        departure: min(departure),
         submitted: min(submitted),
+        ..muse_model::testing::request(id, from, to, departure * 60_000)
     }
 }
 
