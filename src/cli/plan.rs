@@ -10,13 +10,15 @@ use muse_formats::plans::{PlanRecord, write_plan_line};
 use muse_formats::requests::{LocalDay, read_requests_file};
 use muse_formats::stays_csv::write_stays_csv;
 use muse_model::{Instant, Millis};
-use muse_sim::day::{DayRun, plan_requests};
+use muse_sim::day::{DayRun, plan_requests_by};
 use muse_sim::demand::BookingLead;
 use muse_sim::metrics::{OptimizerSummary, Provenance, ReplanSummary, RunItem, Summary};
 
 use super::common::{FlightArgs, World, WorldArgs};
+use super::optimize::{OptimizeArgs, report_lines};
 use super::output;
 use super::output::write_atomically;
+use super::progress::LazyProgress;
 
 /// Arguments of `muse plan`.
 #[derive(Debug, Args)]
@@ -28,6 +30,8 @@ pub struct PlanArgs {
     world: WorldArgs,
     #[command(flatten)]
     flight: FlightArgs,
+    #[command(flatten)]
+    optimize: OptimizeArgs,
     /// Output folder for `plans.jsonl`, `summary.json`, `flights.csv` and `stays.csv`.
     #[arg(long, value_name = "DIR", default_value = "out")]
     out: PathBuf,
@@ -53,7 +57,17 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
             .world(&args.world),
     )?;
     let requests = read_requests_file(&args.requests, &world.airspace, day)?;
-    let run = plan_requests(&world.airspace, &world.zones, params, requests, |_| {})?;
+    let (total, what) = args.optimize.progress_total(requests.len());
+    let mut progress = LazyProgress::new(total, what);
+    let run = plan_requests_by(
+        &world.airspace,
+        &world.zones,
+        params,
+        requests,
+        args.optimize.planning(),
+        |done| progress.set(done as u64),
+    )?;
+    progress.finish();
     let provenance = Provenance {
         airspace: world.airspace_source.clone(),
         zones: world.zones.iter().map(|z| z.id.clone()).collect(),
@@ -65,6 +79,9 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     out.commit()?;
     if let Some(r) = &summary.replanning {
         println!("{}", replanning_line(r));
+    }
+    for line in summary.optimizer.iter().flat_map(report_lines) {
+        println!("{}", line.trim_start());
     }
     println!(
         "planned {} of {} requests ({:.1}%) in {:.1} ms ({:.1} µs and {:.1} expanded labels per request); wrote {}",

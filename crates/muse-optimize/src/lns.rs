@@ -60,12 +60,14 @@ pub(crate) fn in_the_way(
 }
 
 /// One step: takes `out` (planned requests) out of the schedule, plans `first` (not
-/// planned, or among `out`), then the rest of `out` in a random order, and keeps the result
+/// planned, or among `out`), then the rest of `out` in a random order, then `extras`
+/// (requests holding no plan, in the order given) where they now fit, and keeps the result
 /// unless the objective is worse, in which case everything is put back as it was.
 pub(crate) fn step(
     working: &mut Working<'_>,
     first: usize,
     out: &[usize],
+    extras: &[usize],
     rng: &mut ChaCha8Rng,
 ) -> Step {
     let before = working.objective();
@@ -75,9 +77,10 @@ pub(crate) fn step(
     }
     let mut order: Vec<usize> = out.iter().copied().filter(|&i| i != first).collect();
     shuffle(&mut order, rng);
-    let mut tried = Vec::with_capacity(order.len() + 1);
+    let mut tried = Vec::with_capacity(order.len() + extras.len() + 1);
     tried.push(first);
     tried.extend(order);
+    tried.extend(extras.iter().copied().filter(|&i| i != first));
     for &i in &tried {
         working.try_plan(i);
     }

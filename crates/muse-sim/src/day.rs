@@ -269,6 +269,40 @@ mod tests {
     }
 
     #[test]
+    fn optimizing_a_day_with_an_announced_zone_is_refused_and_fcfs_is_not() {
+        use crate::replay::example::{airspace, params, requests, zone};
+        let options = muse_optimize::Options::default();
+        let e = plan_requests_by(
+            &airspace(),
+            &[zone()],
+            params(),
+            requests(),
+            Planning::Optimized(options),
+            |_| {},
+        )
+        .unwrap_err();
+        assert!(
+            matches!(&e, DayError::OptimizeAnnounced(z) if z == "Z"),
+            "{e}"
+        );
+        assert!(e.to_string().contains("--optimize"), "{e}");
+        let fcfs = plan_requests(&airspace(), &[zone()], params(), requests(), |_| {}).unwrap();
+        assert!(fcfs.optimizer.is_none());
+        let optimized = plan_requests_by(
+            &airspace(),
+            &[],
+            params(),
+            requests(),
+            Planning::Optimized(options),
+            |_| {},
+        )
+        .unwrap();
+        let report = optimized.optimizer.as_ref().unwrap();
+        assert!(report.result >= report.fcfs);
+        assert_eq!(optimized.outcomes.len(), optimized.requests.len());
+    }
+
+    #[test]
     fn submission_order_decides_who_gets_a_contested_slot() {
         // `early` flies A→B departing at minute 600, `late` B→A at minute 601: the corridor
         // (exclusive, two minutes) cannot carry both, and without ground delay neither can wait

@@ -1,0 +1,102 @@
+//! Every optimised schedule is valid (the independent verifier finds nothing), never worse
+//! than first come, first served, and the same on every run of the same seed and budget.
+
+use muse_optimize::{Objective, Options, optimize};
+use muse_planner::{Outcome, Planner, Schedule, Scratch, plan_day};
+use muse_verify::{Flight, verify};
+
+use crate::instances::{Instance, instance};
+
+/// First come, first served by the planner itself, and its objective.
+fn fcfs(inst: &Instance, planner: &Planner<'_>) -> (Vec<Outcome>, Objective) {
+    let mut schedule = Schedule::new(&inst.airspace, &inst.params, &inst.closures());
+    let outcomes = plan_day(
+        planner,
+        &mut schedule,
+        &inst.requests,
+        &mut Scratch::new(),
+        |_| {},
+    );
+    (outcomes.clone(), objective(inst, &outcomes))
+}
+
+/// The objective of `outcomes`, recomputed here from the plans.
+fn objective(inst: &Instance, outcomes: &[Outcome]) -> Objective {
+    let mut o = Objective::default();
+    for (r, out) in inst.requests.iter().zip(outcomes) {
+        if let Ok(plan) = &out.result {
+            o = o.with(Objective::delay_of(
+                r,
+                plan,
+                out.free_flow.expect("planned"),
+            ));
+        }
+    }
+    o
+}
+
+/// Checks one instance; returns whether the optimiser did better than FCFS.
+fn check(seed: u64, count: usize, swaps: bool, iterations: u64) -> bool {
+    let inst = instance(seed, count, swaps);
+    let planner = Planner::new(&inst.airspace, inst.params);
+    let options = Options {
+        iterations,
+        seed,
+        ..Options::default()
+    };
+    let out = optimize(&planner, &inst.closures(), &inst.requests, &options, |_| {});
+    let (_, fcfs) = fcfs(&inst, &planner);
+    let context = format!("seed {seed}, {count} requests, swaps {swaps}");
+    assert_eq!(out.report.fcfs, fcfs, "{context}: the report's FCFS");
+    assert_eq!(
+        out.report.result,
+        objective(&inst, &out.outcomes),
+        "{context}"
+    );
+    assert!(out.report.result >= fcfs, "{context}: worse than FCFS");
+    assert!(out.report.result.planned <= out.report.alone, "{context}");
+    let flights: Vec<Flight<'_>> = inst
+        .requests
+        .iter()
+        .zip(&out.outcomes)
+        .filter_map(|(r, o)| o.result.as_ref().ok().map(|p| Flight::new(&r.id, r, p)))
+        .collect();
+    let violations = verify(&inst.airspace, &inst.closures(), &inst.params, &flights);
+    assert!(violations.is_empty(), "{context}: {violations:#?}");
+    let again = optimize(&planner, &inst.closures(), &inst.requests, &options, |_| {});
+    assert_eq!(
+        again.outcomes, out.outcomes,
+        "{context}: a second run differs"
+    );
+    out.report.result > fcfs
+}
+
+#[test]
+fn single_leg_schedules_are_valid_never_worse_and_repeat() {
+    let seeds = 0..300_u64;
+    println!("seeds {seeds:?}, 4 to 24 requests, 300 steps");
+    let better = seeds
+        .clone()
+        .filter(|&s| check(s, 4 + (s as usize % 21), false, 300))
+        .count();
+    println!(
+        "better than FCFS on {better} of {} instances",
+        seeds.count()
+    );
+    assert!(better > 0, "the optimiser never improved on FCFS");
+}
+
+#[test]
+fn multi_leg_schedules_are_valid_never_worse_and_repeat() {
+    let seeds = 1_000..1_150_u64;
+    println!("seeds {seeds:?}, 4 to 16 requests, 200 steps, 3-minute batteries with swaps");
+    let better = seeds
+        .clone()
+        .filter(|&s| check(s, 4 + (s as usize % 13), true, 200))
+        .count();
+    println!(
+        "better than FCFS on {better} of {} instances",
+        seeds.count()
+    );
+    assert!(better > 0, "the optimiser never improved on FCFS");
+}
