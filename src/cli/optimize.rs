@@ -70,6 +70,18 @@ pub struct OptimizeArgs {
         value_parser = ranges::neighbourhood
     )]
     neighbourhood: usize,
+    /// With --optimize: simulated annealing, the chance at the first step that a step making
+    /// the schedule worse is kept anyway (falling to 0 at the last), from 0 to 1; 0 keeps only
+    /// steps that leave it no worse. The best schedule seen is written either way.
+    #[arg(
+        long,
+        value_name = "P",
+        default_value_t = Options::default().anneal,
+        requires = "optimize",
+        allow_negative_numbers = true,
+        value_parser = ranges::anneal
+    )]
+    anneal: f64,
 }
 
 impl OptimizeArgs {
@@ -84,6 +96,7 @@ impl OptimizeArgs {
             seed: self.optimize_seed,
             restarts: self.restarts,
             neighbourhood: self.neighbourhood,
+            anneal: self.anneal,
         })
     }
 

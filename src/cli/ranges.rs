@@ -117,6 +117,8 @@ ranges! {
     time_budget_s: f64 = 0.001, 86_400.0, "a number of seconds";
     /// `--restarts` of the optimiser.
     restarts: u32 = 0, 10_000, "a whole number of orders";
+    /// `--anneal` of the optimiser: a chance.
+    anneal: f64 = 0.0, 1.0, "a chance";
     /// `--neighbourhood` of the optimiser.
     neighbourhood: usize = 1, 1_000, "a whole number of flights";
     /// `muse airspace map --width`.

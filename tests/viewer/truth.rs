@@ -486,3 +486,58 @@ fn below_800_px_the_panel_stacks_under_the_map_and_fingers_pan_and_zoom() {
     println!("600 px: map, controls, panel stacked, no overflow; tap, pinch ×{ratio:.2}, pan");
     assert_no_console_errors(&page);
 }
+
+#[test]
+fn an_optimised_day_shows_both_objectives_and_the_displaced() {
+    let Some(browser) = browser_or_skip("view_truth_optimised") else {
+        return;
+    };
+    let out = crate::support::scratch_dir("view_truth_optimised");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_muse"))
+        .args([
+            "simulate",
+            "--od",
+            "in-range",
+            "--count",
+            "1500",
+            "--optimize",
+        ])
+        .args(["--iterations", "2000", "--out"])
+        .arg(&out)
+        .output()
+        .expect("muse simulate runs");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let summary: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let o = &summary["optimizer"];
+    let page = browser.new_page().expect("a page");
+    open_offline(&page, &out.join("view.html"), "");
+    let text = eval_string(&page, "document.getElementById('summary').innerText");
+    for (label, planned) in [
+        ("planned by FCFS", &o["fcfs"]["planned"]),
+        ("planned, optimised", &o["optimized"]["planned"]),
+    ] {
+        let line = text
+            .lines()
+            .skip_while(|l| l.trim() != label)
+            .nth(1)
+            .unwrap_or_else(|| panic!("no `{label}` in the summary:\n{text}"));
+        assert!(
+            line.starts_with(&format!("{planned}, delay ")),
+            "{label}: {line}"
+        );
+    }
+    let displaced = text
+        .lines()
+        .skip_while(|l| l.trim() != "displaced by the optimiser")
+        .nth(1)
+        .unwrap_or_default();
+    assert_eq!(displaced.trim(), o["displaced"].to_string(), "{text}");
+    page.screenshot(&screenshots().join("view-optimised-summary.png"))
+        .expect("screenshot");
+    assert_no_console_errors(&page);
+}

@@ -20,6 +20,8 @@ pub(crate) enum Step {
     Better,
     /// As good as before (kept: it moves the search along a plateau).
     Same,
+    /// Worse, and kept all the same (simulated annealing).
+    Worse,
     /// Worse: undone.
     Undone,
 }
@@ -62,12 +64,14 @@ pub(crate) fn in_the_way(
 /// One step: takes `out` (planned requests) out of the schedule, plans `first` (not
 /// planned, or among `out`), then the rest of `out` in a random order, then `extras`
 /// (requests holding no plan, in the order given) where they now fit, and keeps the result
-/// unless the objective is worse, in which case everything is put back as it was.
+/// unless the objective is worse and `keep_worse` is false, in which case everything is put
+/// back as it was.
 pub(crate) fn step(
     working: &mut Working<'_>,
     first: usize,
     out: &[usize],
     extras: &[usize],
+    keep_worse: bool,
     rng: &mut ChaCha8Rng,
 ) -> Step {
     let before = working.objective();
@@ -90,6 +94,9 @@ pub(crate) fn step(
     }
     if after == before {
         return Step::Same;
+    }
+    if keep_worse {
+        return Step::Worse;
     }
     for &i in &tried {
         if working.plan(i).is_some() {

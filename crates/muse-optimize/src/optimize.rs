@@ -15,7 +15,7 @@ use crate::order::Order;
 use crate::working::Working;
 
 /// How hard to try.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {
     /// Steps of large-neighbourhood search: the reproducible budget (SPEC §14).
     pub iterations: u64,
@@ -28,10 +28,15 @@ pub struct Options {
     pub restarts: u32,
     /// Most flights taken out in one step.
     pub neighbourhood: usize,
+    /// Simulated annealing: the chance, at the first step, that a step which makes the
+    /// schedule worse is kept anyway, falling linearly to 0 at the last; `0` keeps only
+    /// steps that leave it no worse. The best schedule seen is returned either way.
+    pub anneal: f64,
 }
 
 impl Default for Options {
-    /// 10,000 steps, no time budget, seed 1, 4 random orders, neighbourhoods of up to 8.
+    /// 10,000 steps, no time budget, seed 1, 4 random orders, neighbourhoods of up to 8, no
+    /// annealing.
     fn default() -> Self {
         Options {
             iterations: 10_000,
@@ -39,6 +44,7 @@ impl Default for Options {
             seed: 1,
             restarts: 4,
             neighbourhood: 8,
+            anneal: 0.0,
         }
     }
 }
@@ -255,9 +261,8 @@ struct Done {
 }
 
 impl Search<'_> {
-    /// Runs the steps of the budget on `working`: a waiting request (one that can fly alone
-    /// but holds no plan) and the flights in its way, or, once none waits, a delayed flight
-    /// and the flights in its way.
+    /// Runs the steps of the budget on `working` ([`Search::one_step`]), keeping the best
+    /// schedule seen.
     fn run(
         &self,
         working: &mut Working<'_>,
@@ -270,7 +275,10 @@ impl Search<'_> {
             timed_out: false,
         };
         let mut waiting: Vec<usize> = unplanned(working, self.alone);
-        while done.iterations < self.options.iterations {
+        let mut best = working.objective();
+        let mut snapshot: Option<Vec<Option<Plan>>> = None;
+        let budget = self.options.iterations;
+        while done.iterations < budget {
             if self
                 .options
                 .time_budget
@@ -279,43 +287,67 @@ impl Search<'_> {
                 done.timed_out = true;
                 break;
             }
+            let chance = self.options.anneal * (1.0 - done.iterations as f64 / budget as f64);
+            let keep_worse = chance > 0.0 && rng.random_bool(chance.min(1.0));
+            if keep_worse && working.objective() == best && snapshot.is_none() {
+                snapshot = Some(working.plans().to_vec());
+            }
             done.iterations += 1;
-            let k = size(self.options.neighbourhood, rng);
-            let outcome = if waiting.is_empty() {
-                let Some(target) = delayed(working, self.requests, self.free_flow, rng) else {
-                    break;
-                };
-                let path = working
-                    .plan(target)
-                    .expect("a delayed request is planned")
-                    .clone();
-                let mut out = pick(self.in_the_way(working, target, &path), k - 1, rng);
-                out.push(target);
-                let extras = self.extras(working, &out, k);
-                step(working, target, &out, &extras, rng)
-            } else {
-                let target = self.choose(&waiting, rng);
-                let path = self.alone[target]
-                    .as_ref()
-                    .expect("a waiting request can fly alone");
-                let out = pick(self.in_the_way(working, target, path), k, rng);
-                let extras = self.extras(working, &out, k);
-                step(working, target, &out, &extras, rng)
+            let Some(outcome) = self.one_step(working, &waiting, keep_worse, rng) else {
+                break;
             };
             match outcome {
                 Step::Better => {
                     done.improved += 1;
                     waiting = unplanned(working, self.alone);
                 }
-                Step::Same => waiting = unplanned(working, self.alone),
+                Step::Same | Step::Worse => waiting = unplanned(working, self.alone),
                 Step::Undone => {}
             }
             if done.iterations.is_multiple_of(FILL_EVERY) && fill(working, &waiting) > 0 {
                 waiting = unplanned(working, self.alone);
             }
+            if working.objective() > best {
+                best = working.objective();
+                snapshot = None;
+            }
             progress(done.iterations);
         }
+        if let Some(plans) = snapshot.filter(|_| working.objective() < best) {
+            working.restore(plans);
+        }
         done
+    }
+
+    /// One step on `working`: a waiting request (one that can fly alone but holds no plan)
+    /// and the flights in its way, or, once none waits, a delayed flight and the flights in
+    /// its way. `None` when no request waits and none is delayed: nothing is left to do.
+    fn one_step(
+        &self,
+        working: &mut Working<'_>,
+        waiting: &[usize],
+        keep_worse: bool,
+        rng: &mut ChaCha8Rng,
+    ) -> Option<Step> {
+        let k = size(self.options.neighbourhood, rng);
+        if waiting.is_empty() {
+            let target = delayed(working, self.requests, self.free_flow, rng)?;
+            let path = working
+                .plan(target)
+                .expect("a delayed request is planned")
+                .clone();
+            let mut out = pick(self.in_the_way(working, target, &path), k - 1, rng);
+            out.push(target);
+            let extras = self.extras(working, &out, k);
+            return Some(step(working, target, &out, &extras, keep_worse, rng));
+        }
+        let target = self.choose(waiting, rng);
+        let path = self.alone[target]
+            .as_ref()
+            .expect("a waiting request can fly alone");
+        let out = pick(self.in_the_way(working, target, path), k, rng);
+        let extras = self.extras(working, &out, k);
+        Some(step(working, target, &out, &extras, keep_worse, rng))
     }
 
     /// A waiting request: half the time any, else the shorter trip of two drawn (short trips

@@ -124,6 +124,20 @@ impl<'a> Working<'a> {
         self.plans[i] = Some(plan);
     }
 
+    /// Makes `plans` (one per request, as [`Working::plans`] gave them) the schedule.
+    pub(crate) fn restore(&mut self, plans: Vec<Option<Plan>>) {
+        for i in 0..self.plans.len() {
+            if self.plans[i].is_some() {
+                self.take_out(i);
+            }
+        }
+        for (i, plan) in plans.into_iter().enumerate() {
+            if let Some(plan) = plan {
+                self.book(i, plan);
+            }
+        }
+    }
+
     /// Takes request `i`'s plan out of the schedule and returns it.
     pub(crate) fn take_out(&mut self, i: usize) -> Plan {
         let plan = self.plans[i]

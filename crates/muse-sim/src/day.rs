@@ -40,7 +40,7 @@ pub enum DayError {
 }
 
 /// How a day's requests are planned.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum Planning {
     /// One at a time in planning order, each against those before it (SPEC §5–§6).
     #[default]

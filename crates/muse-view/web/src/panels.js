@@ -16,6 +16,13 @@ function showSummary() {
     rows.push(['ground delay, mean', secs(s.ground_delay_s.mean)]);
     if (s.legs) rows.push(['legs per trip', `${s.legs.per_trip_mean.toFixed(2)} (max ${s.legs.per_trip_max})`]);
     if (s.replanning) rows.push(['delivered after replanning', `${s.replanning.delivered} (${pct(s.replanning.delivery_rate)})`]);
+    const o = s.optimizer;
+    if (o) {
+      rows.push(['planned by FCFS', `${o.fcfs.planned}, delay ${secs(o.fcfs.mean_delay_s)}`]);
+      rows.push(['planned, optimised', `${o.optimized.planned}, delay ${secs(o.optimized.mean_delay_s)}`]);
+      rows.push(['displaced by the optimiser', o.displaced]);
+      rows.push(['optimiser', `${o.iterations} steps, ${o.time_s.toFixed(1)} s`]);
+    }
     rows.push(['planner', `${(s.planner_time.total_s * 1000).toFixed(1)} ms`]);
     rows.push(['labels per request', s.search.expanded_per_request.toFixed(2)]);
     const p = s.parameters;

@@ -1,5 +1,6 @@
 //! The paper's sweep as a [`Kind`]: its cases are scenario variants, each run plans a day
-//! first come, first served against the variant's zones with its flight parameters.
+//! against the variant's zones with its flight parameters, first come, first served or as one
+//! batch (`--vary planner`).
 
 use muse_airspace::closures::{ClosureError, Closures, resolve};
 use muse_model::Airspace;
@@ -8,7 +9,7 @@ use muse_planner::Planner;
 use super::record::{RunRecord, columns};
 use super::report::{plots, summary, table};
 use super::variant::Variant;
-use crate::day::plan_sorted;
+use crate::day::{Planning, plan_sorted};
 use crate::demand::DemandError;
 use crate::experiment::grid::Grid;
 use crate::experiment::kind::{Day, Kind};
@@ -99,7 +100,14 @@ impl Kind for Sweep<'_> {
 
     fn run(&self, grid: &Grid, case: usize, day: &Day<'_>) -> Result<RunRecord, SweepError> {
         let (planner, closures) = &self.prepared[case];
-        let (outcomes, wall) = plan_sorted(planner, closures, day.requests, |_| {});
+        let (outcomes, wall) = match self.variants[case].planning {
+            Planning::FirstComeFirstServed => plan_sorted(planner, closures, day.requests, |_| {}),
+            Planning::Optimized(options) => {
+                let out =
+                    muse_optimize::optimize(planner, closures, day.requests, &options, |_| {});
+                (out.outcomes, out.report.elapsed)
+            }
+        };
         Ok(RunRecord::of(
             &self.variants[case].name,
             (day.rep, day.seed, grid.booking_lead),

@@ -1,6 +1,9 @@
-//! A scenario variant of the paper's sweep: a name, the zones in force, the flight parameters.
+//! A scenario variant of the paper's sweep: a name, the zones in force, the flight parameters
+//! and how a day is planned.
 
 use muse_model::{FlightParams, Zone};
+
+use crate::day::Planning;
 
 /// One scenario variant of a sweep.
 #[derive(Clone, Debug, PartialEq)]
@@ -11,4 +14,6 @@ pub struct Variant {
     pub zones: Vec<Zone>,
     /// Flight parameters.
     pub params: FlightParams,
+    /// First come, first served, or as one batch (SPEC §14).
+    pub planning: Planning,
 }

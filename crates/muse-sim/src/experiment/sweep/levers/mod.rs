@@ -7,6 +7,7 @@ mod lever;
 
 pub use lever::{Base, Lever, LeverError, MAX_LIST, Setting, durations, with_params};
 
+use crate::day::Planning;
 use crate::experiment::sweep::variant::Variant;
 
 /// Declares the lever files and lists their levers in [`LEVERS`], in `--help` order.
@@ -25,6 +26,7 @@ levers! {
     ground_delay::GroundDelay,
     battery_swap::BatterySwaps,
     tau::Tau,
+    planner::Planners,
 }
 
 /// The lever whose `--vary` value is `name`.
@@ -60,6 +62,7 @@ pub fn variants(
         name: String::new(),
         zones: base.zones.to_vec(),
         params: base.params,
+        planning: Planning::FirstComeFirstServed,
     }];
     for &name in vary {
         let lever =
