@@ -3,10 +3,13 @@
 use std::time::Duration;
 
 use clap::Args;
+use muse_model::{FlightParams, Request};
 use muse_optimize::Options;
-use muse_sim::day::Planning;
+use muse_sim::day::{DayRun, Planning, plan_requests_by};
 use muse_sim::metrics::OptimizerSummary;
 
+use super::common::World;
+use super::progress::LazyProgress;
 use super::ranges;
 
 /// `--optimize` and its budget.
@@ -100,14 +103,29 @@ impl OptimizeArgs {
         })
     }
 
-    /// The steps the progress bar counts: requests when planning first come, first served,
-    /// the search's steps when optimising.
-    pub fn progress_total(&self, requests: usize) -> (u64, &'static str) {
-        if self.optimize {
-            (self.iterations, "optimising")
+    /// Plans `requests` on `world` with `params`, first come, first served or as one batch,
+    /// with a progress bar over the requests, or over the optimiser's steps.
+    pub fn plan(
+        &self,
+        world: &World,
+        params: FlightParams,
+        requests: Vec<Request>,
+    ) -> anyhow::Result<DayRun> {
+        let mut progress = if self.optimize {
+            LazyProgress::new(self.iterations, "optimising")
         } else {
-            (requests as u64, "planning")
-        }
+            LazyProgress::new(requests.len() as u64, "planning")
+        };
+        let run = plan_requests_by(
+            &world.airspace,
+            &world.zones,
+            params,
+            requests,
+            self.planning(),
+            |done| progress.set(done as u64),
+        )?;
+        progress.finish();
+        Ok(run)
     }
 }
 

@@ -10,7 +10,7 @@ use muse_formats::plans::{PlanRecord, write_plan_line};
 use muse_formats::requests::{LocalDay, read_requests_file};
 use muse_formats::stays_csv::write_stays_csv;
 use muse_model::{Instant, Millis};
-use muse_sim::day::{DayRun, plan_requests_by};
+use muse_sim::day::DayRun;
 use muse_sim::demand::BookingLead;
 use muse_sim::metrics::{OptimizerSummary, Provenance, ReplanSummary, RunItem, Summary};
 
@@ -18,7 +18,6 @@ use super::common::{FlightArgs, World, WorldArgs};
 use super::optimize::{OptimizeArgs, report_lines};
 use super::output;
 use super::output::write_atomically;
-use super::progress::LazyProgress;
 
 /// Arguments of `muse plan`.
 #[derive(Debug, Args)]
@@ -57,17 +56,7 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
             .world(&args.world),
     )?;
     let requests = read_requests_file(&args.requests, &world.airspace, day)?;
-    let (total, what) = args.optimize.progress_total(requests.len());
-    let mut progress = LazyProgress::new(total, what);
-    let run = plan_requests_by(
-        &world.airspace,
-        &world.zones,
-        params,
-        requests,
-        args.optimize.planning(),
-        |done| progress.set(done as u64),
-    )?;
-    progress.finish();
+    let run = args.optimize.plan(&world, params, requests)?;
     let provenance = Provenance {
         airspace: world.airspace_source.clone(),
         zones: world.zones.iter().map(|z| z.id.clone()).collect(),

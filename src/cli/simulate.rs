@@ -10,7 +10,7 @@ use muse_formats::flights::{FlightFeature, write_flights};
 use muse_formats::plans::PlanRecord;
 use muse_formats::requests::{LocalDay, read_requests_file, write_requests};
 use muse_model::Request;
-use muse_sim::day::{DayRun, plan_requests_by};
+use muse_sim::day::DayRun;
 use muse_sim::demand::generate;
 use muse_sim::metrics::{Provenance, Summary};
 use muse_verify::{Flight, verify_known_in};
@@ -21,7 +21,6 @@ use super::optimize::{OptimizeArgs, report_lines};
 use super::output;
 use super::output::write_atomically;
 use super::plan::write_outputs;
-use super::progress::LazyProgress;
 use super::view::write_view;
 
 /// Arguments of `muse simulate`.
@@ -90,17 +89,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         );
         (reqs, source, Some(spec.seed), Some(spec.booking_lead))
     };
-    let (total, what) = args.optimize.progress_total(requests.len());
-    let mut progress = LazyProgress::new(total, what);
-    let run = plan_requests_by(
-        &world.airspace,
-        &world.zones,
-        params,
-        requests,
-        args.optimize.planning(),
-        |done| progress.set(done as u64),
-    )?;
-    progress.finish();
+    let run = args.optimize.plan(&world, params, requests)?;
 
     let flights: Vec<Flight<'_>> = run
         .requests

@@ -4,18 +4,8 @@
 //! and before sizes that cannot fit in memory are allocated.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn muse(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_muse"))
-        .args(args)
-        .output()
-        .expect("muse runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use crate::run::{muse, stderr};
 
 /// A fresh folder under the target directory for one test.
 fn scratch_dir(name: &str) -> PathBuf {

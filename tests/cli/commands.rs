@@ -1,22 +1,8 @@
 //! End-to-end tests of the `muse` binary: what a user sees for good and bad input.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn muse(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_muse"))
-        .args(args)
-        .output()
-        .expect("muse runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
+use crate::run::{muse, stderr, stdout};
 
 /// A fresh folder under the target directory for one test.
 fn scratch_dir(name: &str) -> PathBuf {

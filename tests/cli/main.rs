@@ -20,5 +20,6 @@ mod optimize;
 mod outputs;
 mod params_travel;
 mod reference_examples;
+mod run;
 mod swaps;
 mod sweep_shards;

@@ -1,28 +1,8 @@
 //! Batch planning (SPEC §14) end to end: `muse simulate --optimize` and `muse plan
 //! --optimize` on the embedded Singapore default, checked by `muse verify`.
 
-use serde_json::Value;
-
+use crate::run::{muse, read_json, said};
 use crate::support::scratch_dir;
-
-fn muse(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_muse"))
-        .args(args)
-        .output()
-        .expect("muse runs")
-}
-
-fn said(o: &std::process::Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
-
-fn read_json(path: &std::path::Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
 
 #[test]
 fn simulate_optimize_plans_more_than_fcfs_verified_and_repeats_with_plan() {

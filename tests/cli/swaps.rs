@@ -3,27 +3,8 @@
 
 use serde_json::{Value, json};
 
+use crate::run::{muse, read_json, said};
 use crate::support::{scratch_dir, start};
-
-fn muse(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_muse"))
-        .args(args)
-        .output()
-        .expect("muse runs")
-}
-
-/// A process's standard output and error, for assertion messages.
-fn said(o: &std::process::Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
-
-fn read_json(path: &std::path::Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
 
 #[test]
 fn simulate_with_swaps_plans_out_of_range_requests_and_verify_checks_the_legs() {
