@@ -91,6 +91,8 @@ ranges! {
     threads: usize = 1, 1_024, "a whole number of threads";
     /// `muse serve --booking-horizon-days`: up to ten years.
     booking_horizon_days: u32 = 1, 3_650, "a whole number of days";
+    /// `muse serve --batch-window-ms`: up to 10 s.
+    batch_window_ms: u64 = 0, 10_000, "a whole number of milliseconds";
     /// `muse serve --max-body-kib`: up to 1 MiB.
     max_body_kib: usize = 1, 1_024, "a whole number of KiB";
     /// `muse serve --rate-limit` (0: no limit).

@@ -75,6 +75,11 @@ pub struct ServeArgs {
     /// Bookings open this many days ahead of now, from 1 to 3650.
     #[arg(long, value_name = "DAYS", default_value_t = 30, allow_negative_numbers = true, value_parser = ranges::booking_horizon_days)]
     booking_horizon_days: u32,
+    /// Plan the requests that arrive within this many milliseconds of each other as one
+    /// batch, better than first come, first served (SPEC §14), answered in order of arrival;
+    /// from 0 to 10000; 0 plans each as it comes.
+    #[arg(long, value_name = "MS", default_value_t = 0, allow_negative_numbers = true, value_parser = ranges::batch_window_ms)]
+    batch_window_ms: u64,
     /// Convert the data folder's log written by an earlier version (`muse.log`) into the
     /// store and exit, without serving (`muse serve` also converts it at start). The log is
     /// kept, renamed `muse.log.imported`.
@@ -129,13 +134,6 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         None => Tokens::Open,
         Some(path) => Tokens::read(path)?,
     };
-    let limits = Limits {
-        header_timeout: args.header_timeout_s,
-        body_timeout: args.body_timeout_s,
-        idle_timeout: args.idle_timeout_s,
-        max_connections: args.max_connections,
-    };
-    limits.check().map_err(anyhow::Error::msg)?;
     let label = world_label(&world);
     let stations = world.airspace.stations().count();
     let page = super::view::live_page(&world, clock.now())?;
@@ -148,14 +146,8 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         Millis::from_secs(i64::from(args.booking_horizon_days) * 86_400),
         clock.now(),
     )?;
-    let mut options = Options::new(args.data.clone());
-    options.tokens = tokens.clone();
-    options.http = limits;
-    options.clock = clock;
-    options.max_body = args.max_body_kib * 1024;
-    options.rate_limit = args.rate_limit;
-    options.burst = args.burst;
-    options.page = Some(page);
+    let options = service_options(args, tokens.clone(), clock, page)?;
+    let http = options.http;
     if args.import_log {
         return import_log(&args.data, &service_world);
     }
@@ -202,7 +194,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         } else {
             writeln!(out, "  access     bearer tokens from {} (reread on SIGHUP)", args.tokens.as_ref().map_or_else(String::new, |p| p.display().to_string()))?;
         }
-        writeln!(out, "  http       {}", limits_line(&limits))?;
+        writeln!(out, "  http       {}", limits_line(&http))?;
         writeln!(out, "  API        http://{}/v1/openapi.json", running.addr)?;
         let token_hint = if running.open { "" } else { "?token=YOUR_TOKEN" };
         writeln!(out, "  viewer     http://{}/{token_hint}", running.addr)?;
@@ -216,6 +208,33 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         anyhow::Ok(())
     })?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The service's options from the command line: `tokens`, `clock` and the live `page` made
+/// by the caller; the HTTP limits are checked.
+fn service_options(
+    args: &ServeArgs,
+    tokens: Tokens,
+    clock: Clock,
+    page: String,
+) -> anyhow::Result<Options> {
+    let limits = Limits {
+        header_timeout: args.header_timeout_s,
+        body_timeout: args.body_timeout_s,
+        idle_timeout: args.idle_timeout_s,
+        max_connections: args.max_connections,
+    };
+    limits.check().map_err(anyhow::Error::msg)?;
+    let mut options = Options::new(args.data.clone());
+    options.tokens = tokens;
+    options.http = limits;
+    options.clock = clock;
+    options.max_body = args.max_body_kib * 1024;
+    options.rate_limit = args.rate_limit;
+    options.burst = args.burst;
+    options.page = Some(page);
+    options.batch_window = std::time::Duration::from_millis(args.batch_window_ms);
+    Ok(options)
 }
 
 /// `muse serve --import-log`: converts the folder's log of an earlier version, then exits.

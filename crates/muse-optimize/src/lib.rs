@@ -37,5 +37,5 @@ mod order;
 mod working;
 
 pub use objective::Objective;
-pub use optimize::{Optimized, Options, Report, optimize};
+pub use optimize::{Optimized, Options, Report, optimize, optimize_on};
 pub use order::Order;

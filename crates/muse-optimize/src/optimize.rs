@@ -5,7 +5,7 @@ use std::time::{Duration, Instant as WallInstant};
 
 use muse_airspace::closures::Closures;
 use muse_model::{Instant, Millis, Plan, RejectReason, Request};
-use muse_planner::{Outcome, Planner, Schedule, Scratch};
+use muse_planner::{FlightId, Outcome, Planner, Schedule, Scratch};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -129,13 +129,35 @@ pub fn optimize(
     options: &Options,
     progress: impl FnMut(u64),
 ) -> Optimized {
+    let base = Schedule::new(planner.airspace(), planner.params(), closures);
+    let ids: Vec<FlightId> = (0..requests.len()).map(FlightId::from).collect();
+    optimize_on(planner, &base, requests, &ids, options, progress)
+}
+
+/// [`optimize`] on top of `base`, a schedule whose flights (booked before the batch) stay as
+/// they are: the batch's requests are planned around them, request `i` as flight `ids[i]`
+/// (ids `base` does not use). First come, first served is then the batch in the order given
+/// on top of `base`, and "can fly alone" means with `base`'s flights and no other of the
+/// batch. A service answering the requests that arrive together does this.
+///
+/// # Panics
+/// If `ids` is not as long as `requests`.
+pub fn optimize_on(
+    planner: &Planner<'_>,
+    base: &Schedule,
+    requests: &[Request],
+    ids: &[FlightId],
+    options: &Options,
+    progress: impl FnMut(u64),
+) -> Optimized {
+    assert_eq!(ids.len(), requests.len(), "one flight id per request");
     let started = WallInstant::now();
-    let (alone, free_flow) = plans_alone(planner, closures, requests);
+    let (alone, free_flow) = plans_alone(planner, base, requests);
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
     let first = best_order(
         planner,
-        closures,
-        requests,
+        base,
+        (requests, ids),
         &free_flow,
         options.restarts,
         &mut rng,
@@ -194,8 +216,8 @@ struct FirstSchedules<'a> {
 /// and `restarts` random ones, and keeps the best (the first of equals).
 fn best_order<'a>(
     planner: &'a Planner<'a>,
-    closures: &Closures,
-    requests: &'a [Request],
+    base: &Schedule,
+    (requests, ids): (&'a [Request], &'a [FlightId]),
     free_flow: &'a [Option<Millis>],
     restarts: u32,
     rng: &mut ChaCha8Rng,
@@ -214,7 +236,7 @@ fn best_order<'a>(
     let mut fcfs_planned = Vec::new();
     let mut expanded = 0;
     for order in orders {
-        let mut w = Working::new(planner, closures, requests, free_flow);
+        let mut w = Working::new(planner, base.clone(), requests, ids, free_flow);
         for i in order.ranked(requests, free_flow) {
             w.try_plan(i);
         }
@@ -431,19 +453,19 @@ fn answers(working: &Working<'_>, free_flow: &[Option<Millis>]) -> Vec<Outcome> 
         .collect()
 }
 
-/// Each request's plan on the empty schedule (zones only), if it can fly at all, and its
-/// free-flow time as the planner gives it (with battery swaps, the swaps' time included).
+/// Each request's plan on `base` (its zones and flights, none of the batch), if it can fly
+/// at all, and its free-flow time as the planner gives it (with battery swaps, the swaps'
+/// time included).
 fn plans_alone(
     planner: &Planner<'_>,
-    closures: &Closures,
+    base: &Schedule,
     requests: &[Request],
 ) -> (Vec<Option<Plan>>, Vec<Option<Millis>>) {
-    let empty = Schedule::new(planner.airspace(), planner.params(), closures);
     let mut scratch = Scratch::new();
     requests
         .iter()
         .map(|r| {
-            let out = planner.plan(&empty, r, &mut scratch);
+            let out = planner.plan(base, r, &mut scratch);
             (out.result.ok(), out.free_flow)
         })
         .unzip()

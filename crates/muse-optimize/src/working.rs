@@ -2,7 +2,6 @@
 //! where they stay (to find the flights in a request's way), and the objective, all kept in
 //! step as flights are taken out and planned again.
 
-use muse_airspace::closures::Closures;
 use muse_model::{FlightParams, Instant, Millis, Plan, RejectReason, Request};
 use muse_planner::{FlightId, Planner, Schedule, Scratch};
 
@@ -16,10 +15,12 @@ pub(crate) struct Visit {
     pub(crate) request: u32,
 }
 
-/// The schedule of a batch as it is being improved. Request `i` books as flight `i`.
+/// The schedule of a batch as it is being improved, on top of a base schedule whose flights
+/// stay as they are. Request `i` books as flight `ids[i]`.
 pub(crate) struct Working<'a> {
     planner: &'a Planner<'a>,
     requests: &'a [Request],
+    ids: &'a [FlightId],
     free_flow: &'a [Option<Millis>],
     schedule: Schedule,
     plans: Vec<Option<Plan>>,
@@ -34,19 +35,23 @@ pub(crate) struct Working<'a> {
 }
 
 impl<'a> Working<'a> {
-    /// No request planned yet; the schedule holds `closures` only.
+    /// No request of the batch planned yet: the schedule is `base` (its zones and any flights
+    /// booked before the batch); request `i` will book as flight `ids[i]`, an id `base` does
+    /// not use.
     pub(crate) fn new(
         planner: &'a Planner<'a>,
-        closures: &Closures,
+        base: Schedule,
         requests: &'a [Request],
+        ids: &'a [FlightId],
         free_flow: &'a [Option<Millis>],
     ) -> Self {
         let airspace = planner.airspace();
         Working {
             planner,
             requests,
+            ids,
             free_flow,
-            schedule: Schedule::new(airspace, planner.params(), closures),
+            schedule: base,
             plans: vec![None; requests.len()],
             visits: vec![Vec::new(); airspace.node_count()],
             objective: Objective::default(),
@@ -112,7 +117,7 @@ impl<'a> Working<'a> {
             self.objective
                 .with(Objective::delay_of(&self.requests[i], &plan, free_flow));
         self.schedule
-            .insert(self.planner.airspace(), FlightId::from(i), &plan);
+            .insert(self.planner.airspace(), self.ids[i], &plan);
         let request = u32::try_from(i).expect("fewer than 2^32 requests");
         for s in &plan.path {
             self.visits[s.node.index()].push(Visit {
@@ -148,7 +153,7 @@ impl<'a> Working<'a> {
             self.objective
                 .without(Objective::delay_of(&self.requests[i], &plan, free_flow));
         self.schedule
-            .release(self.planner.airspace(), FlightId::from(i), &plan);
+            .release(self.planner.airspace(), self.ids[i], &plan);
         let request = u32::try_from(i).expect("fewer than 2^32 requests");
         for s in &plan.path {
             let list = &mut self.visits[s.node.index()];
@@ -166,6 +171,7 @@ impl<'a> Working<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use muse_airspace::closures::Closures;
     use muse_model::{Airspace, NodeId};
 
     fn request(id: &str, departure_s: i64) -> Request {
@@ -184,7 +190,9 @@ mod tests {
         let planner = Planner::new(&air, FlightParams::default());
         let requests = [request("a", 0), request("b", 0)];
         let free_flow = [Some(Millis(120_000)); 2];
-        let mut w = Working::new(&planner, &Closures::none(&air), &requests, &free_flow);
+        let ids = [FlightId(0), FlightId(1)];
+        let base = Schedule::new(&air, planner.params(), &Closures::none(&air));
+        let mut w = Working::new(&planner, base, &requests, &ids, &free_flow);
         assert!(w.try_plan(0));
         // Same departure, no ground delay: B is taken at the landing instant, A at take-off.
         assert!(!w.try_plan(1));

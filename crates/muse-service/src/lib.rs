@@ -75,12 +75,15 @@ pub struct Options {
     pub page: Option<String>,
     /// The HTTP server's timeouts and connection cap (see [`http`]).
     pub http: http::Limits,
+    /// How long the planner waits, after a request arrives, for others to plan with it as one
+    /// batch (SPEC §14); zero plans each request first come, first served.
+    pub batch_window: std::time::Duration,
 }
 
 impl Options {
     /// Defaults: open, system clock, 16 KiB bodies, 20,000 requests per second per token with
     /// bursts of 40,000; HTTP timeouts of 10 s for headers, 30 s for bodies and 60 s idle,
-    /// at most 10,000 connections.
+    /// at most 10,000 connections; no batch window.
     pub fn new(data: PathBuf) -> Self {
         Options {
             data,
@@ -92,6 +95,7 @@ impl Options {
             event_buffer: events::LIVE_CAPACITY,
             page: None,
             http: http::Limits::default(),
+            batch_window: std::time::Duration::ZERO,
         }
     }
 }
@@ -214,11 +218,18 @@ pub async fn launch(
     let (commands, rx) = mpsc::channel(engine::QUEUE);
     let (ready_tx, ready) = oneshot::channel();
     let (ended_tx, ended) = oneshot::channel();
-    engine::spawn(Arc::clone(&state), opening, rx, ready_tx, ended_tx).map_err(|source| {
-        ServeError::Io {
-            what: "starting the planner thread",
-            source,
-        }
+    let batching = engine::Batching::new(options.batch_window);
+    engine::spawn(
+        Arc::clone(&state),
+        opening,
+        rx,
+        batching,
+        ready_tx,
+        ended_tx,
+    )
+    .map_err(|source| ServeError::Io {
+        what: "starting the planner thread",
+        source,
     })?;
     let open = options.tokens.is_open();
     let app = Arc::new(App {

@@ -100,3 +100,34 @@ fn multi_leg_schedules_are_valid_never_worse_and_repeat() {
     );
     assert!(better > 0, "the optimiser never improved on FCFS");
 }
+
+#[test]
+fn a_batch_on_top_of_booked_flights_leaves_them_and_is_valid() {
+    use muse_optimize::optimize_on;
+    use muse_planner::FlightId;
+    let seeds = 2_000..2_100_u64;
+    println!("seeds {seeds:?}: 6 flights booked first come, first served, then a batch of 8");
+    for seed in seeds {
+        let inst = instance(seed, 14, false);
+        let planner = Planner::new(&inst.airspace, inst.params);
+        let (booked, batch) = inst.requests.split_at(6);
+        let mut base = Schedule::new(&inst.airspace, &inst.params, &inst.closures());
+        let first = plan_day(&planner, &mut base, booked, &mut Scratch::new(), |_| {});
+        let ids: Vec<FlightId> = (100..108).map(FlightId).collect();
+        let options = Options {
+            iterations: 200,
+            seed,
+            ..Options::default()
+        };
+        let out = optimize_on(&planner, &base, batch, &ids, &options, |_| {});
+        assert!(out.report.result >= out.report.fcfs, "seed {seed}");
+        let flights: Vec<Flight<'_>> = booked
+            .iter()
+            .zip(&first)
+            .chain(batch.iter().zip(&out.outcomes))
+            .filter_map(|(r, o)| o.result.as_ref().ok().map(|p| Flight::new(&r.id, r, p)))
+            .collect();
+        let violations = verify(&inst.airspace, &inst.closures(), &inst.params, &flights);
+        assert!(violations.is_empty(), "seed {seed}: {violations:#?}");
+    }
+}

@@ -23,6 +23,7 @@
 //! first loads the store (the `load` submodule), then serves.
 
 mod apply;
+mod batch;
 mod commands;
 mod load;
 mod writer;
@@ -35,7 +36,7 @@ use std::time::Instant as WallInstant;
 
 use muse_model::{Instant, Request};
 use muse_planner::CancelError;
-use muse_planner::{FlightId, Live, Planner};
+use muse_planner::{FlightId, Live, Outcome, Planner};
 use tokio::sync::{mpsc, oneshot};
 
 use crate::auth::Caller;
@@ -49,6 +50,7 @@ use crate::zones::AnnouncedZone;
 pub use commands::{CancelReply, Command, PlanReply, Restored};
 pub use zones::{AnnounceReply, Announcement, WithdrawReply};
 
+pub use batch::Batching;
 use commands::Pending;
 
 use apply::Change;
@@ -71,13 +73,14 @@ pub fn spawn(
     state: Arc<State>,
     opening: Opening,
     commands: mpsc::Receiver<Command>,
+    batching: Batching,
     ready: oneshot::Sender<Result<Restored, StoreError>>,
     ended: oneshot::Sender<Ended>,
 ) -> Result<(), std::io::Error> {
     std::thread::Builder::new()
         .name("muse-planner".into())
         .spawn(move || {
-            let result = run(&state, opening, commands, ready);
+            let result = run(&state, opening, commands, batching, ready);
             let _ = ended.send(result);
         })
         .map(drop)
@@ -87,6 +90,7 @@ fn run(
     state: &State,
     opening: Opening,
     mut rx: mpsc::Receiver<Command>,
+    batching: Batching,
     ready: oneshot::Sender<Result<Restored, StoreError>>,
 ) -> Ended {
     let world = &state.world;
@@ -114,6 +118,7 @@ fn run(
         staged: Staged::default(),
         pipe: None,
         last_evict: state.clock.now(),
+        batching,
     };
     match engine.load(&store) {
         Ok(mut restored) => {
@@ -151,12 +156,7 @@ fn run(
         let mut group = Vec::with_capacity(MAX_GROUP);
         while let Some(first) = rx.blocking_recv() {
             group.push(first);
-            while group.len() < MAX_GROUP {
-                match rx.try_recv() {
-                    Ok(c) => group.push(c),
-                    Err(_) => break,
-                }
-            }
+            engine.batching.gather(&mut rx, &mut group);
             if engine.decide_and_send(&mut group).is_err() {
                 break;
             }
@@ -208,6 +208,8 @@ struct Engine<'s> {
     pipe: Option<Pipe>,
     /// When flights were last evicted from the index.
     last_evict: Instant,
+    /// Whether requests that arrive together are planned as one batch.
+    batching: Batching,
 }
 
 /// The writer failed: the planner task stops.
@@ -230,9 +232,8 @@ impl Engine<'_> {
         self.forget_published();
         let mut answers = Vec::with_capacity(group.len());
         let mut commands = group.drain(..);
-        let outcome = commands
-            .by_ref()
-            .try_for_each(|command| self.decide(command, &mut answers))
+        let outcome = self
+            .decide_all(&mut commands, &mut answers)
             .and_then(|()| self.send(&mut answers));
         if outcome.is_err() {
             let message =
@@ -313,26 +314,9 @@ impl Engine<'_> {
     }
 
     fn plan(&mut self, caller: &Caller, request: Request) -> PlanReply {
-        let metrics = &self.state.metrics;
-        // Ids are forever: a stored id, at any age, is a retry or a conflict.
-        match self.lookup(&request.id) {
-            Ok(Some(known)) => {
-                return if known.operator == caller.operator && known.same_request(&request) {
-                    metrics.count_plan(PlanOutcome::Repeated);
-                    PlanReply::Repeat(known)
-                } else {
-                    metrics.count_plan(PlanOutcome::Conflict);
-                    PlanReply::Conflict
-                };
-            }
-            Ok(None) => {}
-            Err(e) => {
-                return PlanReply::Failed(format!(
-                    "reading the store failed ({e}); nothing was booked"
-                ));
-            }
+        if let Some(reply) = self.known(caller, &request) {
+            return reply;
         }
-        let seq = self.next_seq;
         let started = WallInstant::now();
         let live = &mut self.live;
         let Ok(outcome) = catch_unwind(AssertUnwindSafe(|| live.plan(&request))) else {
@@ -341,9 +325,44 @@ impl Engine<'_> {
                 request.id
             ));
         };
-        metrics.plan_latency.observe(started.elapsed());
+        self.state.metrics.plan_latency.observe(started.elapsed());
+        let entry = self.answered(caller, request, outcome);
+        self.apply(Change::Flights(vec![Arc::clone(&entry)]));
+        PlanReply::New(entry)
+    }
+
+    /// The answer to a request whose id is known (ids are forever: a stored id, at any age,
+    /// is a retry or a conflict), or that cannot be read; `None` for a new request.
+    fn known(&self, caller: &Caller, request: &Request) -> Option<PlanReply> {
+        let metrics = &self.state.metrics;
+        match self.lookup(&request.id) {
+            Ok(Some(known)) => Some(
+                if known.operator == caller.operator && known.same_request(request) {
+                    metrics.count_plan(PlanOutcome::Repeated);
+                    PlanReply::Repeat(known)
+                } else {
+                    metrics.count_plan(PlanOutcome::Conflict);
+                    PlanReply::Conflict
+                },
+            ),
+            Ok(None) => None,
+            Err(e) => Some(PlanReply::Failed(format!(
+                "reading the store failed ({e}); nothing was booked"
+            ))),
+        }
+    }
+
+    /// The flight a new request's `outcome` makes, numbered next, counted and written with
+    /// the group (not yet applied to the schedule).
+    fn answered(
+        &mut self,
+        caller: &Caller,
+        request: Request,
+        outcome: Outcome,
+    ) -> Arc<FlightEntry> {
+        let seq = self.next_seq;
         self.next_seq += 1;
-        metrics.count_plan(match &outcome.result {
+        self.state.metrics.count_plan(match &outcome.result {
             Ok(_) => PlanOutcome::Planned,
             Err(r) => PlanOutcome::Rejected(*r),
         });
@@ -365,8 +384,7 @@ impl Engine<'_> {
         if entry.result.is_ok() {
             self.emit(EventKind::Planned, entry.answered, None, &entry);
         }
-        self.apply(Change::Flights(vec![Arc::clone(&entry)]));
-        PlanReply::New(entry)
+        entry
     }
 
     fn cancel(&mut self, caller: &Caller, id: &str) -> CancelReply {

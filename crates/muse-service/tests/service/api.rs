@@ -1394,3 +1394,59 @@ async fn a_listener_that_falls_behind_reads_the_history_and_misses_nothing() {
         .unwrap();
     println!("the listener fell behind {lags} time(s)");
 }
+
+/// `r1` A → C at `t` and `r2` B → C a minute later, sent in that order within the batch
+/// window: first come, first served, `r1` holds B-C from `t + 2 min` and `r2` (no ground
+/// delay) finds no plan; as one batch, `r2` flies first and `r1` hovers a minute at B.
+#[tokio::test]
+async fn requests_arriving_together_are_planned_as_one_batch() {
+    for (window_ms, both) in [(0_u64, false), (1_000, true)] {
+        let service = Service::start(&format!("batch-{window_ms}"), |o| {
+            o.batch_window = Duration::from_millis(window_ms);
+        })
+        .await;
+        let (at_a, at_b) = (in_secs(600), in_secs(660));
+        let r1 = flight("r1", "A", "C", &at_a);
+        let first = service.post(None, &r1);
+        let second = async {
+            tokio::time::sleep(Duration::from_millis(50)).await;
+            service.post(None, &flight("r2", "B", "C", &at_b)).await
+        };
+        let ((c1, v1), (c2, v2)) = tokio::join!(first, second);
+        assert_eq!(c1, 201, "window {window_ms} ms: {v1}");
+        if both {
+            assert_eq!(c2, 201, "window {window_ms} ms: {v2}");
+            assert_eq!(v1["air_delay_s"], 60.0, "{v1}");
+            assert_eq!(v2["air_delay_s"], 0.0, "{v2}");
+        } else {
+            assert_eq!(
+                (c2, v2["reason"].as_str()),
+                (200, Some("no_feasible_plan")),
+                "{v2}"
+            );
+        }
+        // Answered and numbered in order of arrival; a retry inside a batch is a retry.
+        let (list_code, list) = service.get("/v1/flights", None).await;
+        assert_eq!(list_code, 200);
+        let ids: Vec<&str> = list["flights"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f["request"].as_str().unwrap())
+            .collect();
+        assert_eq!(ids, ["r1", "r2"], "window {window_ms} ms");
+        let body = flight("r3", "X", "Y", &in_secs(900));
+        let ((code_a, once), (code_b, twice)) =
+            tokio::join!(service.post(None, &body), service.post(None, &body));
+        assert_eq!((code_a, code_b), (201, 201), "{once} {twice}");
+        assert_eq!(once, twice);
+        let other = flight("r3", "Y", "X", &in_secs(900));
+        let ((code_c, _), (code_d, refused)) =
+            tokio::join!(service.post(None, &body), service.post(None, &other));
+        assert_eq!((code_c, code_d), (201, 409), "{refused}");
+        assert_eq!(
+            verify_everything(&service, None).await,
+            if both { 3 } else { 2 }
+        );
+    }
+}
