@@ -71,34 +71,30 @@ fn check(seed: u64, count: usize, swaps: bool, iterations: u64) -> bool {
     out.report.result > fcfs
 }
 
-#[test]
-fn single_leg_schedules_are_valid_never_worse_and_repeat() {
-    let seeds = 0..300_u64;
-    println!("seeds {seeds:?}, 4 to 24 requests, 300 steps");
-    let better = seeds
-        .clone()
-        .filter(|&s| check(s, 4 + (s as usize % 21), false, 300))
-        .count();
+/// Checks the instances of `seeds` (`4 + seed % spread` requests each, `steps` steps) and
+/// that the optimiser improved on FCFS at least once.
+fn check_all(seeds: std::ops::Range<u64>, spread: u64, swaps: bool, steps: u64) {
     println!(
-        "better than FCFS on {better} of {} instances",
-        seeds.count()
+        "seeds {seeds:?}, 4 to {} requests, {steps} steps, swaps {swaps}",
+        3 + spread
     );
+    let total = seeds.end - seeds.start;
+    let better = seeds
+        .filter(|&s| check(s, 4 + (s % spread) as usize, swaps, steps))
+        .count();
+    println!("better than FCFS on {better} of {total} instances");
     assert!(better > 0, "the optimiser never improved on FCFS");
 }
 
 #[test]
+fn single_leg_schedules_are_valid_never_worse_and_repeat() {
+    check_all(0..300, 21, false, 300);
+}
+
+/// Batteries of 3 minutes with swaps: many trips need two or three legs.
+#[test]
 fn multi_leg_schedules_are_valid_never_worse_and_repeat() {
-    let seeds = 1_000..1_150_u64;
-    println!("seeds {seeds:?}, 4 to 16 requests, 200 steps, 3-minute batteries with swaps");
-    let better = seeds
-        .clone()
-        .filter(|&s| check(s, 4 + (s as usize % 13), true, 200))
-        .count();
-    println!(
-        "better than FCFS on {better} of {} instances",
-        seeds.count()
-    );
-    assert!(better > 0, "the optimiser never improved on FCFS");
+    check_all(1_000..1_150, 13, true, 200);
 }
 
 #[test]
