@@ -51,14 +51,12 @@ pub(crate) fn in_the_way(
             }
         }
     }
+    // Each flight once, at its nearest stay: by flight then gap, the first of each flight.
+    found.sort_unstable_by_key(|&(gap, i)| (i, gap));
+    found.dedup_by_key(|&mut (_, i)| i);
+    found.retain(|&(_, i)| i != target);
     found.sort_unstable();
-    let mut seen = Vec::with_capacity(found.len());
-    for (_, i) in found {
-        if i != target && !seen.contains(&i) {
-            seen.push(i);
-        }
-    }
-    seen
+    found.into_iter().map(|(_, i)| i).collect()
 }
 
 /// One step: takes `out` (planned requests) out of the schedule, plans `first` (not

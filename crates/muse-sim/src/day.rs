@@ -182,21 +182,6 @@ pub fn plan_requests_by(
     if let Some(z) = zones.iter().find(|z| z.withdrawn.is_some()) {
         return Err(DayError::Withdrawn(z.id.clone()));
     }
-    if let (Planning::Optimized(options), None) =
-        (planning, zones.iter().find(|z| z.announced.is_some()))
-    {
-        sort_for_planning(&mut requests);
-        let (from, to) = closure_range(&requests, &params);
-        let known = KnownZones::resolve(airspace, zones, from, to)?;
-        let planner = Planner::new(airspace, params);
-        let mut progress = progress;
-        let out = muse_optimize::optimize(&planner, &known.base, &requests, &options, |n| {
-            progress(usize::try_from(n).unwrap_or(usize::MAX));
-        });
-        let mut run = DayRun::unchanged(requests, out.outcomes, out.report.elapsed, known);
-        run.optimizer = Some(out.report);
-        return Ok(run);
-    }
     if let (Planning::Optimized(_), Some(z)) =
         (planning, zones.iter().find(|z| z.announced.is_some()))
     {
@@ -212,8 +197,17 @@ pub fn plan_requests_by(
     let known = KnownZones::resolve(airspace, zones, announced_from, to)?;
     let planner = Planner::new(airspace, params);
     if known.announced.is_empty() {
-        let (outcomes, planner_wall) = plan_sorted(&planner, &known.base, &requests, progress);
-        return Ok(DayRun::unchanged(requests, outcomes, planner_wall, known));
+        let Planning::Optimized(options) = planning else {
+            let (outcomes, planner_wall) = plan_sorted(&planner, &known.base, &requests, progress);
+            return Ok(DayRun::unchanged(requests, outcomes, planner_wall, known));
+        };
+        let mut progress = progress;
+        let out = muse_optimize::optimize(&planner, &known.base, &requests, &options, |n| {
+            progress(usize::try_from(n).unwrap_or(usize::MAX));
+        });
+        let mut run = DayRun::unchanged(requests, out.outcomes, out.report.elapsed, known);
+        run.optimizer = Some(out.report);
+        return Ok(run);
     }
     let run = replay(planner, &known, &requests, progress)?;
     Ok(DayRun::replayed(requests, run, known))
