@@ -153,12 +153,13 @@ pub fn optimize_on(
     assert_eq!(ids.len(), requests.len(), "one flight id per request");
     let started = WallInstant::now();
     let (alone, free_flow) = plans_alone(planner, base, requests);
+    let alternatives: Vec<usize> = requests.iter().map(|r| planner.alternatives(r)).collect();
     let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
     let first = best_order(
         planner,
         base,
         (requests, ids),
-        &free_flow,
+        (&free_flow, &alternatives),
         options.restarts,
         &mut rng,
     );
@@ -218,7 +219,7 @@ fn best_order<'a>(
     planner: &'a Planner<'a>,
     base: &Schedule,
     (requests, ids): (&'a [Request], &'a [FlightId]),
-    free_flow: &'a [Option<Millis>],
+    (free_flow, alternatives): (&'a [Option<Millis>], &[usize]),
     restarts: u32,
     rng: &mut ChaCha8Rng,
 ) -> FirstSchedules<'a> {
@@ -227,6 +228,7 @@ fn best_order<'a>(
         Order::EarliestDeparture,
         Order::ShortestFirst,
         Order::LongestFirst,
+        Order::FewestAlternatives,
     ];
     for _ in 0..restarts {
         orders.push(Order::Random(rng.random()));
@@ -237,7 +239,7 @@ fn best_order<'a>(
     let mut expanded = 0;
     for order in orders {
         let mut w = Working::new(planner, base.clone(), requests, ids, free_flow);
-        for i in order.ranked(requests, free_flow) {
+        for i in order.ranked(requests, free_flow, alternatives) {
             w.try_plan(i);
         }
         if order == Order::Arrival {

@@ -14,27 +14,33 @@ pub enum Order {
     EarliestDeparture,
     /// Shortest free-flow trip first: short trips hold the airspace least.
     ShortestFirst,
-    /// Longest free-flow trip first: long trips have the fewest ways to fit.
+    /// Longest free-flow trip first: long trips hold the most corridors at once.
     LongestFirst,
+    /// Fewest alternatives first: requests with the fewest corridors their flight could use
+    /// within its battery ([`Planner::alternatives`](muse_planner::Planner::alternatives))
+    /// have the fewest ways around the others, so they are planned before.
+    FewestAlternatives,
     /// A random order drawn from a seed.
     Random(u64),
 }
 
 impl Order {
     /// The name written in reports: `arrival`, `earliest-departure`, `shortest-first`,
-    /// `longest-first`, `random`.
+    /// `longest-first`, `fewest-alternatives`, `random`.
     pub fn name(self) -> &'static str {
         match self {
             Order::Arrival => "arrival",
             Order::EarliestDeparture => "earliest-departure",
             Order::ShortestFirst => "shortest-first",
             Order::LongestFirst => "longest-first",
+            Order::FewestAlternatives => "fewest-alternatives",
             Order::Random(_) => "random",
         }
     }
 
     /// The indices of `requests` in this order; ties keep the planning order. Requests with
-    /// no free-flow time (they cannot fly) come last in the trip-length orders.
+    /// no free-flow time (they cannot fly) come last in the trip-length orders; requests with
+    /// no alternative at all, last in `FewestAlternatives`.
     ///
     /// ```
     /// use muse_model::{Instant, Millis, NodeId, Request};
@@ -43,11 +49,19 @@ impl Order {
     ///                       departure: Instant(t), submitted: Instant(0) };
     /// let requests = [r(50), r(10), r(30)];
     /// let free_flow = [Some(Millis(5)), Some(Millis(9)), None];
-    /// assert_eq!(Order::EarliestDeparture.ranked(&requests, &free_flow), [1, 2, 0]);
-    /// assert_eq!(Order::ShortestFirst.ranked(&requests, &free_flow), [0, 1, 2]);
-    /// assert_eq!(Order::LongestFirst.ranked(&requests, &free_flow), [1, 0, 2]);
+    /// let alternatives = [7, 3, 0];
+    /// let ranked = |o: Order| o.ranked(&requests, &free_flow, &alternatives);
+    /// assert_eq!(ranked(Order::EarliestDeparture), [1, 2, 0]);
+    /// assert_eq!(ranked(Order::ShortestFirst), [0, 1, 2]);
+    /// assert_eq!(ranked(Order::LongestFirst), [1, 0, 2]);
+    /// assert_eq!(ranked(Order::FewestAlternatives), [1, 0, 2]);
     /// ```
-    pub fn ranked(self, requests: &[Request], free_flow: &[Option<Millis>]) -> Vec<usize> {
+    pub fn ranked(
+        self,
+        requests: &[Request],
+        free_flow: &[Option<Millis>],
+        alternatives: &[usize],
+    ) -> Vec<usize> {
         let mut order: Vec<usize> = (0..requests.len()).collect();
         let unknown = |i: usize| free_flow[i].is_none();
         match self {
@@ -56,6 +70,9 @@ impl Order {
             Order::ShortestFirst => order.sort_by_key(|&i| (unknown(i), free_flow[i])),
             Order::LongestFirst => {
                 order.sort_by_key(|&i| (unknown(i), std::cmp::Reverse(free_flow[i])));
+            }
+            Order::FewestAlternatives => {
+                order.sort_by_key(|&i| (alternatives[i] == 0, alternatives[i]));
             }
             Order::Random(seed) => shuffle(&mut order, &mut ChaCha8Rng::seed_from_u64(seed)),
         }

@@ -55,6 +55,41 @@ impl<'a> Planner<'a> {
         (h != Millis::INF).then_some(h)
     }
 
+    /// How many ways a request has: the corridors that some flight of it could use within
+    /// its battery on the empty airspace, those `(u, v)` with `free_flow(origin, u) + w +
+    /// free_flow(v, destination)` no more than `T_max` (with battery swaps, the whole trip's
+    /// span) in either direction. `0` when the destination cannot be reached.
+    ///
+    /// ```
+    /// use muse_model::{Airspace, FlightParams, Instant, NodeId, Request};
+    /// use muse_planner::Planner;
+    /// // A - B - C - D, 1 km each: 2 minutes per corridor.
+    /// let air = Airspace::line(&[1_000.0, 1_000.0, 1_000.0]);
+    /// let planner = Planner::new(&air, FlightParams::default());
+    /// let r = |o, d| Request { id: "r".into(), origin: NodeId(o), destination: NodeId(d),
+    ///                          departure: Instant(0), submitted: Instant(0) };
+    /// // A → B may go on to C and come back (4 + 2 ≤ 20 minutes) and to D (8 minutes).
+    /// assert_eq!(planner.alternatives(&r(0, 1)), 3);
+    /// ```
+    pub fn alternatives(&self, request: &Request) -> usize {
+        let limit = self.params.trip_span() - self.params.max_ground_delay;
+        let from = self.heuristics.to(self.airspace, request.origin);
+        let to = self.heuristics.to(self.airspace, request.destination);
+        let times = self.heuristics.traversal_times();
+        self.airspace
+            .edges()
+            .iter()
+            .zip(times)
+            .filter(|&(e, &w)| {
+                let via = |a: NodeId, b: NodeId| {
+                    let (x, y) = (from[a.index()], to[b.index()]);
+                    x != Millis::INF && y != Millis::INF && x + w + y <= limit
+                };
+                via(e.from, e.to) || via(e.to, e.from)
+            })
+            .count()
+    }
+
     /// Plans one request against `schedule` (which it does not change): take-off in
     /// `[departure, departure + G_max]`. With battery swaps (SPEC §12) the plan may have
     /// several legs ([`Plan::legs`]).

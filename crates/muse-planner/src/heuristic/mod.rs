@@ -55,6 +55,11 @@ impl Heuristics {
         }
     }
 
+    /// Traversal time of each edge, indexed by edge.
+    pub fn traversal_times(&self) -> &[Millis] {
+        &self.times
+    }
+
     /// The multi-leg tables for `destination` (SPEC §12), or `None` when the parameters
     /// allow no battery swaps. Computed on the first call for this destination (the first
     /// call at all computes every station's free-flow table).
