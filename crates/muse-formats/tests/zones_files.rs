@@ -210,6 +210,7 @@ fn cbd_zone() -> Zone {
         edge_ids: vec![],
         announced: None,
         withdrawn: None,
+        vertical: muse_model::VerticalLimits::WHOLE_SKY,
         periods: vec![Period {
             start: None,
             end: None,
@@ -341,6 +342,7 @@ fn arb_zone() -> impl Strategy<Value = Zone> {
                     edge_ids,
                     announced: announced.map(Instant),
                     withdrawn: None,
+                    vertical: muse_model::VerticalLimits::WHOLE_SKY,
                     periods,
                 }
             },

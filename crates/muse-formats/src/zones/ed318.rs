@@ -178,6 +178,7 @@ fn circle_extent(ctx: &Ctx<'_>, v: &Value, field: &str) -> Result<f64, InputErro
 ///     ].into())),
 ///     node_ids: vec![],
 ///     announced: None, withdrawn: None,
+///     vertical: muse_model::VerticalLimits::WHOLE_SKY,
 ///     edge_ids: vec![],
 ///     periods: vec![Period {
 ///         start: None,

@@ -243,6 +243,7 @@ pub(super) fn assemble(
             periods,
             announced,
             withdrawn,
+            vertical: muse_model::VerticalLimits::WHOLE_SKY,
         }]);
     }
     Ok(areas
@@ -258,6 +259,7 @@ pub(super) fn assemble(
             periods: periods.clone(),
             announced,
             withdrawn,
+            vertical: muse_model::VerticalLimits::WHOLE_SKY,
         })
         .collect())
 }

@@ -188,6 +188,7 @@ pub fn read_zones_file(path: &Path) -> Result<Vec<Zone>, InputError> {
 ///     id: "Z".into(), name: String::new(), restriction: "PROHIBITED".into(),
 ///     area: Some(ZoneArea::Circle { centre: LonLat::new(103.812_345_678, 1.3), radius_m: 50.0 }),
 ///     node_ids: vec![], edge_ids: vec![], periods: vec![], announced: None, withdrawn: None,
+///     vertical: muse_model::VerticalLimits::WHOLE_SKY,
 /// };
 /// let Some(ZoneArea::Circle { centre, .. }) = normalize(&zone).area else { unreachable!() };
 /// assert_eq!(centre.lon, 103.812_345_7);
