@@ -26,7 +26,7 @@ pub enum AirspaceCommand {
         #[arg(long)]
         check: bool,
     },
-    /// Print graph statistics and what the zones close.
+    /// Print graph statistics and, for each zone, its heights and what it closes.
     Info {
         #[command(flatten)]
         world: WorldArgs,
@@ -175,6 +175,8 @@ fn info(world: &WorldArgs, range: RangeArgs) -> anyhow::Result<ExitCode> {
             zone.name,
             describe_periods(zone)
         );
+        // The band is shown; what a zone closes does not depend on it until layers exist.
+        let _ = writeln!(o, "  heights     {}", zone.vertical);
         let node_ids: Vec<&str> = nodes.iter().map(|&n| a.node(n).id.as_str()).collect();
         let edge_ids: Vec<&str> = edges.iter().map(|&e| a.edge(e).id.as_str()).collect();
         let _ = writeln!(

@@ -1,4 +1,5 @@
-//! The `muse` binary as a user runs it: its commands end to end (`commands`), multi-leg days
+//! The `muse` binary as a user runs it: its commands end to end (`commands`), zones' heights in
+//! `muse airspace info` (`airspace_info`), multi-leg days
 //! (`swaps`), sweeps sharded and merged (`sweep_shards`), the deployment scripts
 //! (`deploy_scripts`), bad inputs refused (`bad_inputs`), outputs that never clobber
 //! (`outputs`), batch planning (`optimize`), parameters read from the summary beside the plans (`params_travel`) and every
@@ -13,6 +14,7 @@ mod support {
     pub use serve::{scratch_dir, start};
 }
 
+mod airspace_info;
 mod bad_inputs;
 mod commands;
 mod deploy_scripts;

@@ -67,6 +67,7 @@ impl KnownZones {
     /// let zone = |id: &str, announced| Zone {
     ///     id: id.into(), name: String::new(), restriction: String::new(), area: None,
     ///     node_ids: vec!["S1".into()], edge_ids: vec![], announced, withdrawn: None,
+    ///     vertical: muse_model::VerticalLimits::WHOLE_SKY,
     ///     periods: vec![Period { start: Some(Instant(1_000)), end: Some(Instant(2_000)), daily: vec![] }],
     /// };
     /// let known = KnownZones::resolve(&airspace, &[zone("A", None), zone("B", Some(Instant(500)))],

@@ -6,7 +6,8 @@ use geo_types::{Coord, LineString, MultiPolygon, Polygon};
 use muse_formats::Location;
 use muse_formats::zones::{normalize, read_zones, read_zones_file, write_ed318};
 use muse_model::{
-    DailyWindow, Instant, LonLat, Millis, Period, UtcOffset, Weekday, Zone, ZoneArea,
+    DailyWindow, Instant, LonLat, Metres, Millis, Period, UtcOffset, VerticalLimit, VerticalLimits,
+    VerticalReference, Weekday, Zone, ZoneArea,
 };
 use proptest::prelude::*;
 use serde_json::Value;
@@ -33,6 +34,7 @@ fn reads_the_ed318_sample() {
     assert!(
         matches!(&cbd.area, Some(ZoneArea::Polygons(mp)) if mp.0.len() == 1 && mp.0[0].exterior().0.len() == 9)
     );
+    assert_eq!(cbd.vertical.to_string(), "0–120 m AGL");
     let daily = &cbd.periods[0].daily[0];
     assert_eq!(daily.days, Weekday::ALL);
     assert_eq!(
@@ -49,8 +51,17 @@ fn reads_the_ed318_sample() {
             radius_m: 500.0
         })
     );
+    // 400 ft AMSL, exactly.
+    assert_eq!(
+        zones[1].vertical.upper,
+        Some(VerticalLimit {
+            height: Metres::from_um(121_920_000),
+            reference: VerticalReference::Amsl
+        })
+    );
 
     let evt = &zones[2];
+    assert!(evt.vertical.is_whole_sky());
     assert_eq!(evt.periods.len(), 2);
     assert_eq!(evt.periods[0].daily[0].days, [Weekday::Sat, Weekday::Sun]);
     assert_eq!(
@@ -85,6 +96,8 @@ fn reads_the_ed269_sample() {
         (radius_m - 500.0).abs() < 0.001,
         "1640.42 ft is 500 m, got {radius_m}"
     );
+    assert_eq!(zones[0].vertical.to_string(), "0 m AGL – 121.92 m AMSL");
+    assert_eq!(zones[1].vertical.to_string(), "up to 120 m AGL");
     let p = &zones[1].periods[0];
     assert_eq!(
         p.daily[0].days,
@@ -210,6 +223,7 @@ fn cbd_zone() -> Zone {
         edge_ids: vec![],
         announced: None,
         withdrawn: None,
+        vertical: VerticalLimits::WHOLE_SKY,
         periods: vec![Period {
             start: None,
             end: None,
@@ -310,6 +324,32 @@ fn arb_period() -> impl Strategy<Value = Period> {
         })
 }
 
+fn arb_limit() -> impl Strategy<Value = VerticalLimit> {
+    (
+        0..10_000_000_000_i64,
+        prop::sample::select(vec![
+            VerticalReference::Agl,
+            VerticalReference::Amsl,
+            VerticalReference::Wgs84,
+        ]),
+    )
+        .prop_map(|(um, reference)| VerticalLimit {
+            height: Metres::from_um(um),
+            reference,
+        })
+}
+
+fn arb_band() -> impl Strategy<Value = VerticalLimits> {
+    (prop::option::of(arb_limit()), prop::option::of(arb_limit())).prop_map(|(a, b)| {
+        // The lower limit may not be above the upper one.
+        let (lower, upper) = match (a, b) {
+            (Some(a), Some(b)) if a.height > b.height => (Some(b), Some(a)),
+            other => other,
+        };
+        VerticalLimits { lower, upper }
+    })
+}
+
 fn arb_zone() -> impl Strategy<Value = Zone> {
     (
         "[A-Za-z0-9_ -]{1,8}",
@@ -326,9 +366,20 @@ fn arb_zone() -> impl Strategy<Value = Zone> {
         prop::collection::vec("[A-Z0-9-]{1,9}", 0..3),
         prop::collection::vec(arb_period(), 0..3),
         prop::option::of(946_684_800_000..4_102_444_800_000_i64),
+        arb_band(),
     )
         .prop_map(
-            |(id, name, restriction, area, mut node_ids, edge_ids, periods, announced)| {
+            |(
+                id,
+                name,
+                restriction,
+                area,
+                mut node_ids,
+                edge_ids,
+                periods,
+                announced,
+                vertical,
+            )| {
                 if area.is_none() && edge_ids.is_empty() && node_ids.is_empty() {
                     node_ids.push("S001".into());
                 }
@@ -341,6 +392,7 @@ fn arb_zone() -> impl Strategy<Value = Zone> {
                     edge_ids,
                     announced: announced.map(Instant),
                     withdrawn: None,
+                    vertical,
                     periods,
                 }
             },
@@ -431,6 +483,10 @@ fn arb_json() -> impl Strategy<Value = Value> {
                         "geometries",
                         "permanent",
                         "name",
+                        "layer",
+                        "upper",
+                        "lowerLimit",
+                        "upperVerticalReference",
                     ]),
                     inner,
                 ),

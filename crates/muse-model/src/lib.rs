@@ -5,11 +5,12 @@
 //! - [`ids`]: dense node and edge indices;
 //! - [`time`]: integer-millisecond instants and durations, RFC 3339 at the edges;
 //! - [`coords`]: WGS84 and SVY21 (EPSG:3414) coordinates and geodesic lengths;
-//! - [`units`]: cruise speed and the exact edge traversal time `w(e)`;
+//! - [`units`]: cruise speed and the exact edge traversal time `w(e)`; lengths and heights
+//!   exact to the micrometre;
 //! - [`airspace`]: the airspace graph with a compact adjacency layout;
 //! - [`request`]: delivery requests;
-//! - [`zone`]: no-fly zones (area and/or explicit elements, with time windows) and the
-//!   polygons of their areas;
+//! - [`zone`]: no-fly zones (area and/or explicit elements, with time windows and a vertical
+//!   band) and the polygons of their areas;
 //! - [`params`]: the flight model parameters (speed, battery, separations, ground delay);
 //! - [`plan`]: planned flights and rejections;
 //! - `testing` (with the `testing` feature, for other crates' tests only): one-line
@@ -35,5 +36,8 @@ pub use params::{BatterySwap, EdgeRule, FlightParams};
 pub use plan::{Plan, RejectReason, Stay};
 pub use request::Request;
 pub use time::{Instant, Millis, UtcOffset};
-pub use units::Speed;
-pub use zone::{DailyWindow, Period, Weekday, Zone, ZoneArea, circle_polygon, zone_area_polygons};
+pub use units::{Metres, Speed};
+pub use zone::{
+    DailyWindow, Period, VerticalLimit, VerticalLimits, VerticalReference, Weekday, Zone, ZoneArea,
+    circle_polygon, zone_area_polygons,
+};

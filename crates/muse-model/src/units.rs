@@ -1,4 +1,5 @@
-//! Typed units: cruise speed and the exact edge traversal time.
+//! Typed units: cruise speed and the exact edge traversal time; lengths and heights exact to
+//! the micrometre.
 
 use crate::time::Millis;
 
@@ -16,6 +17,9 @@ pub enum UnitError {
     /// A speed that is not a finite positive number.
     #[error("speed {0} km/h must be a finite number > 0")]
     Speed(f64),
+    /// A length that is not a finite number within ±[`Metres::MAX_M`] metres.
+    #[error("length {0} m must be a finite number between -1e9 and 1e9 m")]
+    Length(f64),
 }
 
 impl Speed {
@@ -82,5 +86,121 @@ impl Speed {
 impl Default for Speed {
     fn default() -> Self {
         Speed::PAPER
+    }
+}
+
+/// A length or a height in metres, held exactly as an integer number of micrometres, so that
+/// comparisons are exact and a height in feet (1 ft = 0.3048 m exactly) converts without
+/// drift. Ordered by value; displays as a plain number of metres without a unit (`121.92`).
+///
+/// ```
+/// use muse_model::Metres;
+/// let ft = Metres::from_ft(400.0).unwrap();
+/// assert_eq!(ft, Metres::from_m(121.92).unwrap());
+/// assert_eq!(ft.um(), 121_920_000);
+/// assert_eq!(ft.to_string(), "121.92");
+/// assert!(Metres::from_m(60.0).unwrap() < ft);
+/// assert!(Metres::from_m(f64::NAN).is_err());
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct Metres {
+    um: i64,
+}
+
+impl Metres {
+    /// Zero.
+    pub const ZERO: Metres = Metres { um: 0 };
+
+    /// The largest magnitude accepted by [`Metres::from_m`] and [`Metres::from_ft`]: a
+    /// million kilometres, far beyond any airspace, well within exact `f64` micrometres.
+    pub const MAX_M: f64 = 1e9;
+
+    /// An exact number of micrometres.
+    pub const fn from_um(um: i64) -> Self {
+        Metres { um }
+    }
+
+    /// An exact number of millimetres (saturating beyond ±9.2·10¹² m, far past any height).
+    ///
+    /// ```
+    /// use muse_model::Metres;
+    /// assert_eq!(Metres::from_mm(9_144), Metres::from_ft(30.0).unwrap());
+    /// ```
+    pub const fn from_mm(mm: i64) -> Self {
+        Metres {
+            um: mm.saturating_mul(1_000),
+        }
+    }
+
+    /// A number of metres, rounded to the micrometre; an error if it is not finite or beyond
+    /// ±[`Metres::MAX_M`].
+    pub fn from_m(m: f64) -> Result<Self, UnitError> {
+        if !m.is_finite() || m.abs() > Self::MAX_M {
+            return Err(UnitError::Length(m));
+        }
+        Ok(Metres {
+            um: (m * 1e6).round() as i64,
+        })
+    }
+
+    /// A number of feet (1 ft = 0.3048 m exactly), rounded to the micrometre; an error if the
+    /// length is not finite or beyond ±[`Metres::MAX_M`] metres.
+    pub fn from_ft(ft: f64) -> Result<Self, UnitError> {
+        let m = ft * 0.3048;
+        if !ft.is_finite() || m.abs() > Self::MAX_M {
+            return Err(UnitError::Length(m));
+        }
+        Ok(Metres {
+            um: (ft * 304_800.0).round() as i64,
+        })
+    }
+
+    /// The exact number of micrometres.
+    pub const fn um(self) -> i64 {
+        self.um
+    }
+
+    /// The length in metres (the nearest `f64`).
+    pub fn m(self) -> f64 {
+        self.um as f64 / 1e6
+    }
+}
+
+impl std::fmt::Display for Metres {
+    /// The exact decimal number of metres, without trailing zeros: `60`, `121.92`, `-0.5`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let sign = if self.um < 0 { "-" } else { "" };
+        let abs = self.um.unsigned_abs();
+        let (whole, frac) = (abs / 1_000_000, abs % 1_000_000);
+        if frac == 0 {
+            write!(f, "{sign}{whole}")
+        } else {
+            let digits = format!("{frac:06}");
+            write!(f, "{sign}{whole}.{}", digits.trim_end_matches('0'))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn metres_are_exact_and_display_exactly() {
+        assert_eq!(Metres::from_ft(1.0).unwrap().um(), 304_800);
+        assert_eq!(Metres::from_ft(30.0).unwrap(), Metres::from_mm(9_144));
+        assert_eq!(Metres::from_m(0.000_000_4).unwrap(), Metres::ZERO);
+        assert_eq!(Metres::from_m(-0.5).unwrap().to_string(), "-0.5");
+        assert_eq!(Metres::from_um(1).to_string(), "0.000001");
+        assert_eq!(Metres::from_m(60.0).unwrap().to_string(), "60");
+        assert!(Metres::from_m(1e10).is_err());
+        assert!(Metres::from_ft(f64::INFINITY).is_err());
+        assert!(Metres::from_ft(4e9).is_err());
+        // What is written is read back to the same micrometre.
+        for um in [1, 121_920_000, 999_999_999_999, 304_800 * 12_345 + 7] {
+            let m = Metres::from_um(um);
+            assert_eq!(Metres::from_m(m.m()).unwrap(), m);
+            assert_eq!(Metres::from_m(m.to_string().parse().unwrap()).unwrap(), m);
+        }
     }
 }

@@ -1,4 +1,5 @@
-//! No-fly zones: an area and/or explicit nodes and edges, closed during time periods.
+//! No-fly zones: an area and/or explicit nodes and edges, closed during time periods, within
+//! a vertical band ([`VerticalLimits`], the whole sky by default).
 //!
 //! This is the data model, with the polygons of a zone's area ([`zone_area_polygons`], a
 //! circle as a geodesic polygon by [`circle_polygon`]) that the map, the viewer and the CLI
@@ -10,6 +11,7 @@ use geo_types::{LineString, MultiPolygon, Point, Polygon};
 
 use crate::coords::LonLat;
 use crate::time::{Instant, Millis, UtcOffset};
+use crate::units::Metres;
 
 /// The horizontal extent of a zone.
 #[derive(Clone, Debug, PartialEq)]
@@ -133,6 +135,174 @@ pub struct Period {
     pub daily: Vec<DailyWindow>,
 }
 
+/// The surface a vertical limit is measured from (ED-318 / ED-269 `CodeVerticalReferenceType`).
+///
+/// MUSE flies over flat ground at sea level (SPEC §13), so every reference measures the same
+/// heights: the reference is kept to be shown and written back, never to convert.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum VerticalReference {
+    /// Above ground (or water) level.
+    #[default]
+    Agl,
+    /// Above mean sea level.
+    Amsl,
+    /// Above the WGS84 ellipsoid.
+    Wgs84,
+}
+
+impl VerticalReference {
+    /// The ED-318 spelling: `AGL`, `AMSL`, `WGS84`.
+    pub const fn as_str(self) -> &'static str {
+        match self {
+            VerticalReference::Agl => "AGL",
+            VerticalReference::Amsl => "AMSL",
+            VerticalReference::Wgs84 => "WGS84",
+        }
+    }
+}
+
+impl std::fmt::Display for VerticalReference {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+/// One side of a zone's vertical band: a height and the surface it is measured from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct VerticalLimit {
+    /// The height.
+    pub height: Metres,
+    /// What it is measured from.
+    pub reference: VerticalReference,
+}
+
+impl VerticalLimit {
+    /// A height above ground level.
+    pub const fn agl(height: Metres) -> Self {
+        VerticalLimit {
+            height,
+            reference: VerticalReference::Agl,
+        }
+    }
+}
+
+/// The vertical band a zone applies to (SPEC §13): from `lower` to `upper`, both included; a
+/// missing side is open (no floor, no ceiling). The default, both open, is the whole sky,
+/// which is what a zone without vertical limits covers.
+///
+/// Heights are compared as they are, whatever their references (flat ground at sea level,
+/// SPEC §13). A band whose lower limit is above its upper limit is empty: it contains and
+/// meets nothing (the zone readers refuse such a band).
+///
+/// Displayed for people: `whole sky`, `0–60 m AGL`, `0 m AGL – 121.92 m AMSL`, `up to 60 m
+/// AGL`, `from 30 m AMSL up`.
+///
+/// ```
+/// use muse_model::{Metres, VerticalLimit, VerticalLimits};
+/// let m = |x: f64| Metres::from_m(x).unwrap();
+/// let band = VerticalLimits::agl(Some(m(0.0)), Some(m(60.0)));
+/// assert_eq!(band.to_string(), "0–60 m AGL");
+/// assert!(band.contains(m(60.0)) && !band.contains(m(69.144)));
+/// assert!(VerticalLimits::default().is_whole_sky());
+/// assert_eq!(VerticalLimits::default().to_string(), "whole sky");
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct VerticalLimits {
+    /// The floor, included; `None`: no floor.
+    pub lower: Option<VerticalLimit>,
+    /// The ceiling, included; `None`: no ceiling.
+    pub upper: Option<VerticalLimit>,
+}
+
+impl VerticalLimits {
+    /// The whole sky: no floor and no ceiling (the default).
+    pub const WHOLE_SKY: VerticalLimits = VerticalLimits {
+        lower: None,
+        upper: None,
+    };
+
+    /// A band with both sides above ground level (a missing side open).
+    pub fn agl(lower: Option<Metres>, upper: Option<Metres>) -> Self {
+        VerticalLimits {
+            lower: lower.map(VerticalLimit::agl),
+            upper: upper.map(VerticalLimit::agl),
+        }
+    }
+
+    /// Whether the band is the whole sky (no floor, no ceiling).
+    ///
+    /// ```
+    /// use muse_model::{Metres, VerticalLimits};
+    /// assert!(VerticalLimits::WHOLE_SKY.is_whole_sky());
+    /// assert!(!VerticalLimits::agl(None, Some(Metres::from_mm(60_000))).is_whole_sky());
+    /// ```
+    pub fn is_whole_sky(&self) -> bool {
+        self.lower.is_none() && self.upper.is_none()
+    }
+
+    /// Whether `altitude` lies in the band: `lower <= altitude <= upper`, a missing side
+    /// open.
+    ///
+    /// ```
+    /// use muse_model::{Metres, VerticalLimits};
+    /// let m = |x: i64| Metres::from_mm(x * 1_000);
+    /// let band = VerticalLimits::agl(Some(m(30)), Some(m(60)));
+    /// assert!(band.contains(m(30)) && band.contains(m(45)) && band.contains(m(60)));
+    /// assert!(!band.contains(m(29)) && !band.contains(m(61)));
+    /// // A missing side is open.
+    /// assert!(VerticalLimits::agl(None, Some(m(60))).contains(m(-5)));
+    /// assert!(VerticalLimits::agl(Some(m(30)), None).contains(m(10_000)));
+    /// assert!(VerticalLimits::WHOLE_SKY.contains(m(0)));
+    /// ```
+    pub fn contains(&self, altitude: Metres) -> bool {
+        self.meets(altitude, altitude)
+    }
+
+    /// Whether the closed span between `lo` and `hi` (in either order) shares at least one
+    /// height with the band: the test for a vertical link between two layers (SPEC §13).
+    ///
+    /// ```
+    /// use muse_model::{Metres, VerticalLimits};
+    /// let m = |x: i64| Metres::from_mm(x);
+    /// let band = VerticalLimits::agl(Some(m(0)), Some(m(60_000)));
+    /// // The link from 60 m to 69.144 m touches the ceiling: it meets the band.
+    /// assert!(band.meets(m(60_000), m(69_144)));
+    /// assert!(!band.meets(m(60_001), m(69_144)));
+    /// // A span around the whole band meets it; the order of the ends does not matter.
+    /// assert!(band.meets(m(70_000), m(-10_000)));
+    /// assert!(VerticalLimits::WHOLE_SKY.meets(m(1), m(2)));
+    /// ```
+    pub fn meets(&self, lo: Metres, hi: Metres) -> bool {
+        let (lo, hi) = (lo.min(hi), lo.max(hi));
+        let floor = self.lower.map(|l| l.height);
+        let ceiling = self.upper.map(|u| u.height);
+        if let (Some(f), Some(c)) = (floor, ceiling)
+            && f > c
+        {
+            return false;
+        }
+        floor.is_none_or(|f| hi >= f) && ceiling.is_none_or(|c| lo <= c)
+    }
+}
+
+impl std::fmt::Display for VerticalLimits {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match (self.lower, self.upper) {
+            (None, None) => f.write_str("whole sky"),
+            (Some(l), Some(u)) if l.reference == u.reference => {
+                write!(f, "{}–{} m {}", l.height, u.height, u.reference)
+            }
+            (Some(l), Some(u)) => write!(
+                f,
+                "{} m {} – {} m {}",
+                l.height, l.reference, u.height, u.reference
+            ),
+            (None, Some(u)) => write!(f, "up to {} m {}", u.height, u.reference),
+            (Some(l), None) => write!(f, "from {} m {} up", l.height, l.reference),
+        }
+    }
+}
+
 /// A no-fly zone.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Zone {
@@ -157,6 +327,10 @@ pub struct Zone {
     /// instant on it binds nothing, so it binds only the stays and traversals that begin in
     /// `[announced, withdrawn)`. `None`: never withdrawn.
     pub withdrawn: Option<Instant>,
+    /// The heights it applies to (SPEC §13); the whole sky by default. MUSE flying one cruise
+    /// altitude, a zone closes what it covers whatever its band; the band matters with
+    /// layers.
+    pub vertical: VerticalLimits,
 }
 
 impl Zone {
@@ -177,5 +351,79 @@ mod tests {
         let c = p.exterior().0[0];
         let d = LonLat::new(103.8, 1.3).geodesic_distance_m(LonLat::new(c.x, c.y));
         assert!((d - 1_000.0).abs() < 1e-6, "{d}");
+    }
+
+    fn m(x: i64) -> Metres {
+        Metres::from_mm(x * 1_000)
+    }
+
+    #[test]
+    fn bands_contain_their_ends_and_open_sides_have_no_end() {
+        let band = VerticalLimits::agl(Some(m(30)), Some(m(60)));
+        for (h, inside) in [(29, false), (30, true), (45, true), (60, true), (61, false)] {
+            assert_eq!(band.contains(m(h)), inside, "{h} m");
+        }
+        assert!(band.contains(Metres::from_um(60_000_000)));
+        assert!(!band.contains(Metres::from_um(60_000_001)));
+        let floor_only = VerticalLimits::agl(Some(m(30)), None);
+        assert!(floor_only.contains(m(1_000_000)) && !floor_only.contains(m(29)));
+        let ceiling_only = VerticalLimits::agl(None, Some(m(60)));
+        assert!(ceiling_only.contains(m(-100)) && !ceiling_only.contains(m(61)));
+        assert!(VerticalLimits::default().contains(Metres::from_um(i64::MAX)));
+        assert_eq!(VerticalLimits::default(), VerticalLimits::WHOLE_SKY);
+    }
+
+    #[test]
+    fn spans_meet_a_band_when_they_share_a_height() {
+        let band = VerticalLimits::agl(Some(m(30)), Some(m(60)));
+        for (lo, hi, meets) in [
+            (0, 29, false),
+            (0, 30, true),
+            (40, 50, true),
+            (60, 70, true),
+            (61, 70, false),
+            (0, 100, true),
+        ] {
+            assert_eq!(band.meets(m(lo), m(hi)), meets, "[{lo}, {hi}]");
+            assert_eq!(band.meets(m(hi), m(lo)), meets, "[{hi}, {lo}] reversed");
+        }
+        assert!(VerticalLimits::agl(None, Some(m(60))).meets(m(60), m(70)));
+        assert!(!VerticalLimits::agl(Some(m(71)), None).meets(m(60), m(70)));
+        // An inverted band is empty.
+        let empty = VerticalLimits::agl(Some(m(60)), Some(m(30)));
+        assert!(!empty.contains(m(45)) && !empty.meets(m(0), m(100)));
+    }
+
+    #[test]
+    fn bands_are_described_for_people() {
+        let amsl = |x| VerticalLimit {
+            height: m(x),
+            reference: VerticalReference::Amsl,
+        };
+        let cases = [
+            (VerticalLimits::WHOLE_SKY, "whole sky"),
+            (VerticalLimits::agl(Some(m(0)), Some(m(60))), "0–60 m AGL"),
+            (VerticalLimits::agl(None, Some(m(60))), "up to 60 m AGL"),
+            (
+                VerticalLimits {
+                    lower: Some(amsl(30)),
+                    upper: None,
+                },
+                "from 30 m AMSL up",
+            ),
+            (
+                VerticalLimits {
+                    lower: Some(VerticalLimit::agl(m(0))),
+                    upper: Some(VerticalLimit {
+                        height: Metres::from_um(121_920_000),
+                        reference: VerticalReference::Wgs84,
+                    }),
+                },
+                "0 m AGL – 121.92 m WGS84",
+            ),
+        ];
+        for (band, text) in cases {
+            assert_eq!(band.to_string(), text);
+        }
     }
 }

@@ -498,6 +498,7 @@ mod tests {
             edge_ids: vec![],
             announced: None,
             withdrawn: None,
+            vertical: muse_model::VerticalLimits::WHOLE_SKY,
             periods: vec![muse_model::Period {
                 start: Some(Instant(0)),
                 end: Some(Instant(3_600_000)),
@@ -566,6 +567,7 @@ mod tests {
             edge_ids: vec![],
             announced: None,
             withdrawn: None,
+            vertical: muse_model::VerticalLimits::WHOLE_SKY,
             periods: vec![],
         };
         muse_airspace::closures::resolve(a, &[zone], Instant(0), Instant(86_400_000)).unwrap()

@@ -85,6 +85,7 @@ impl Affected {
 /// let airspace = Airspace::line(&[1_000.0]);
 /// let zone = Zone { id: "Z".into(), name: String::new(), restriction: String::new(), area: None,
 ///     node_ids: vec!["B".into()], edge_ids: vec![], announced: None, withdrawn: None,
+///     vertical: muse_model::VerticalLimits::WHOLE_SKY,
 ///     periods: vec![Period { start: Some(Instant(0)), end: Some(Instant(1_000_000)), daily: vec![] }] };
 /// let closed = resolve(&airspace, &[zone], Instant(0), Instant(86_400_000)).unwrap();
 /// let stay = |n, a, d| Stay { node: NodeId(n), arrive: Instant(a), depart: Instant(d) };

@@ -128,6 +128,7 @@ pub fn cbd_zone() -> Result<Zone, ScenarioError> {
         edge_ids: Vec::new(),
         announced: None,
         withdrawn: None,
+        vertical: muse_model::VerticalLimits::WHOLE_SKY,
         periods: vec![Period {
             start: None,
             end: None,

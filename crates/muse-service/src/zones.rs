@@ -150,11 +150,13 @@ impl ZoneBook {
 pub(crate) mod tests {
     use super::*;
 
-    /// One ED-318 feature of two circles, `EVT` (read as `EVT#1` and `EVT#2`).
+    /// One ED-318 feature of two circles, `EVT` (read as `EVT#1` and `EVT#2`), the first up
+    /// to 120 m.
     pub(crate) const ZONE: &str = r#"{"type": "FeatureCollection", "features": [{"type": "Feature",
         "properties": {"identifier": "EVT", "name": "Event"},
         "geometry": {"type": "GeometryCollection", "geometries": [
-            {"type": "Point", "coordinates": [103.80, 1.30], "extent": {"subType": "Circle", "radius": 100}},
+            {"type": "Point", "coordinates": [103.80, 1.30], "extent": {"subType": "Circle", "radius": 100},
+             "layer": {"upper": 120, "upperReference": "AGL", "uom": "m"}},
             {"type": "Point", "coordinates": [103.82, 1.30], "extent": {"subType": "Circle", "radius": 100}}]}}]}"#;
 
     fn new_zone(text: &str) -> NewZone {
@@ -194,6 +196,9 @@ pub(crate) mod tests {
         let ids: Vec<&str> = listed.iter().map(|z| z.id.as_str()).collect();
         assert_eq!(ids, ["BASE", "EVT#1", "EVT#2"]);
         assert_eq!(listed[1].announced, Some(at));
+        // The zones' heights are listed as they were announced.
+        assert_eq!(listed[1].vertical.to_string(), "up to 120 m AGL");
+        assert!(listed[2].vertical.is_whole_sky());
         assert_eq!(
             book.geojson()
                 .matches("\"announced\": \"2026-01-05T06:00:00.000+00:00\",\n        \"withdrawn\": \"2026-01-05T06:00:01.000+00:00\"")

@@ -388,6 +388,7 @@ mod tests {
             periods: vec![],
             announced: Some(Instant(0)),
             withdrawn: Some(Instant(60_000)),
+            vertical: muse_model::VerticalLimits::WHOLE_SKY,
         };
         let err = plan_requests(&pair(), &[zone], FlightParams::default(), vec![], |_| {})
             .expect_err("withdrawals are not replayed");

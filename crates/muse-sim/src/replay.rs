@@ -149,6 +149,7 @@ pub(crate) mod example {
             edge_ids: vec![],
             announced: Some(min(540)),
             withdrawn: None,
+            vertical: muse_model::VerticalLimits::WHOLE_SKY,
             periods: vec![Period {
                 start: Some(min(600)),
                 end: Some(min(610)),

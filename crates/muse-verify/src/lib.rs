@@ -275,6 +275,7 @@ pub fn verify(
 /// // A-B closed from 60 s, announced at 30 s.
 /// let zone = Zone { id: "Z".into(), name: String::new(), restriction: String::new(), area: None,
 ///     node_ids: vec![], edge_ids: vec!["A-B".into()], announced: Some(Instant(30_000)), withdrawn: None,
+///     vertical: muse_model::VerticalLimits::WHOLE_SKY,
 ///     periods: vec![Period { start: Some(Instant(60_000)), end: None, daily: vec![] }] };
 /// let known = KnownZones::resolve(&airspace, &[zone], Instant(0), Instant(86_400_000)).unwrap();
 /// let r = |t| Request { id: "r".into(), origin: NodeId(0), destination: NodeId(1),
@@ -841,6 +842,7 @@ pub(crate) mod tests {
             edge_ids: edges.iter().map(|s| (*s).to_string()).collect(),
             announced: None,
             withdrawn: None,
+            vertical: muse_model::VerticalLimits::WHOLE_SKY,
             periods: vec![Period {
                 start: Some(Instant(start)),
                 end: Some(Instant(end)),
@@ -941,6 +943,7 @@ pub(crate) mod tests {
             edge_ids: vec![],
             announced: Some(Instant(1_000)),
             withdrawn: Some(Instant(50_000)),
+            vertical: muse_model::VerticalLimits::WHOLE_SKY,
             periods: vec![Period {
                 start: Some(Instant(0)),
                 end: Some(Instant(100_000)),

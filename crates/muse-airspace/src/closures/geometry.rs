@@ -46,6 +46,7 @@ use super::ClosureError;
 ///     id: "Z".into(), name: String::new(), restriction: "PROHIBITED".into(),
 ///     area: Some(ZoneArea::Polygons(square.into())),
 ///     node_ids: vec![], edge_ids: vec![], periods: vec![], announced: None, withdrawn: None,
+///     vertical: muse_model::VerticalLimits::WHOLE_SKY,
 /// };
 /// let (nodes, edges) = closed_elements(&airspace, &zone).unwrap();
 /// assert!(nodes.is_empty());

@@ -169,6 +169,7 @@ impl Closures {
     /// let closing = |id: &str, start: i64, end: i64| Zone {
     ///     id: id.into(), name: String::new(), restriction: "PROHIBITED".into(), area: None,
     ///     node_ids: vec!["S001".into()], edge_ids: vec![], announced: None, withdrawn: None,
+    ///     vertical: muse_model::VerticalLimits::WHOLE_SKY,
     ///     periods: vec![Period { start: Some(Instant(start)), end: Some(Instant(end)),
     ///                            daily: vec![] }],
     /// };
@@ -316,6 +317,7 @@ pub enum ClosureError {
 /// let zone = Zone {
 ///     id: "CBD".into(), name: String::new(), restriction: "PROHIBITED".into(), area: None,
 ///     node_ids: vec!["S001".into()], edge_ids: vec![], announced: None, withdrawn: None,
+///     vertical: muse_model::VerticalLimits::WHOLE_SKY,
 ///     periods: vec![Period { start: None, end: None, daily: vec![DailyWindow {
 ///         days: Weekday::ALL.to_vec(), start: Millis::from_secs(10 * 3600),
 ///         end: Millis::from_secs(12 * 3600), offset: UtcOffset::SINGAPORE,
@@ -418,6 +420,7 @@ mod fixtures {
             periods,
             announced: None,
             withdrawn: None,
+            vertical: muse_model::VerticalLimits::WHOLE_SKY,
         }
     }
 

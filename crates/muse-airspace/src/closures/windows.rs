@@ -25,6 +25,7 @@ pub const MAX_RANGE_DAYS: i64 = 36_525;
 /// let zone = Zone {
 ///     id: "Z".into(), name: String::new(), restriction: String::new(), area: None,
 ///     node_ids: vec![], edge_ids: vec![], announced: None, withdrawn: None,
+///     vertical: muse_model::VerticalLimits::WHOLE_SKY,
 ///     periods: vec![Period { start: Some(t("2026-01-05T09:00:00Z")), end: None, daily: vec![] }],
 /// };
 /// let w = zone_windows(&zone, t("2026-01-05T00:00:00Z"), t("2026-01-06T00:00:00Z")).unwrap();

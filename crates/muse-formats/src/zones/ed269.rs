@@ -1,12 +1,13 @@
 //! EUROCAE ED-269 JSON: reading one zone of a `features` / `UASZoneList` array.
 
-use muse_model::{LonLat, Zone};
-use serde_json::Value;
+use muse_model::{LonLat, VerticalLimits, Zone};
+use serde_json::{Map, Value};
 
 use super::geometry::{
     Part, assemble, parse_multipolygon, parse_polygon, parse_position, parse_radius,
 };
 use super::properties::parse_common;
+use super::vertical::parse_volume_limits;
 use super::{Ctx, expect_object, join, list_of, member, parse_identifier, show};
 use crate::InputError;
 
@@ -32,12 +33,35 @@ pub(super) fn read_zone(file: &str, index: usize, v: &Value) -> Result<Vec<Zone>
         }
     }
     let parts = parts.into_iter().flatten().collect();
-    assemble(&ctx, id, common, parts, "geometry")
+    assemble(
+        &ctx,
+        id,
+        common,
+        parts,
+        VerticalLimits::WHOLE_SKY,
+        "geometry",
+    )
 }
 
-/// One airspace volume: its `horizontalProjection` (limits are ignored).
-fn volume_part(ctx: &Ctx<'_>, v: &Value, field: &str) -> Result<Vec<Part>, InputError> {
+/// One airspace volume: its `horizontalProjection`, each part with the volume's vertical
+/// limits.
+fn volume_part(
+    ctx: &Ctx<'_>,
+    v: &Value,
+    field: &str,
+) -> Result<Vec<(Part, VerticalLimits)>, InputError> {
     let volume = expect_object(ctx, v, field, "an airspace volume")?;
+    let parts = projection_parts(ctx, volume, field)?;
+    let band = parse_volume_limits(ctx, volume, field)?;
+    Ok(parts.into_iter().map(|part| (part, band)).collect())
+}
+
+/// The parts of a volume's `horizontalProjection`.
+fn projection_parts(
+    ctx: &Ctx<'_>,
+    volume: &Map<String, Value>,
+    field: &str,
+) -> Result<Vec<Part>, InputError> {
     let hp_field = join(field, "horizontalProjection");
     let hp_v = member(volume, "horizontalProjection")
         .ok_or_else(|| ctx.err(&hp_field, "missing: the volume's horizontal projection"))?;

@@ -1,7 +1,7 @@
 //! The EUROCAE ED-318 `GeoJSON` profile: reading one feature, and writing zones.
 
 use geo_types::{LineString, Polygon};
-use muse_model::{DailyWindow, Millis, UtcOffset, Weekday, Zone, ZoneArea};
+use muse_model::{DailyWindow, Millis, UtcOffset, VerticalLimits, Weekday, Zone, ZoneArea};
 use serde::Serialize;
 use serde_json::{Map, Value};
 
@@ -9,6 +9,7 @@ use super::geometry::{
     Part, assemble, parse_multipolygon, parse_polygon, parse_position, parse_radius,
 };
 use super::properties::parse_common;
+use super::vertical::parse_layer;
 use super::{Ctx, expect_object, join, member, normalize, parse_identifier, round_degrees, show};
 use crate::InputError;
 
@@ -36,22 +37,50 @@ pub(super) fn read_feature(file: &str, index: usize, v: &Value) -> Result<Vec<Zo
     ctx.id = Some(id.clone());
     let common = parse_common(&ctx, props, &["restriction", "type"])?;
     let mut parts = Vec::new();
-    if let Some(g) = member(feature, "geometry") {
-        geometry(&ctx, g, "geometry", feature, props, &mut parts)?;
+    let geometry_v = member(feature, "geometry");
+    if let Some(g) = geometry_v {
+        geometry(
+            &ctx,
+            g,
+            "geometry",
+            (feature, props),
+            VerticalLimits::WHOLE_SKY,
+            &mut parts,
+        )?;
     }
-    assemble(&ctx, id, common, parts, "geometry")
+    // MUSE extension: the band of a zone with explicit elements only sits in its properties
+    // (what `write_ed318` writes for such a zone).
+    let bare = match (member(props, "layer"), geometry_v) {
+        (None, _) => VerticalLimits::WHOLE_SKY,
+        (Some(layer), None) => parse_layer(&ctx, layer, "layer")?,
+        (Some(_), Some(_)) => {
+            return Err(ctx.err(
+                "layer",
+                "a zone with a geometry gives its vertical limits on the geometry \
+                 (`geometry.layer`, ED-318); `properties.layer` is only for a zone with \
+                 explicit `nodes` / `edges` and no geometry",
+            ));
+        }
+    };
+    assemble(&ctx, id, common, parts, bare, "geometry")
 }
 
-/// Reads a `GeoJSON` geometry (with the ED-318 circle extension) into `parts`.
+/// Reads a `GeoJSON` geometry (with the ED-318 circle extension) into `parts`, each with its
+/// vertical band: the geometry's `layer`, else `band` (the enclosing collection's, or the
+/// whole sky).
 fn geometry(
     ctx: &Ctx<'_>,
     v: &Value,
     field: &str,
-    feature: &Map<String, Value>,
-    props: &Map<String, Value>,
-    parts: &mut Vec<Part>,
+    (feature, props): (&Map<String, Value>, &Map<String, Value>),
+    band: VerticalLimits,
+    parts: &mut Vec<(Part, VerticalLimits)>,
 ) -> Result<(), InputError> {
     let g = expect_object(ctx, v, field, "a geometry")?;
+    let band = match member(g, "layer") {
+        Some(layer) => parse_layer(ctx, layer, &join(field, "layer"))?,
+        None => band,
+    };
     let kind_field = join(field, "type");
     let kind =
         member(g, "type").ok_or_else(|| ctx.err(&kind_field, "missing: the geometry type"))?;
@@ -65,15 +94,14 @@ fn geometry(
     };
     let coord_field = join(field, "coordinates");
     match kind.as_str() {
-        Some("Polygon") => parts.push(Part::Polygon(parse_polygon(
-            ctx,
-            coordinates()?,
-            &coord_field,
-        )?)),
+        Some("Polygon") => parts.push((
+            Part::Polygon(parse_polygon(ctx, coordinates()?, &coord_field)?),
+            band,
+        )),
         Some("MultiPolygon") => parts.extend(
             parse_multipolygon(ctx, coordinates()?, &coord_field)?
                 .into_iter()
-                .map(Part::Polygon),
+                .map(|p| (Part::Polygon(p), band)),
         ),
         Some("Point") => {
             let c = parse_position(ctx, coordinates()?, &coord_field)?;
@@ -87,7 +115,10 @@ fn geometry(
                     )
                 })?;
             let radius = circle_extent(ctx, extent, &extent_field)?;
-            parts.push(Part::Circle(muse_model::LonLat::new(c.x, c.y), radius));
+            parts.push((
+                Part::Circle(muse_model::LonLat::new(c.x, c.y), radius),
+                band,
+            ));
         }
         Some("GeometryCollection") => {
             let gf = join(field, "geometries");
@@ -100,7 +131,14 @@ fn geometry(
                     )
                 })?;
             for (i, item) in items.iter().enumerate() {
-                geometry(ctx, item, &format!("{gf}[{i}]"), feature, props, parts)?;
+                geometry(
+                    ctx,
+                    item,
+                    &format!("{gf}[{i}]"),
+                    (feature, props),
+                    band,
+                    parts,
+                )?;
             }
         }
         _ => {
@@ -152,7 +190,10 @@ fn circle_extent(ctx: &Ctx<'_>, v: &Value, field: &str) -> Result<f64, InputErro
 /// start), `withdrawn` (omitted unless the zone was withdrawn) and `nodes` / `edges` (omitted
 /// when empty); the geometry is a `Polygon`, a
 /// `MultiPolygon`, a `Point` with a circle `extent` (radius in metres), or `null` for a zone
-/// with explicit elements only. Date-times are written in the offset of the period's first
+/// with explicit elements only. A zone's vertical band, unless it is the whole sky, is the
+/// geometry's ED-318 `layer` `{"upper", "upperReference", "lower", "lowerReference", "uom":
+/// "m"}` (heights in metres, exact to the micrometre, an open side left out); for a zone
+/// without geometry, the same `layer` in its properties (MUSE extension). Date-times are written in the offset of the period's first
 /// daily window (UTC when it has none; `announced` and `withdrawn` in the offset of the zone's
 /// first daily window, else UTC), clock times as `HH:MM:SS[.mmm]` with their offset, all seven
 /// days as `["ANY"]`, and a daily window that ends the next day with `"overnight": true`.
@@ -167,7 +208,7 @@ fn circle_extent(ctx: &Ctx<'_>, v: &Value, field: &str) -> Result<f64, InputErro
 ///
 /// ```
 /// use muse_formats::zones::{read_zones, write_ed318};
-/// use muse_model::{DailyWindow, Millis, Period, UtcOffset, Weekday, Zone, ZoneArea};
+/// use muse_model::{DailyWindow, Metres, Millis, Period, UtcOffset, VerticalLimits, Weekday, Zone, ZoneArea};
 /// use geo_types::polygon;
 /// let cbd = Zone {
 ///     id: "CBD".into(),
@@ -178,6 +219,8 @@ fn circle_extent(ctx: &Ctx<'_>, v: &Value, field: &str) -> Result<f64, InputErro
 ///     ].into())),
 ///     node_ids: vec![],
 ///     announced: None, withdrawn: None,
+///     // Up to 400 ft above ground.
+///     vertical: VerticalLimits::agl(None, Some(Metres::from_ft(400.0).unwrap())),
 ///     edge_ids: vec![],
 ///     periods: vec![Period {
 ///         start: None,
@@ -192,6 +235,7 @@ fn circle_extent(ctx: &Ctx<'_>, v: &Value, field: &str) -> Result<f64, InputErro
 /// };
 /// let text = write_ed318(std::slice::from_ref(&cbd));
 /// assert!(text.contains(r#""startTime": "10:00:00+08:00""#));
+/// assert!(text.contains(r#""upper": 121.92,"#) && text.contains(r#""uom": "m""#));
 /// assert_eq!(read_zones(&text, "cbd.geojson").unwrap(), vec![cbd]);
 /// ```
 pub fn write_ed318(zones: &[Zone]) -> String {
@@ -239,6 +283,9 @@ struct PropertiesOut<'a> {
     nodes: &'a [String],
     #[serde(skip_serializing_if = "<[String]>::is_empty")]
     edges: &'a [String],
+    /// The band of a zone without geometry (MUSE extension; otherwise on the geometry).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    layer: Option<LayerOut>,
 }
 
 #[derive(Serialize)]
@@ -274,14 +321,46 @@ struct DailyOut {
 enum GeometryOut {
     Polygon {
         coordinates: Vec<Vec<[f64; 2]>>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        layer: Option<LayerOut>,
     },
     MultiPolygon {
         coordinates: Vec<Vec<Vec<[f64; 2]>>>,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        layer: Option<LayerOut>,
     },
     Point {
         coordinates: [f64; 2],
         extent: ExtentOut,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        layer: Option<LayerOut>,
     },
+}
+
+/// An ED-318 vertical layer, the members in the standard's order; an open side is left out.
+#[derive(Serialize)]
+#[serde(rename_all = "camelCase")]
+struct LayerOut {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    upper: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    upper_reference: Option<&'static str>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lower: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lower_reference: Option<&'static str>,
+    uom: &'static str,
+}
+
+/// The `layer` of a band, `None` for the whole sky.
+fn layer_out(band: &VerticalLimits) -> Option<LayerOut> {
+    (!band.is_whole_sky()).then(|| LayerOut {
+        upper: band.upper.map(|u| u.height.m()),
+        upper_reference: band.upper.map(|u| u.reference.as_str()),
+        lower: band.lower.map(|l| l.height.m()),
+        lower_reference: band.lower.map(|l| l.reference.as_str()),
+        uom: "m",
+    })
 }
 
 #[derive(Serialize)]
@@ -312,8 +391,16 @@ fn feature_out(zone: &Zone) -> FeatureOut<'_> {
             withdrawn: zone.withdrawn.map(|t| t.to_rfc3339(zone_offset(zone))),
             nodes: &zone.node_ids,
             edges: &zone.edge_ids,
+            layer: if zone.area.is_none() {
+                layer_out(&zone.vertical)
+            } else {
+                None
+            },
         },
-        geometry: zone.area.as_ref().map(geometry_out),
+        geometry: zone
+            .area
+            .as_ref()
+            .map(|area| geometry_out(area, &zone.vertical)),
     }
 }
 
@@ -378,13 +465,16 @@ fn polygon_out(p: &Polygon<f64>) -> Vec<Vec<[f64; 2]>> {
         .collect()
 }
 
-fn geometry_out(area: &ZoneArea) -> GeometryOut {
+fn geometry_out(area: &ZoneArea, band: &VerticalLimits) -> GeometryOut {
+    let layer = layer_out(band);
     match area {
         ZoneArea::Polygons(mp) if mp.0.len() == 1 => GeometryOut::Polygon {
             coordinates: polygon_out(&mp.0[0]),
+            layer,
         },
         ZoneArea::Polygons(mp) => GeometryOut::MultiPolygon {
             coordinates: mp.0.iter().map(polygon_out).collect(),
+            layer,
         },
         ZoneArea::Circle { centre, radius_m } => GeometryOut::Point {
             coordinates: [round_degrees(centre.lon), round_degrees(centre.lat)],
@@ -392,6 +482,7 @@ fn geometry_out(area: &ZoneArea) -> GeometryOut {
                 sub_type: "Circle",
                 radius: *radius_m,
             },
+            layer,
         },
     }
 }

@@ -1,8 +1,8 @@
 //! Geometry in zone files: positions, rings, polygons, multipolygons, circle radii, and the
-//! assembly of a zone's areas into one or more [`Zone`]s.
+//! assembly of a zone's areas and vertical bands into one or more [`Zone`]s.
 
 use geo_types::{Coord, LineString, MultiPolygon, Polygon};
-use muse_model::{LonLat, Zone, ZoneArea};
+use muse_model::{LonLat, VerticalLimits, Zone, ZoneArea};
 use serde_json::Value;
 
 use super::properties::Common;
@@ -197,13 +197,16 @@ pub(super) fn parse_radius(
     Ok(metres)
 }
 
-/// Builds the zone(s) of one feature: all polygons form one area, each circle another; more
-/// than one area gives one zone per area (`ID#1`, `ID#2`, …, explicit ids on the first).
+/// Builds the zone(s) of one feature from its parts, each with its vertical band: the polygons
+/// of one band form one area (bands in order of first appearance), each circle another; more
+/// than one area gives one zone per area (`ID#1`, `ID#2`, …, explicit ids on the first). A
+/// zone without parts (explicit elements only) has the band `bare`.
 pub(super) fn assemble(
     ctx: &Ctx<'_>,
     id: String,
     common: Common,
-    parts: Vec<Part>,
+    parts: Vec<(Part, VerticalLimits)>,
+    bare: VerticalLimits,
     geometry_field: &str,
 ) -> Result<Vec<Zone>, InputError> {
     if parts.is_empty() && common.node_ids.is_empty() && common.edge_ids.is_empty() {
@@ -212,17 +215,24 @@ pub(super) fn assemble(
             "missing: a zone needs a geometry or explicit `nodes` / `edges` lists",
         ));
     }
-    let mut polygons = Vec::new();
-    let mut areas = Vec::new();
-    for part in parts {
+    let mut polygons: Vec<(VerticalLimits, Vec<Polygon<f64>>)> = Vec::new();
+    let mut circles = Vec::new();
+    for (part, band) in parts {
         match part {
-            Part::Polygon(p) => polygons.push(p),
-            Part::Circle(centre, radius_m) => areas.push(ZoneArea::Circle { centre, radius_m }),
+            Part::Polygon(p) => match polygons.iter_mut().find(|(b, _)| *b == band) {
+                Some((_, group)) => group.push(p),
+                None => polygons.push((band, vec![p])),
+            },
+            Part::Circle(centre, radius_m) => {
+                circles.push((ZoneArea::Circle { centre, radius_m }, band));
+            }
         }
     }
-    if !polygons.is_empty() {
-        areas.insert(0, ZoneArea::Polygons(MultiPolygon(polygons)));
-    }
+    let mut areas: Vec<(ZoneArea, VerticalLimits)> = polygons
+        .into_iter()
+        .map(|(band, group)| (ZoneArea::Polygons(MultiPolygon(group)), band))
+        .chain(circles)
+        .collect();
     let Common {
         name,
         restriction,
@@ -233,22 +243,24 @@ pub(super) fn assemble(
         withdrawn,
     } = common;
     if areas.len() <= 1 {
+        let (area, vertical) = areas.pop().map_or((None, bare), |(a, b)| (Some(a), b));
         return Ok(vec![Zone {
             id,
             name,
             restriction,
-            area: areas.pop(),
+            area,
             node_ids,
             edge_ids,
             periods,
             announced,
             withdrawn,
+            vertical,
         }]);
     }
     Ok(areas
         .into_iter()
         .enumerate()
-        .map(|(k, area)| Zone {
+        .map(|(k, (area, vertical))| Zone {
             id: format!("{id}#{}", k + 1),
             name: name.clone(),
             restriction: restriction.clone(),
@@ -258,6 +270,7 @@ pub(super) fn assemble(
             periods: periods.clone(),
             announced,
             withdrawn,
+            vertical,
         })
         .collect())
 }

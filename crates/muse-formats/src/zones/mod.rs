@@ -18,7 +18,12 @@
 //! - `geometry`: `Polygon`, `MultiPolygon`, a `Point` with an `extent`
 //!   `{"subType": "Circle", "radius": <metres>}` (the extent may sit on the geometry, the
 //!   feature or the properties; an optional `uom` / `uomDimensions` of `M`, `FT` or `NM`
-//!   converts the radius), or a `GeometryCollection` of those.
+//!   converts the radius), or a `GeometryCollection` of those;
+//! - `geometry.layer` (ED-318's vertical layer, on each geometry): `{"upper", "upperReference",
+//!   "lower", "lowerReference", "uom"}`, the zone's vertical band (see below). A `layer` on a
+//!   `GeometryCollection` is the band of its members that carry none. MUSE extension: a zone
+//!   with explicit `nodes` / `edges` and no geometry gives its band as `properties.layer`
+//!   (what [`write_ed318`] writes for it); with a geometry, `properties.layer` is an error.
 //!
 //! # ED-269 JSON
 //!
@@ -26,14 +31,25 @@
 //! `identifier`, `name`, `restriction`, `applicability`, `announced`, `withdrawn` (see below) and
 //! `geometry`: a list of volumes whose `horizontalProjection` is `{"type": "Polygon", "coordinates": [[[lon, lat], …]]}` or
 //! `{"type": "Circle", "center": [lon, lat], "radius": r}`, `r` in the volume's
-//! `uomDimensions` (`M` by default, or `FT`).
+//! `uomDimensions` (`M` by default, or `FT`), and whose vertical band is `lowerLimit`,
+//! `upperLimit` (in `uomDimensions`: `M` or `FT` when a limit is given),
+//! `lowerVerticalReference`, `upperVerticalReference` (see below).
 //!
 //! # Shared rules
 //!
 //! - Positions are `[longitude, latitude]` in WGS84 degrees (a third value, altitude, is
 //!   ignored). Rings have at least 4 positions and are closed (first = last).
-//! - Vertical limits (`lowerLimit`, `upperLimit`, `layer`, …) are read past and ignored:
-//!   MUSE flies at one cruise altitude and every zone closes the airspace it covers.
+//! - Vertical limits (SPEC §13) become the zone's [`VerticalLimits`](muse_model::VerticalLimits):
+//!   heights are numbers (or numeric strings) ≥ 0 in metres or feet (`M`, `FT`, any case, metres
+//!   when no unit is given; 1 ft = 0.3048 m exactly), kept to the micrometre; a missing or
+//!   `null` side is open, and a zone without limits covers the whole sky. References are `AGL`,
+//!   `AMSL` or `WGS84` (any case; `SFC` and `GND` read as `AGL`, `MSL` as `AMSL`, `W84` as
+//!   `WGS84`; `AGL` when not given): MUSE flies over flat ground at sea level, so all measure
+//!   the same heights; the reference is kept to show and write. A height that is not a number,
+//!   negative or beyond 10⁹ m, an unknown unit or reference (pressure altitudes, `STD`, are not
+//!   supported), and a lower limit above the upper one are errors. MUSE flying one cruise
+//!   altitude, a zone still closes what it covers whatever its band; with layers, only the
+//!   layers in its band.
 //! - A time period is `{startDateTime?, endDateTime?, schedule?}` (ED-269 also
 //!   `permanent` and `dailyPeriod`). Date-times are RFC 3339 with an offset. A `schedule`
 //!   entry is `{"day": ["ANY" | "MON" … "SUN"], "startTime": "10:00:00+08:00",
@@ -58,16 +74,20 @@
 //!   3339 date-time, is when an announced zone was withdrawn; from then on it binds nothing
 //!   (it binds the stays and traversals that begin in `[announced, withdrawn)`). It needs
 //!   `announced` and may not be before it; `null` means not withdrawn.
-//! - A zone whose areas cannot be one [`ZoneArea`] (several circles, or circles and polygons,
-//!   e.g. an ED-269 zone with several volumes) becomes one zone per area, with ids
-//!   `ID#1`, `ID#2`, … (all polygons of a zone form one area).
+//! - A zone whose areas cannot be one [`ZoneArea`] with one vertical band (several circles,
+//!   circles and polygons, e.g. an ED-269 zone with several volumes, or polygons at different
+//!   heights, e.g. ED-318's "inverted wedding cake" of geometries with different `layer`s)
+//!   becomes one zone per area, with ids `ID#1`, `ID#2`, …, each with its own band: all
+//!   polygons of one band form one area. Explicit `nodes` / `edges` go with the first.
 //!
 //! The reader is split by concept into private modules: `time` (periods, daily windows,
 //! date-times), `geometry` (positions, rings, polygons, circles, assembling a zone's areas),
-//! `properties` (the fields every zone has), and one module per format.
+//! `vertical` (vertical limits), `properties` (the fields every zone has), and one module per
+//! format.
 //!
 //! Every problem is an [`InputError`] naming the file, the feature (index and id) and the
-//! field, e.g. `limitedApplicability[0].schedule[1].startTime` or `geometry.coordinates[0]`.
+//! field, e.g. `limitedApplicability[0].schedule[1].startTime`, `geometry.coordinates[0]` or
+//! `geometry[0].upperLimit`.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -83,6 +103,7 @@ mod ed318;
 mod geometry;
 mod properties;
 mod time;
+mod vertical;
 
 pub use ed318::write_ed318;
 pub use properties::ZONE_TYPES;
@@ -188,6 +209,7 @@ pub fn read_zones_file(path: &Path) -> Result<Vec<Zone>, InputError> {
 ///     id: "Z".into(), name: String::new(), restriction: "PROHIBITED".into(),
 ///     area: Some(ZoneArea::Circle { centre: LonLat::new(103.812_345_678, 1.3), radius_m: 50.0 }),
 ///     node_ids: vec![], edge_ids: vec![], periods: vec![], announced: None, withdrawn: None,
+///     vertical: muse_model::VerticalLimits::WHOLE_SKY,
 /// };
 /// let Some(ZoneArea::Circle { centre, .. }) = normalize(&zone).area else { unreachable!() };
 /// assert_eq!(centre.lon, 103.812_345_7);

@@ -659,6 +659,7 @@ mod tests {
             edge_ids: vec!["A-B".into()],
             announced: None,
             withdrawn: None,
+            vertical: muse_model::VerticalLimits::WHOLE_SKY,
             periods: vec![Period {
                 start: Some(Instant(1_000_000)),
                 end: Some(Instant(2_000_000)),

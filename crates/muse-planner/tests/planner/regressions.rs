@@ -46,6 +46,7 @@ fn b_closed(a: &Airspace) -> Closures {
         edge_ids: vec![],
         announced: None,
         withdrawn: None,
+        vertical: muse_model::VerticalLimits::WHOLE_SKY,
         periods: vec![Period {
             start: Some(Instant(0)),
             end: Some(Instant(25_000)),

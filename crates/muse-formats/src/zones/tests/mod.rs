@@ -1,5 +1,6 @@
 //! The zone readers and writer: what they read (here), what they refuse (`refused`,
-//! `validation`), time (`time`), ED-269 (`ed269`) and announced zones (`announced`).
+//! `validation`), time (`time`), ED-269 (`ed269`), announced zones (`announced`) and vertical
+//! limits (`vertical`).
 
 use muse_model::{DailyWindow, Instant, LonLat, Millis, Period, UtcOffset, Weekday};
 use serde_json::json;
@@ -52,6 +53,7 @@ mod announced;
 mod ed269;
 mod refused;
 mod time;
+mod vertical;
 
 #[test]
 fn reads_the_cbd_zone() {

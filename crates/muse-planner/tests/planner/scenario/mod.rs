@@ -194,6 +194,7 @@ impl Instance {
                 edge_ids: Vec::new(),
                 announced: None,
                 withdrawn: None,
+                vertical: muse_model::VerticalLimits::WHOLE_SKY,
                 periods: vec![Period {
                     start: Some(Instant(window.0)),
                     end: Some(Instant(window.1)),

@@ -24,6 +24,7 @@ fn zone_b() -> Zone {
         edge_ids: vec![],
         announced: None,
         withdrawn: None,
+        vertical: muse_model::VerticalLimits::WHOLE_SKY,
         periods: vec![Period {
             start: Some(min(600)),
             end: Some(min(630)),

@@ -23,6 +23,7 @@ use crate::replay::replay;
 /// let zone = Zone {
 ///     id: "Z".into(), name: String::new(), restriction: String::new(), area: None,
 ///     node_ids: vec![], edge_ids: vec![], announced: None, withdrawn: None,
+///     vertical: muse_model::VerticalLimits::WHOLE_SKY,
 ///     periods: vec![
 ///         Period { start: Some(min(900)), end: Some(min(960)), daily: vec![] },
 ///         Period { start: Some(min(600)), end: Some(min(720)), daily: vec![] },
