@@ -20,6 +20,7 @@
 pub mod airspace;
 pub mod coords;
 pub mod ids;
+pub mod layers;
 pub mod params;
 pub mod plan;
 pub mod request;
@@ -29,9 +30,10 @@ pub mod time;
 pub mod units;
 pub mod zone;
 
-pub use airspace::{Adjacent, Airspace, AirspaceError, Edge, Node, NodeKind};
+pub use airspace::{Adjacent, Airspace, AirspaceError, Edge, EdgeKind, Node, NodeKind};
 pub use coords::{LonLat, Svy21};
 pub use ids::{EdgeId, NodeId};
+pub use layers::{HeadingRule, Layers, LayersError};
 pub use params::{BatterySwap, EdgeRule, FlightParams};
 pub use plan::{Plan, RejectReason, Stay};
 pub use request::Request;

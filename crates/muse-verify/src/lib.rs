@@ -98,7 +98,7 @@ use muse_airspace::announced::{Announced, KnownZones};
 use muse_airspace::closures::Closures;
 use muse_model::plan::Fate;
 use muse_model::{
-    Airspace, EdgeId, FlightParams, Instant, Millis, NodeId, Plan, Request, UtcOffset,
+    Airspace, EdgeId, EdgeKind, FlightParams, Instant, Millis, NodeId, Plan, Request, UtcOffset,
 };
 
 /// One flight to check: its request and its plan.
@@ -424,7 +424,14 @@ fn node_name(airspace: &Airspace, n: NodeId) -> String {
 }
 
 fn traversal_time(airspace: &Airspace, params: &FlightParams, e: EdgeId) -> Millis {
-    params.speed.traversal_time(airspace.edge(e).length_m)
+    match (airspace.edge_kind(e), airspace.layers()) {
+        // SPEC §13: `ceil(Δ_mm · 1000 / c_mm_per_s)` ms, here from Δ in µm.
+        (EdgeKind::Vertical { .. }, Some(layers)) => {
+            let rate = i64::from(layers.climb_mm_per_s);
+            Millis((layers.spacing.um() + rate - 1) / rate)
+        }
+        _ => params.speed.traversal_time(airspace.edge(e).length_m),
+    }
 }
 
 /// The edge joining two nodes of a plan, if both exist and are joined.

@@ -1,7 +1,9 @@
 //! The rules between flights: node separation and edge separation (SPEC §3), checked per
 //! element on occupations sorted by start.
 
-use muse_model::{Airspace, EdgeId, EdgeRule, FlightParams, Instant, NodeId, Plan, UtcOffset};
+use muse_model::{
+    Airspace, EdgeId, EdgeKind, EdgeRule, FlightParams, Instant, NodeId, Plan, UtcOffset,
+};
 
 use crate::{Flight, Rule, Violation, dur, edge_of, node_name, span, stamp, traversal_time};
 
@@ -106,6 +108,11 @@ pub(crate) fn edge_rule(
 ) {
     sort(list);
     let edge = airspace.edge(e);
+    // Vertical links are exclusive whatever the corridors' rule (SPEC §13).
+    let rule = match airspace.edge_kind(e) {
+        EdgeKind::Vertical { .. } => EdgeRule::Exclusive,
+        EdgeKind::Corridor { .. } => params.edge_rule,
+    };
     let direction = |o: &Occupation| {
         let (a, b) = if o.forward {
             (edge.from, edge.to)
@@ -117,7 +124,7 @@ pub(crate) fn edge_rule(
     for (i, x) in list.iter().enumerate() {
         // Sorted by entry: once `s_j >= f_i` (and `s_j >= s_i + h` under headway), no later
         // traversal can conflict with `x`.
-        let horizon = match params.edge_rule {
+        let horizon = match rule {
             EdgeRule::Exclusive => x.end,
             EdgeRule::Headway(h) => x.end.max(x.start + h),
         };
@@ -125,7 +132,7 @@ pub(crate) fn edge_rule(
             if y.flight == x.flight {
                 continue;
             }
-            let detail = match params.edge_rule {
+            let detail = match rule {
                 EdgeRule::Headway(h) if x.forward == y.forward => {
                     if (y.start - x.start).0.abs() >= h.0 {
                         continue;

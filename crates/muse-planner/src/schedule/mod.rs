@@ -45,7 +45,9 @@
 mod barriers;
 
 use muse_airspace::closures::Closures;
-use muse_model::{Airspace, EdgeId, EdgeRule, FlightParams, Instant, Millis, NodeId, Plan};
+use muse_model::{
+    Airspace, EdgeId, EdgeKind, EdgeRule, FlightParams, Instant, Millis, NodeId, Plan,
+};
 
 use crate::time::Unbounded;
 use barriers::{Book, Occ, View, barriers, position, slot};
@@ -191,9 +193,10 @@ impl Schedule {
             .map(|(i, &w)| EdgeBook {
                 dirs: [Book::default(), Book::default()],
                 w,
-                same_grow: match params.edge_rule {
-                    EdgeRule::Exclusive => w,
-                    EdgeRule::Headway(h) => h,
+                // Vertical links are exclusive whatever the corridors' rule (SPEC §13).
+                same_grow: match (airspace.edge_kind(EdgeId(i as u32)), params.edge_rule) {
+                    (EdgeKind::Vertical { .. }, _) | (_, EdgeRule::Exclusive) => w,
+                    (_, EdgeRule::Headway(h)) => h,
                 },
                 zones: barriers(closures.edge(EdgeId(i as u32)), w),
             })

@@ -1,4 +1,6 @@
-//! The airspace graph: nodes (stations and waypoints) joined by undirected corridors.
+//! The airspace graph: nodes (stations and waypoints) joined by undirected corridors, flat
+//! (one cruise altitude) or layered ([`Airspace::layered`], SPEC §13: every node and corridor
+//! at each layer, vertical links between layers, corridors one-way under a heading rule).
 //!
 //! Built once, queried many times. Node and edge ids from files map to dense indices;
 //! adjacency is stored in compressed-sparse-row form (one offsets array and one flat array
@@ -6,8 +8,11 @@
 
 use std::collections::HashMap;
 
+mod layered;
+
 use crate::coords::LonLat;
 use crate::ids::{EdgeId, NodeId};
+use crate::layers::Layers;
 use crate::time::Millis;
 use crate::units::Speed;
 
@@ -62,6 +67,35 @@ impl Edge {
     pub fn other(&self, n: NodeId) -> NodeId {
         if n == self.from { self.to } else { self.from }
     }
+}
+
+/// What an edge of the graph is: a corridor (at a layer) or a vertical link between layers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EdgeKind {
+    /// A corridor, flown at cruise speed, at layer `layer` (1 in a flat airspace); when
+    /// `one_way`, only from its `from` end to its `to` end (a heading rule).
+    Corridor {
+        /// The layer (1-based).
+        layer: u32,
+        /// Whether it may be flown only from `from` to `to`.
+        one_way: bool,
+    },
+    /// The vertical link at a node between layer `layer` (its `from` end) and `layer + 1`
+    /// (its `to` end), crossed in `time`, one drone at a time (SPEC §13).
+    Vertical {
+        /// The lower layer.
+        layer: u32,
+        /// Time to cross it.
+        time: Millis,
+    },
+}
+
+impl EdgeKind {
+    /// A corridor of the flat airspace.
+    pub const FLAT: EdgeKind = EdgeKind::Corridor {
+        layer: 1,
+        one_way: false,
+    };
 }
 
 /// One entry of a node's adjacency list.
@@ -157,10 +191,22 @@ pub enum AirspaceError {
 pub struct Airspace {
     nodes: Vec<Node>,
     edges: Vec<Edge>,
+    kinds: Vec<EdgeKind>,
     by_id: HashMap<String, NodeId>,
     edge_by_id: HashMap<String, EdgeId>,
     offsets: Vec<u32>,
     adjacent: Vec<Adjacent>,
+    layout: Option<Box<Layout>>,
+}
+
+/// How a layered airspace was built from its flat one.
+#[derive(Clone, Debug)]
+struct Layout {
+    layers: Layers,
+    /// The flat airspace: node `n` at layer `k` is node `n + (k − 1)·N` here.
+    base: Airspace,
+    /// Per edge: the flat corridor it is a copy of, or the flat node of a vertical link.
+    origin: Vec<u32>,
 }
 
 impl Airspace {
@@ -237,7 +283,6 @@ impl Airspace {
         }
         let mut edge_by_id = HashMap::with_capacity(edges.len());
         let mut pairs: HashMap<(NodeId, NodeId), usize> = HashMap::with_capacity(edges.len());
-        let mut degree = vec![0u32; nodes.len()];
         for (i, e) in edges.iter().enumerate() {
             if e.from.index() >= nodes.len() || e.to.index() >= nodes.len() {
                 return Err(AirspaceError::NodeOutOfRange {
@@ -275,8 +320,28 @@ impl Airspace {
                     second: i,
                 });
             }
+        }
+        let kinds = vec![EdgeKind::FLAT; edges.len()];
+        Ok(Self::index(nodes, edges, kinds, by_id, edge_by_id, None))
+    }
+
+    /// Builds the adjacency of validated nodes and edges: both directions of every edge but
+    /// the one-way corridors'.
+    fn index(
+        nodes: Vec<Node>,
+        edges: Vec<Edge>,
+        kinds: Vec<EdgeKind>,
+        by_id: HashMap<String, NodeId>,
+        edge_by_id: HashMap<String, EdgeId>,
+        layout: Option<Box<Layout>>,
+    ) -> Self {
+        let one_way = |i: usize| matches!(kinds[i], EdgeKind::Corridor { one_way: true, .. });
+        let mut degree = vec![0u32; nodes.len()];
+        for (i, e) in edges.iter().enumerate() {
             degree[e.from.index()] += 1;
-            degree[e.to.index()] += 1;
+            if !one_way(i) {
+                degree[e.to.index()] += 1;
+            }
         }
         let mut offsets = Vec::with_capacity(nodes.len() + 1);
         offsets.push(0u32);
@@ -294,7 +359,8 @@ impl Airspace {
         ];
         for (i, e) in edges.iter().enumerate() {
             let eid = EdgeId(i as u32);
-            for (x, y, forward) in [(e.from, e.to, true), (e.to, e.from, false)] {
+            let ends = [(e.from, e.to, true), (e.to, e.from, false)];
+            for &(x, y, forward) in &ends[..if one_way(i) { 1 } else { 2 }] {
                 adjacent[fill[x.index()] as usize] = Adjacent {
                     node: y,
                     edge: eid,
@@ -306,14 +372,16 @@ impl Airspace {
         for n in 0..nodes.len() {
             adjacent[offsets[n] as usize..offsets[n + 1] as usize].sort_by_key(|a| a.node);
         }
-        Ok(Airspace {
+        Airspace {
             nodes,
             edges,
+            kinds,
             by_id,
             edge_by_id,
             offsets,
             adjacent,
-        })
+            layout,
+        }
     }
 
     /// All nodes, indexed by [`NodeId`].
@@ -368,7 +436,8 @@ impl Airspace {
         &self.adjacent[self.offsets[n.index()] as usize..self.offsets[n.index() + 1] as usize]
     }
 
-    /// The edge joining `a` and `b`, if any.
+    /// The edge that may be flown from `a` to `b`, if any (a one-way corridor only in its
+    /// direction).
     pub fn edge_between(&self, a: NodeId, b: NodeId) -> Option<EdgeId> {
         let adj = self.neighbours(a);
         adj.binary_search_by_key(&b, |x| x.node)
@@ -391,12 +460,70 @@ impl Airspace {
         self.nodes[n.index()].kind == NodeKind::Station
     }
 
-    /// Traversal time of every edge at `speed`, indexed by [`EdgeId`].
+    /// Traversal time of every edge, indexed by [`EdgeId`]: a corridor's at cruise `speed`,
+    /// a vertical link's its climb time.
     pub fn traversal_times(&self, speed: Speed) -> Vec<Millis> {
         self.edges
             .iter()
-            .map(|e| speed.traversal_time(e.length_m))
+            .zip(&self.kinds)
+            .map(|(e, k)| match *k {
+                EdgeKind::Vertical { time, .. } => time,
+                EdgeKind::Corridor { .. } => speed.traversal_time(e.length_m),
+            })
             .collect()
+    }
+
+    /// What edge `e` is.
+    #[inline]
+    pub fn edge_kind(&self, e: EdgeId) -> EdgeKind {
+        self.kinds[e.index()]
+    }
+
+    /// The layering, if the airspace has more than one layer.
+    pub fn layers(&self) -> Option<&Layers> {
+        self.layout.as_ref().map(|l| &l.layers)
+    }
+
+    /// The flat airspace this one was layered from (itself when flat).
+    pub fn flat(&self) -> &Airspace {
+        self.layout.as_ref().map_or(self, |l| &l.base)
+    }
+
+    /// The layer of node `n` (1-based; 1 in a flat airspace).
+    #[inline]
+    pub fn node_layer(&self, n: NodeId) -> u32 {
+        self.layout.as_ref().map_or(1, |l| {
+            u32::try_from(n.index() / l.base.node_count()).map_or(u32::MAX, |k| k + 1)
+        })
+    }
+
+    /// The node of the flat airspace that `n` is a copy of (`n` itself when flat).
+    #[inline]
+    pub fn flat_node(&self, n: NodeId) -> NodeId {
+        self.layout.as_ref().map_or(n, |l| {
+            NodeId(u32::try_from(n.index() % l.base.node_count()).expect("a node index"))
+        })
+    }
+
+    /// The copy at layer `layer` (1-based) of flat node `n`, if there is such a layer.
+    pub fn at_layer(&self, n: NodeId, layer: u32) -> Option<NodeId> {
+        match &self.layout {
+            None => (layer == 1).then_some(n),
+            Some(l) => (1..=l.layers.count).contains(&layer).then(|| {
+                let flat = l.base.node_count();
+                NodeId(u32::try_from(n.index() + (layer as usize - 1) * flat).expect("an index"))
+            }),
+        }
+    }
+
+    /// The flat corridor that edge `e` is a copy of (`e` itself when flat), or `None` for a
+    /// vertical link.
+    pub fn flat_edge(&self, e: EdgeId) -> Option<EdgeId> {
+        match (&self.layout, self.kinds[e.index()]) {
+            (_, EdgeKind::Vertical { .. }) => None,
+            (None, _) => Some(e),
+            (Some(l), _) => Some(EdgeId(l.origin[e.index()])),
+        }
     }
 
     /// Whether every node can reach every other node.
