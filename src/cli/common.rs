@@ -228,6 +228,7 @@ impl WorldArgs {
                 seed: s.seed,
             }),
             zones,
+            layers: None,
         })
     }
 }

@@ -5,6 +5,7 @@ mod bench;
 mod common;
 mod demand;
 mod experiment;
+mod layers;
 mod load;
 mod optimize;
 mod output;

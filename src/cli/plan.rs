@@ -15,6 +15,7 @@ use muse_sim::demand::BookingLead;
 use muse_sim::metrics::{OptimizerSummary, Provenance, ReplanSummary, RunItem, Summary};
 
 use super::common::{FlightArgs, World, WorldArgs};
+use super::layers::LayersArgs;
 use super::optimize::{OptimizeArgs, report_lines};
 use super::output;
 use super::output::write_atomically;
@@ -27,6 +28,8 @@ pub struct PlanArgs {
     requests: PathBuf,
     #[command(flatten)]
     world: WorldArgs,
+    #[command(flatten)]
+    layers: LayersArgs,
     #[command(flatten)]
     flight: FlightArgs,
     #[command(flatten)]
@@ -42,7 +45,7 @@ pub struct PlanArgs {
 /// Runs `muse plan`.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     let params = args.flight.params()?;
-    let world = args.world.load()?;
+    let world = args.world.load()?.layered(&args.layers)?;
     world.refuse_withdrawn("plan")?;
     let day = LocalDay {
         date: world.date,

@@ -123,6 +123,14 @@ ranges! {
     anneal: f64 = 0.0, 1.0, "a chance";
     /// `--neighbourhood` of the optimiser.
     neighbourhood: usize = 1, 1_000, "a whole number of flights";
+    /// `--layers`.
+    layers: u32 = 1, muse_model::Layers::MAX_COUNT, "a whole number of layers";
+    /// `--base-altitude-m`.
+    altitude_m: f64 = 0.0, 10_000.0, "a number of metres";
+    /// `--layer-spacing-m`.
+    layer_spacing_m: f64 = 0.001, 1_000.0, "a number of metres";
+    /// `--climb-mps`.
+    climb_mps: f64 = 0.001, 100.0, "a number of metres per second";
     /// `muse airspace map --width`.
     width_px: u32 = 100, 20_000, "a whole number of pixels";
 }

@@ -17,6 +17,7 @@ use muse_verify::{Flight, verify_known_in};
 
 use super::common::{FlightArgs, World, WorldArgs, render_world_map};
 use super::demand::DemandArgs;
+use super::layers::LayersArgs;
 use super::optimize::{OptimizeArgs, report_lines};
 use super::output;
 use super::output::write_atomically;
@@ -38,6 +39,8 @@ pub struct SimulateArgs {
     #[command(flatten)]
     world: WorldArgs,
     #[command(flatten)]
+    layers: LayersArgs,
+    #[command(flatten)]
     flight: FlightArgs,
     #[command(flatten)]
     optimize: OptimizeArgs,
@@ -53,7 +56,7 @@ pub struct SimulateArgs {
 /// Runs `muse simulate`; exits 1 if the verifier finds a violation.
 pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
     let params = args.flight.params()?;
-    let world = args.world.load()?;
+    let world = args.world.load()?.layered(&args.layers)?;
     world.refuse_withdrawn("simulate")?;
     let inputs = output::Inputs::new().world(&args.world);
     let inputs = match &args.requests {

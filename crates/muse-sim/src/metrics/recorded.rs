@@ -25,6 +25,41 @@ pub struct WorldRecord {
     /// `None` for the airspace's own zones (a built-in scenario's; none for a file or a
     /// synthetic airspace).
     pub zones: Option<Vec<String>>,
+    /// The layering (SPEC §13), when there is more than one layer.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layers: Option<LayersRecord>,
+}
+
+/// A layered airspace, as a summary records it (SPEC §13).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LayersRecord {
+    /// Number of cruise layers.
+    pub count: u32,
+    /// Altitude of layer 1, metres.
+    pub base_altitude_m: f64,
+    /// Spacing between layers, metres.
+    pub spacing_m: f64,
+    /// Vertical speed, metres per second.
+    pub climb_mps: f64,
+    /// Time to cross one vertical link, ms.
+    pub climb_ms: i64,
+    /// `none` or `sectors`.
+    pub heading_rule: String,
+}
+
+impl LayersRecord {
+    /// The record of `layers`.
+    pub fn of(layers: &muse_model::Layers) -> Self {
+        LayersRecord {
+            count: layers.count,
+            base_altitude_m: layers.base.um() as f64 / 1e6,
+            spacing_m: layers.spacing.um() as f64 / 1e6,
+            climb_mps: f64::from(layers.climb_mm_per_s) / 1e3,
+            climb_ms: layers.climb_time().0,
+            heading_rule: layers.heading_rule.name().to_owned(),
+        }
+    }
 }
 
 /// A synthetic airspace, as a summary records it: what `--synthetic` and its options say.
@@ -117,6 +152,7 @@ mod tests {
                 seed: 7,
             }),
             zones: Some(vec!["/data/zones.geojson".into()]),
+            layers: None,
         };
         let s = Summary::compute([], &params, Duration::ZERO, Provenance::default())
             .with_world(world.clone());
