@@ -474,3 +474,34 @@ fn every_numeric_option_refuses_nan_infinity_negatives_and_states_its_range() {
         );
     }
 }
+
+#[test]
+fn layer_options_out_of_range_are_refused() {
+    let dir = scratch_dir("layers");
+    let out = dir.join("out");
+    let out = out.to_str().unwrap();
+    let run = |extra: &[&str], needles: &[&str]| {
+        let mut args = vec!["simulate", "--count", "10", "--out", out];
+        args.extend_from_slice(extra);
+        refused(&args, needles);
+        nothing_written(Path::new(out));
+    };
+    run(&["--layers", "0"], &["--layers", "from 1 to 64"]);
+    run(&["--layers", "65"], &["--layers", "from 1 to 64"]);
+    run(
+        &["--layer-spacing-m", "0"],
+        &["--layer-spacing-m", "from 0.001 to 1000"],
+    );
+    run(
+        &["--climb-mps", "-5"],
+        &["--climb-mps", "from 0.001 to 100"],
+    );
+    run(
+        &["--layers", "2", "--climb-mps", "5.0004"],
+        &["--climb-mps 5.0004", "whole millimetres per second"],
+    );
+    run(
+        &["--heading-rule", "north"],
+        &["--heading-rule", "none", "sectors"],
+    );
+}
