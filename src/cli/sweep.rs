@@ -101,7 +101,8 @@ fn run_args(
         let out = output::folder("--out", &args.out, &inputs)?;
         launch(&exp, &how, out, &heading)
     } else {
-        let (exp, heading) = paper(args, &world)?;
+        let airspaces = std::sync::OnceLock::new();
+        let (exp, heading) = paper(args, &world, &airspaces)?;
         if args.dry_run {
             return Ok(dry_run(&exp, &how));
         }

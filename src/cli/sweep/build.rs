@@ -1,8 +1,11 @@
 //! The paper's sweep a command line describes: its grid (counts, repetitions, demand, flight
 //! parameters) and its variants (the levers of `--vary`).
 
+use std::sync::OnceLock;
+
+use anyhow::Context as _;
 use muse_sim::experiment::sweep::levers::{Base, variants};
-use muse_sim::experiment::sweep::{Sweep, Variant};
+use muse_sim::experiment::sweep::{Airspaces, Sweep, Variant};
 use muse_sim::experiment::{Experiment, Grid, Seeds};
 
 use super::args::SweepArgs;
@@ -89,10 +92,13 @@ fn zone_label(world: &World) -> String {
     }
 }
 
-/// The paper's sweep `args` describe on `world`, and the line it is announced with.
+/// The paper's sweep `args` describe on `world`, and the line it is announced with; the
+/// airspaces its variants fly (flat or layered) are built into `airspaces`, which the sweep
+/// borrows.
 pub fn paper<'w>(
     args: &SweepArgs,
     world: &'w World,
+    airspaces: &'w OnceLock<Airspaces>,
 ) -> anyhow::Result<(Experiment<Sweep<'w>>, String)> {
     let grid = grid(args, &args.demand, world)?;
     let label = zone_label(world);
@@ -120,7 +126,8 @@ pub fn paper<'w>(
         booked.as_deref().map_or(String::new(), |b| format!(" {b}")),
         rayon::current_num_threads()
     );
-    let kind = Sweep::new(&world.airspace, &grid, variants, booked)?;
+    let built = Airspaces::new(&world.airspace, &variants).context("--vary layers")?;
+    let kind = Sweep::new(airspaces.get_or_init(|| built), &grid, variants, booked)?;
     Ok((Experiment { grid, kind }, heading))
 }
 

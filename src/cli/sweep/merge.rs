@@ -78,7 +78,8 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<ExitCode> {
         let (exp, _) = lead(&sweep, &world).with_context(rebuilt)?;
         merged(&exp, &texts, out, &args.out)
     } else {
-        let (exp, _) = paper(&sweep, &world).with_context(rebuilt)?;
+        let airspaces = std::sync::OnceLock::new();
+        let (exp, _) = paper(&sweep, &world, &airspaces).with_context(rebuilt)?;
         merged(&exp, &texts, out, &args.out)
     }
 }

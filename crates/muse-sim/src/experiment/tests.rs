@@ -232,8 +232,11 @@ fn paper(s: &muse_scenario::Scenario) -> Experiment<sweep::Sweep<'_>> {
         zone_label: "zone, \"CBD\"",
     };
     let variants = sweep::levers::variants(&base, &["zones"], &[]).unwrap();
+    let airspaces = Box::leak(Box::new(
+        sweep::Airspaces::new(&s.airspace, &variants).unwrap(),
+    ));
     Experiment {
-        kind: sweep::Sweep::new(&s.airspace, &grid, variants, None).unwrap(),
+        kind: sweep::Sweep::new(airspaces, &grid, variants, None).unwrap(),
         grid,
     }
 }

@@ -1,13 +1,14 @@
 //! The paper's sweep as a [`Kind`]: its cases are scenario variants, each run plans a day
-//! against the variant's zones with its flight parameters, first come, first served or as one
-//! batch (`--vary planner`).
+//! against the variant's zones with its flight parameters on its airspace (flat or layered),
+//! first come, first served or as one batch (`--vary planner`).
 
 use muse_airspace::closures::{ClosureError, Closures, resolve};
 use muse_model::Airspace;
 use muse_planner::Planner;
 
-use super::record::{RunRecord, columns};
-use super::report::{plots, summary, table};
+use super::airspaces::Airspaces;
+use super::record::{RunRecord, columns, layer_columns};
+use super::report::{layer_metrics, plots, summary, table};
 use super::variant::Variant;
 use crate::day::{Planning, plan_sorted};
 use crate::demand::DemandError;
@@ -33,7 +34,7 @@ pub enum SweepError {
 
 /// The paper's experiment: the same days planned in each scenario variant.
 pub struct Sweep<'a> {
-    airspace: &'a Airspace,
+    airspaces: &'a Airspaces,
     variants: Vec<Variant>,
     /// Each variant's planner and zone closures, prepared once.
     prepared: Vec<(Planner<'a>, Closures)>,
@@ -49,11 +50,12 @@ impl std::fmt::Debug for Sweep<'_> {
 }
 
 impl<'a> Sweep<'a> {
-    /// The sweep of `variants` (at least one) on `airspace` over `grid`, each variant's zones
-    /// resolved over the grid's range; `booked` says how requests are booked, for plot
-    /// footnotes (`None`: at departure).
+    /// The sweep of `variants` (at least one) over `grid`, each on its airspace of
+    /// `airspaces` (flat, or layered as the variant says), its zones resolved over the grid's
+    /// range; `booked` says how requests are booked, for plot footnotes (`None`: at
+    /// departure).
     pub fn new(
-        airspace: &'a Airspace,
+        airspaces: &'a Airspaces,
         grid: &Grid,
         variants: Vec<Variant>,
         booked: Option<String>,
@@ -61,6 +63,7 @@ impl<'a> Sweep<'a> {
         let mut prepared = Vec::with_capacity(variants.len());
         for v in &variants {
             let (from, to) = grid.closure_range(&v.params);
+            let airspace = airspaces.of(&v.layers);
             let closures =
                 resolve(airspace, &v.zones, from, to).map_err(|source| SweepError::Zones {
                     variant: v.name.clone(),
@@ -69,7 +72,7 @@ impl<'a> Sweep<'a> {
             prepared.push((Planner::new(airspace, v.params), closures));
         }
         Ok(Sweep {
-            airspace,
+            airspaces,
             variants,
             prepared,
             booked,
@@ -79,6 +82,11 @@ impl<'a> Sweep<'a> {
     /// The variants, in run order.
     pub fn variants(&self) -> &[Variant] {
         &self.variants
+    }
+
+    /// Whether some variant flies a layered airspace (then the runs have layer columns).
+    fn layered(&self) -> bool {
+        self.variants.iter().any(|v| v.layers.is_layered())
     }
 }
 
@@ -95,7 +103,7 @@ impl Kind for Sweep<'_> {
     }
 
     fn shared_demand(&self) -> Option<&Airspace> {
-        Some(self.airspace)
+        Some(self.airspaces.flat())
     }
 
     fn run(&self, grid: &Grid, case: usize, day: &Day<'_>) -> Result<RunRecord, SweepError> {
@@ -108,13 +116,15 @@ impl Kind for Sweep<'_> {
                 (out.outcomes, out.report.elapsed)
             }
         };
+        let variant = &self.variants[case];
         Ok(RunRecord::of(
-            &self.variants[case].name,
+            &variant.name,
             (day.rep, day.seed, grid.booking_lead),
             day.requests,
             &outcomes,
             wall,
-        ))
+        )
+        .with_layers(self.airspaces.of(&variant.layers), &outcomes))
     }
 
     fn runs_file(&self) -> &'static str {
@@ -122,11 +132,19 @@ impl Kind for Sweep<'_> {
     }
 
     fn columns<'r>(&self, _: &'r [RunRecord]) -> Vec<Column<'r, RunRecord>> {
-        columns()
+        let mut all = columns();
+        if self.layered() {
+            all.extend(layer_columns());
+        }
+        all
     }
 
     fn summary(&self) -> Option<SummarySpec<RunRecord>> {
-        Some(summary())
+        let mut spec = summary();
+        if self.layered() {
+            spec.metrics.extend(layer_metrics());
+        }
+        Some(spec)
     }
 
     fn measured(&self, column: &str) -> bool {
@@ -134,7 +152,7 @@ impl Kind for Sweep<'_> {
     }
 
     fn table(&self, _: &Grid, _: &[RunRecord], groups: &[Group<RunRecord>]) -> String {
-        table(groups)
+        table(groups, self.layered())
     }
 
     fn plots(&self, grid: &Grid, _: &[RunRecord], groups: &[Group<RunRecord>]) -> Vec<Plot> {

@@ -7,13 +7,15 @@
 //! - [`RunRecord`]: what one run measured, a row of `sweep.csv`;
 //! - `sweep_summary.csv`, the table and the plots (runtime, success rate, air delay).
 
+mod airspaces;
 mod kind;
 pub mod levers;
 mod record;
 mod report;
 mod variant;
 
+pub use airspaces::Airspaces;
 pub use kind::{Sweep, SweepError};
-pub use record::{RunRecord, columns};
-pub use report::{SUMMARY_FILE, summary};
+pub use record::{LayerUse, RunRecord, columns, layer_columns};
+pub use report::{SUMMARY_FILE, layer_metrics, summary};
 pub use variant::Variant;

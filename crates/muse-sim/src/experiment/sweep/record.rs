@@ -1,6 +1,6 @@
 //! What one run of the paper's sweep measured, and its row of `sweep.csv`.
 
-use muse_model::{RejectReason, Request};
+use muse_model::{Airspace, EdgeKind, RejectReason, Request};
 use muse_planner::Outcome;
 
 use crate::demand::BookingLead;
@@ -41,6 +41,73 @@ pub struct RunRecord {
     pub expanded_per_request: f64,
     /// Mean legs per planned trip (1 without battery swaps).
     pub legs_per_trip: f64,
+    /// On a layered airspace (SPEC §13), how the vertical links were used; `None` when flat.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub layer_use: Option<LayerUse>,
+}
+
+/// How a day's planned flights used the vertical links of a layered airspace.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct LayerUse {
+    /// Time on vertical links over airborne time, all planned flights together.
+    pub climb_share: f64,
+    /// Vertical links crossed per planned flight.
+    pub crossings_per_flight: f64,
+    /// Crossings of the busiest vertical link in the day.
+    pub busiest_link_crossings: usize,
+}
+
+impl LayerUse {
+    /// The use of `airspace`'s vertical links by the planned `outcomes`, or `None` if
+    /// `airspace` is flat.
+    ///
+    /// ```
+    /// use muse_model::{Airspace, Instant, Layers, NodeId, Plan, Stay};
+    /// use muse_planner::Outcome;
+    /// use muse_sim::experiment::sweep::LayerUse;
+    /// let air = Airspace::line(&[1_000.0]).layered(&Layers { count: 2, ..Layers::default() })
+    ///     .unwrap();
+    /// let stay = |n, t| Stay { node: NodeId(n), arrive: Instant(t), depart: Instant(t) };
+    /// // A → A@2 (1,829 ms) → B@2 (120 s) → B (1,829 ms).
+    /// let path = vec![stay(0, 0), stay(2, 1_829), stay(3, 121_829), stay(1, 123_658)];
+    /// let flown = Outcome { result: Ok(Plan { path }), free_flow: None, expanded: 0 };
+    /// let used = LayerUse::of(&air, &[flown]).unwrap();
+    /// assert_eq!((used.crossings_per_flight, used.busiest_link_crossings), (2.0, 1));
+    /// assert!((used.climb_share - 3_658.0 / 123_658.0).abs() < 1e-12);
+    /// assert!(LayerUse::of(&Airspace::line(&[1_000.0]), &[]).is_none());
+    /// ```
+    pub fn of(airspace: &Airspace, outcomes: &[Outcome]) -> Option<Self> {
+        airspace.layers()?;
+        let mut crossings = vec![0usize; airspace.edge_count()];
+        let (mut climbing, mut airborne, mut flights) = (0i64, 0i64, 0usize);
+        for plan in outcomes.iter().filter_map(|o| o.result.as_ref().ok()) {
+            flights += 1;
+            for leg in plan.legs() {
+                if let (Some(first), Some(last)) = (leg.first(), leg.last()) {
+                    airborne += (last.depart - first.arrive).0;
+                }
+                for hop in leg.windows(2) {
+                    let Some(e) = airspace.edge_between(hop[0].node, hop[1].node) else {
+                        continue;
+                    };
+                    if let EdgeKind::Vertical { time, .. } = airspace.edge_kind(e) {
+                        climbing += time.0;
+                        crossings[e.index()] += 1;
+                    }
+                }
+            }
+        }
+        let total: usize = crossings.iter().sum();
+        Some(LayerUse {
+            climb_share: if airborne > 0 {
+                climbing as f64 / airborne as f64
+            } else {
+                0.0
+            },
+            crossings_per_flight: total as f64 / flights.max(1) as f64,
+            busiest_link_crossings: crossings.into_iter().max().unwrap_or(0),
+        })
+    }
 }
 
 impl RunRecord {
@@ -69,6 +136,7 @@ impl RunRecord {
             planner_ms: wall.as_secs_f64() * 1e3,
             expanded_per_request: 0.0,
             legs_per_trip: 0.0,
+            layer_use: None,
         };
         let (mut air, mut ground, mut expanded, mut legs) = (0i64, 0i64, 0u64, 0usize);
         for (req, o) in requests.iter().zip(outcomes) {
@@ -96,6 +164,14 @@ impl RunRecord {
         rec.expanded_per_request = expanded as f64 / n;
         rec.legs_per_trip = legs as f64 / planned;
         rec
+    }
+
+    /// The record with the use of `airspace`'s vertical links by `outcomes` (none when
+    /// `airspace` is flat).
+    #[must_use]
+    pub fn with_layers(mut self, airspace: &Airspace, outcomes: &[Outcome]) -> Self {
+        self.layer_use = LayerUse::of(airspace, outcomes);
+        self
     }
 }
 
@@ -135,5 +211,24 @@ pub fn columns() -> Vec<Column<'static, RunRecord>> {
         Column::new("booking_lead_min_to", |r: &RunRecord| {
             minutes(r.booking_lead.max)
         }),
+    ]
+}
+
+/// The columns a sweep with layered variants adds to `sweep.csv`: the vertical links' use
+/// ([`LayerUse`]; empty for a flat variant's runs).
+pub fn layer_columns() -> Vec<Column<'static, RunRecord>> {
+    let cell = |f: fn(&LayerUse) -> String| {
+        move |r: &RunRecord| r.layer_use.as_ref().map_or(String::new(), f)
+    };
+    vec![
+        Column::new("climb_share", cell(|u| format!("{:.6}", u.climb_share))),
+        Column::new(
+            "vertical_crossings_per_flight",
+            cell(|u| format!("{:.4}", u.crossings_per_flight)),
+        ),
+        Column::new(
+            "busiest_vertical_link_crossings",
+            cell(|u| u.busiest_link_crossings.to_string()),
+        ),
     ]
 }

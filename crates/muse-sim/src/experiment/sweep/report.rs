@@ -62,26 +62,60 @@ pub fn summary() -> SummarySpec<RunRecord> {
     }
 }
 
+/// The metrics a sweep with layered variants adds to `sweep_summary.csv`: the share of
+/// airborne time spent climbing or descending, and vertical links crossed per flight (none for
+/// a flat variant).
+pub fn layer_metrics() -> Vec<Metric<RunRecord>> {
+    vec![
+        Metric {
+            name: "climb_share",
+            value: |r| r.layer_use.map(|u| u.climb_share),
+        },
+        Metric {
+            name: "vertical_crossings_per_flight",
+            value: |r| r.layer_use.map(|u| u.crossings_per_flight),
+        },
+        Metric {
+            name: "busiest_vertical_link_crossings",
+            value: |r| r.layer_use.map(|u| u.busiest_link_crossings as f64),
+        },
+    ]
+}
+
 /// The table printed at the end: per variant and count, success rate, planner time and air
-/// delay (mean ± half-width of the 95% CI), labels expanded per request.
-pub fn table(groups: &[Group<RunRecord>]) -> String {
-    let mut t = TextTable::new(&[
+/// delay (mean ± half-width of the 95% CI), labels expanded per request; when `layered`, the
+/// share of airborne time spent climbing or descending too.
+pub fn table(groups: &[Group<RunRecord>], layered: bool) -> String {
+    let mut columns = vec![
         ("variant", 28, Align::Left),
         ("count", 7, Align::Right),
         ("success %", 16, Align::Right),
         ("planner ms", 16, Align::Right),
         ("air delay s", 16, Align::Right),
         ("expanded", 10, Align::Right),
-    ]);
+    ];
+    if layered {
+        columns.push(("climbing %", 12, Align::Right));
+    }
+    let mut t = TextTable::new(&columns);
     for g in groups {
-        t.row(vec![
+        let mut row = vec![
             g.first.variant.clone(),
             g.count.to_string(),
             plus_minus(g.metric(SUCCESS), 100.0, 1),
             plus_minus(g.metric(PLANNER_MS), 1.0, 2),
             plus_minus(g.metric(AIR_DELAY), 1.0, 1),
             format!("{:.2}", g.metric(EXPANDED).mean),
-        ]);
+        ];
+        if layered {
+            let climb = g.metric("climb_share");
+            row.push(if climb.n > 0 {
+                format!("{:.2}", climb.mean * 100.0)
+            } else {
+                "–".to_owned()
+            });
+        }
+        t.row(row);
     }
     t.to_string()
 }

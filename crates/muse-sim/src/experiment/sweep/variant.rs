@@ -1,7 +1,7 @@
-//! A scenario variant of the paper's sweep: a name, the zones in force, the flight parameters
-//! and how a day is planned.
+//! A scenario variant of the paper's sweep: a name, the zones in force, the flight parameters,
+//! the airspace's layers and how a day is planned.
 
-use muse_model::{FlightParams, Zone};
+use muse_model::{FlightParams, Layers, Zone};
 
 use crate::day::Planning;
 
@@ -16,4 +16,6 @@ pub struct Variant {
     pub params: FlightParams,
     /// First come, first served, or as one batch (SPEC §14).
     pub planning: Planning,
+    /// The layers the airspace is flown at (SPEC §13; one: flat).
+    pub layers: Layers,
 }

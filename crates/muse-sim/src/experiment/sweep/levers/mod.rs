@@ -27,6 +27,8 @@ levers! {
     battery_swap::BatterySwaps,
     tau::Tau,
     planner::Planners,
+    layers::LayerCounts,
+    heading::HeadingRules,
 }
 
 /// The lever whose `--vary` value is `name`.
@@ -63,6 +65,7 @@ pub fn variants(
         zones: base.zones.to_vec(),
         params: base.params,
         planning: Planning::FirstComeFirstServed,
+        layers: muse_model::Layers::default(),
     }];
     for &name in vary {
         let lever =

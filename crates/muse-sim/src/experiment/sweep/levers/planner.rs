@@ -83,6 +83,7 @@ mod tests {
             zones: Vec::new(),
             params: FlightParams::default(),
             planning: Planning::FirstComeFirstServed,
+            layers: muse_model::Layers::default(),
         };
         let got = Planners.apply(&base, &current, "500").unwrap();
         assert_eq!(got[0].0, "FCFS");

@@ -61,7 +61,7 @@ mod tests {
 
     use crate::demand::{BookingLead, OdRule};
     use crate::experiment::sweep::levers::{Base, variants};
-    use crate::experiment::sweep::{RunRecord, Sweep};
+    use crate::experiment::sweep::{Airspaces, RunRecord, Sweep};
     use crate::experiment::{Experiment, Grid, Kind as _, Seeds, Shard};
 
     /// `--vary tau --tau-s 0.5,120` on the embedded default: 2 variants × 400 requests × 2
@@ -88,8 +88,10 @@ mod tests {
             zone_label: "no zone",
         };
         let variants = variants(&base, &["tau"], &[("tau-s", "0.5,120")]).unwrap();
+        // Tests only: the sweep borrows its airspaces for the test's whole run.
+        let airspaces = Box::leak(Box::new(Airspaces::new(&s.airspace, &variants).unwrap()));
         Experiment {
-            kind: Sweep::new(&s.airspace, &grid, variants, None).unwrap(),
+            kind: Sweep::new(airspaces, &grid, variants, None).unwrap(),
             grid,
         }
     }
