@@ -27,6 +27,7 @@ use muse_service::state::{Clock, ServiceWorld};
 use muse_service::{Options, launch};
 
 use super::common::{FlightArgs, WorldArgs};
+use super::layers::LayersArgs;
 use super::ranges;
 
 /// What `muse serve --help` says after the options.
@@ -54,6 +55,8 @@ only requests addressed to a loopback name (Host localhost, 127.0.0.1, [::1]) ar
 pub struct ServeArgs {
     #[command(flatten)]
     world: WorldArgs,
+    #[command(flatten)]
+    layers: LayersArgs,
     #[command(flatten)]
     flight: FlightArgs,
     /// Address to listen on (port 0: any free port, printed at start).
@@ -122,7 +125,7 @@ pub struct ServeArgs {
 /// other end, even `kill -9`, loses nothing acknowledged).
 pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     let params = args.flight.params()?;
-    let world = args.world.load()?;
+    let world = args.world.load()?.layered(&args.layers)?;
     world.refuse_withdrawn("serve")?;
     let clock = match &args.clock {
         None => Clock::system(),

@@ -406,3 +406,32 @@ async fn damage_is_refused_or_named_never_served() {
     assert_ne!(code, Some(0));
     assert!(said.contains("cut short"), "{said}");
 }
+
+/// A store records the layering it was written with (SPEC §13): a start with another one is
+/// refused and names both; the same one starts; a flat store keeps its meta as before layers.
+#[test]
+fn a_store_refuses_another_layering() {
+    let d = scratch_dir("store-layers");
+    let clock = now();
+    let four = ["--layers", "4", "--heading-rule", "sectors"];
+    Proc::start(&d, clock, &four).stop();
+    let (code, said) = Proc::start(&d, clock, &[]).refused();
+    assert_eq!(code, Some(2), "{said}");
+    assert!(
+        said.contains("layers 4 from 60 m, 9.144 m apart")
+            && said.contains("heading rule sectors")
+            && said.contains("layers (none)"),
+        "{said}"
+    );
+    let (code, said) = Proc::start(&d, clock, &["--layers", "2"]).refused();
+    assert_eq!(code, Some(2), "{said}");
+    assert!(said.contains("layers 2 from 60 m"), "{said}");
+    Proc::start(&d, clock, &four).stop();
+
+    let flat = scratch_dir("store-flat");
+    Proc::start(&flat, clock, &[]).stop();
+    let (code, said) = Proc::start(&flat, clock, &["--layers", "2"]).refused();
+    assert_eq!(code, Some(2), "{said}");
+    assert!(said.contains("layers (not recorded)"), "{said}");
+    Proc::start(&flat, clock, &["--layers", "1"]).stop();
+}

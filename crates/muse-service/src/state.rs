@@ -86,21 +86,22 @@ impl ServiceWorld {
     /// (`("speed", "30 km/h")`). A store written for anything else is refused, naming what
     /// differs.
     pub fn description(&self) -> Vec<(String, String)> {
-        let airspace = muse_formats::airspace_geojson::write_airspace(&self.airspace);
+        let flat = self.airspace.flat();
+        let airspace = muse_formats::airspace_geojson::write_airspace(flat);
         let zones = muse_formats::zones::write_ed318(&self.zones);
         let p = &self.params;
         let secs = |m: Millis| format!("{} s", m.as_secs_f64());
         let mins = |m: Millis| format!("{} min", m.as_secs_f64() / 60.0);
-        let stations = self.airspace.stations().count();
+        let stations = flat.stations().count();
         let ids: Vec<&str> = self.zones.iter().map(|z| z.id.as_str()).collect();
-        [
+        let mut rows = vec![
             (
                 "airspace",
                 format!(
                     "{} stations, {} waypoints and {} corridors (GeoJSON checksum {:08x})",
                     stations,
-                    self.airspace.node_count() - stations,
-                    self.airspace.edge_count(),
+                    flat.node_count() - stations,
+                    flat.edge_count(),
                     crc32fast::hash(airspace.as_bytes()),
                 ),
             ),
@@ -142,16 +143,29 @@ impl ServiceWorld {
                 "delivery deadline",
                 p.max_trip.map_or("none".to_owned(), mins),
             ),
-        ]
-        .into_iter()
-        .map(|(k, v)| (k.to_owned(), v))
-        .collect()
+        ];
+        // Only a layered world has the row: a flat store's meta is as before layers.
+        if let Some(l) = self.airspace.layers() {
+            rows.push((
+                "layers",
+                format!(
+                    "{} from {} m, {} m apart, climbing at {} mm/s ({} ms a link), heading rule {}",
+                    l.count,
+                    l.base,
+                    l.spacing,
+                    l.climb_mm_per_s,
+                    l.climb_time().0,
+                    l.heading_rule
+                ),
+            ));
+        }
+        rows.into_iter().map(|(k, v)| (k.to_owned(), v)).collect()
     }
 
     /// How the earlier versions' log described the world it was written for (to convert such
     /// a log: see `store::legacy`).
     pub fn legacy_fingerprint(&self) -> String {
-        let airspace = muse_formats::airspace_geojson::write_airspace(&self.airspace);
+        let airspace = muse_formats::airspace_geojson::write_airspace(self.airspace.flat());
         let zones = muse_formats::zones::write_ed318(&self.zones);
         let p = &self.params;
         // Logs written without battery swaps kept the description they were written with.
