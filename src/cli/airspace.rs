@@ -8,9 +8,12 @@ use anyhow::Context as _;
 use clap::Subcommand;
 use muse_airspace::closures::closed_elements;
 use muse_airspace::stats::airspace_stats;
-use muse_model::{Millis, Period, Zone};
+use muse_model::{
+    Airspace, EdgeId, EdgeKind, HeadingRule, Layers, Metres, Millis, NodeId, Period, Speed, Zone,
+};
 
 use super::common::{RangeArgs, WorldArgs};
+use super::layers::LayersArgs;
 use super::output;
 
 /// The airspace subcommands.
@@ -26,10 +29,13 @@ pub enum AirspaceCommand {
         #[arg(long)]
         check: bool,
     },
-    /// Print graph statistics and, for each zone, its heights and what it closes.
+    /// Print graph statistics and, for each zone, its heights and what it closes (with
+    /// `--layers`: the layering, and what each zone closes at each layer).
     Info {
         #[command(flatten)]
         world: WorldArgs,
+        #[command(flatten)]
+        layers: LayersArgs,
         #[command(flatten)]
         range: RangeArgs,
     },
@@ -62,7 +68,11 @@ pub enum AirspaceCommand {
 pub fn run(cmd: AirspaceCommand) -> anyhow::Result<ExitCode> {
     match cmd {
         AirspaceCommand::Build { out, check } => build(&out, check),
-        AirspaceCommand::Info { world, range } => info(&world, range),
+        AirspaceCommand::Info {
+            world,
+            layers,
+            range,
+        } => info(&world, &layers, range),
         AirspaceCommand::Export {
             world,
             out,
@@ -117,10 +127,11 @@ fn build(out: &Path, check: bool) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-fn info(world: &WorldArgs, range: RangeArgs) -> anyhow::Result<ExitCode> {
-    let world = world.load()?;
+fn info(world: &WorldArgs, layers: &LayersArgs, range: RangeArgs) -> anyhow::Result<ExitCode> {
+    let world = world.load()?.layered(layers)?;
     let (speed, t_max) = (range.speed()?, range.t_max()?);
-    let a = &world.airspace;
+    // The graph's statistics are the flat airspace's; the layering follows them.
+    let a = world.airspace.flat();
     let s = airspace_stats(a, speed, t_max);
     let km = |m: Option<f64>| m.map_or_else(|| "-".to_owned(), |m| format!("{:.2} km", m / 1000.0));
     let mins = |t: Millis| t.as_secs_f64() / 60.0;
@@ -162,12 +173,17 @@ fn info(world: &WorldArgs, range: RangeArgs) -> anyhow::Result<ExitCode> {
         100.0 * s.share_within_t_max,
         mins(t_max)
     );
+    let layered = &world.airspace;
+    if let Some(layers) = layered.layers() {
+        layering(&mut o, layered, layers, speed, t_max);
+    }
     if world.zones.is_empty() {
         let _ = writeln!(o, "zones         none");
     }
     for zone in &world.zones {
-        let (nodes, edges) =
-            closed_elements(a, zone).with_context(|| format!("zone `{}`", zone.id))?;
+        // On the flat graph, heights aside: what its area and ids cover (an error names the
+        // zone).
+        let (nodes, edges) = closed_elements(a, zone)?;
         let _ = writeln!(
             o,
             "zone          {} — {} ({})",
@@ -175,25 +191,129 @@ fn info(world: &WorldArgs, range: RangeArgs) -> anyhow::Result<ExitCode> {
             zone.name,
             describe_periods(zone)
         );
-        // The band is shown; what a zone closes does not depend on it until layers exist.
         let _ = writeln!(o, "  heights     {}", zone.vertical);
         let node_ids: Vec<&str> = nodes.iter().map(|&n| a.node(n).id.as_str()).collect();
         let edge_ids: Vec<&str> = edges.iter().map(|&e| a.edge(e).id.as_str()).collect();
+        // Flat, a zone closes what it covers whatever its heights; layered, the copies at the
+        // layers of its band (and the vertical links across it).
+        let verb = if layered.layers().is_some() {
+            "covers"
+        } else {
+            "closes"
+        };
         let _ = writeln!(
             o,
-            "  closes      {} nodes: {}",
+            "  {verb}      {} nodes: {}",
             nodes.len(),
             list_or_none(&node_ids)
         );
         let _ = writeln!(
             o,
-            "  closes      {} edges: {}",
+            "  {verb}      {} edges: {}",
             edges.len(),
             list_or_none(&edge_ids)
         );
+        if let Some(layers) = layered.layers() {
+            let (nodes, edges) = closed_elements(layered, zone)?;
+            let _ = writeln!(
+                o,
+                "  closes      {}",
+                by_layer(layered, layers, &nodes, &edges)
+            );
+        }
     }
     print!("{o}");
     Ok(ExitCode::SUCCESS)
+}
+
+/// The lines of `muse airspace info` on the layering of a layered airspace `a`.
+fn layering(o: &mut String, a: &Airspace, layers: &Layers, speed: Speed, t_max: Millis) {
+    let altitudes: Vec<String> = (1..=layers.count)
+        .map(|k| layers.altitude(k).to_string())
+        .collect();
+    let _ = writeln!(
+        o,
+        "layers        {} at {} m ({} m apart); vertical links climbed in {:.3} s at {} m/s",
+        layers.count,
+        altitudes.join(", "),
+        layers.spacing,
+        layers.climb_time().as_secs_f64(),
+        Metres::from_mm(i64::from(layers.climb_mm_per_s)),
+    );
+    let rule = match layers.heading_rule {
+        HeadingRule::None => "none (every direction at every layer)".to_owned(),
+        HeadingRule::Sectors => {
+            let width = 360.0 / f64::from(layers.count);
+            let sectors: Vec<String> = (1..=layers.count)
+                .map(|k| {
+                    let (low, high) = (f64::from(k - 1) * width, f64::from(k) * width);
+                    format!("{k}: {}–{}°", trim(low), trim(high))
+                })
+                .collect();
+            format!(
+                "sectors (initial bearings by layer, upper bound excluded: {})",
+                sectors.join(", ")
+            )
+        }
+    };
+    let _ = writeln!(o, "heading rule  {rule}");
+    let (mut corridors, mut one_way, mut vertical) = (0, 0, 0);
+    for e in 0..a.edge_count() {
+        match a.edge_kind(EdgeId(u32::try_from(e).unwrap_or(u32::MAX))) {
+            EdgeKind::Corridor { one_way: one, .. } => {
+                corridors += 1;
+                one_way += usize::from(one);
+            }
+            EdgeKind::Vertical { .. } => vertical += 1,
+        }
+    }
+    let absent = a.flat().edge_count() * layers.count as usize - corridors;
+    let _ = writeln!(
+        o,
+        "layered graph {} nodes, {} edges: {corridors} corridors ({one_way} one-way; {absent} \
+         copies absent), {vertical} vertical links",
+        a.node_count(),
+        a.edge_count()
+    );
+    let s = airspace_stats(a, speed, t_max);
+    let _ = writeln!(
+        o,
+        "in range      {} of {} ordered station pairs ({:.1}%) on the layers (climbs and heading \
+         rule included)",
+        s.station_pairs_within_t_max,
+        s.station_pairs,
+        100.0 * s.share_within_t_max,
+    );
+}
+
+/// A number of degrees without a needless fraction: `90`, `22.5`.
+fn trim(degrees: f64) -> String {
+    let text = format!("{degrees:.3}");
+    text.trim_end_matches('0').trim_end_matches('.').to_owned()
+}
+
+/// What a zone closes on a layered airspace, by layer: `layer 1: 3 nodes, 5 corridors; layer
+/// 2: none; vertical links: 3`.
+fn by_layer(a: &Airspace, layers: &Layers, nodes: &[NodeId], edges: &[EdgeId]) -> String {
+    let count = layers.count as usize;
+    let (mut at_nodes, mut at_corridors, mut vertical) = (vec![0; count], vec![0; count], 0);
+    for &n in nodes {
+        at_nodes[a.node_layer(n) as usize - 1] += 1;
+    }
+    for &e in edges {
+        match a.edge_kind(e) {
+            EdgeKind::Corridor { layer, .. } => at_corridors[layer as usize - 1] += 1,
+            EdgeKind::Vertical { .. } => vertical += 1,
+        }
+    }
+    let mut parts: Vec<String> = (0..count)
+        .map(|i| match (at_nodes[i], at_corridors[i]) {
+            (0, 0) => format!("layer {}: none", i + 1),
+            (n, c) => format!("layer {}: {n} nodes, {c} corridors", i + 1),
+        })
+        .collect();
+    parts.push(format!("vertical links: {vertical}"));
+    parts.join("; ")
 }
 
 fn list_or_none(ids: &[&str]) -> String {

@@ -1,10 +1,11 @@
 //! `muse airspace info` on zones with vertical limits: each zone's heights as read from
-//! ED-318 and ED-269 files, and what it closes (the same as without limits: MUSE flies one
-//! cruise altitude until layers exist).
+//! ED-318 and ED-269 files, and what it closes: on the flat airspace the same as without
+//! limits (one cruise altitude); with `--layers`, the layers of its band and the vertical
+//! links across it (SPEC §13).
 
 use std::path::Path;
 
-use crate::run::{muse, said, stdout};
+use crate::run::{muse, said, stderr, stdout};
 use crate::support::scratch_dir;
 
 /// Three stations on a line, A–B–C, one kilometre apart.
@@ -106,4 +107,138 @@ zone          HELI — Heliport (permanent)
     let mut with = closes(&got);
     with.truncate(with.len() - 2); // HELI's, from the other file.
     assert_eq!(closes(&without), with, "{without}");
+}
+
+/// ED-318: around B from 65 m to 75 m (layer 2, 69.144 m, and the climbs on either side of
+/// it); around C from 70 m to 75 m (between layers 2 and 3: the climb only); A listed by id
+/// from 78 m up (layer 3, and the climb to it).
+const BANDS: &str = r#"{"type": "FeatureCollection", "features": [
+  {"type": "Feature", "properties": {"identifier": "MID", "name": "Mid"},
+   "geometry": {"type": "Point", "coordinates": [103.8089, 1.3], "extent": {"subType": "Circle", "radius": 50},
+     "layer": {"lower": 65, "upper": 75, "uom": "m"}}},
+  {"type": "Feature", "properties": {"identifier": "THIN", "name": "Thin"},
+   "geometry": {"type": "Point", "coordinates": [103.8178, 1.3], "extent": {"subType": "Circle", "radius": 50},
+     "layer": {"lower": 70, "upper": 75, "uom": "m"}}},
+  {"type": "Feature", "properties": {"identifier": "TOP", "name": "Top", "nodes": ["A"],
+     "layer": {"lower": 78, "uom": "m"}}, "geometry": null}]}"#;
+
+#[test]
+fn airspace_info_with_layers_shows_what_each_zone_closes_per_layer() {
+    let dir = scratch_dir("airspace_info_layers");
+    std::fs::create_dir_all(&dir).unwrap();
+    let air = write(&dir, "line.geojson", LINE);
+    let bands = write(&dir, "bands.geojson", BANDS);
+    let ed318 = write(&dir, "zones.geojson", ED318);
+    let o = muse(&[
+        "airspace",
+        "info",
+        "--airspace",
+        &air,
+        "--zones",
+        &bands,
+        "--layers",
+        "3",
+    ]);
+    assert!(o.status.success(), "{}", said(&o));
+    let out = stdout(&o);
+    for line in [
+        "layers        3 at 60, 69.144, 78.288 m (9.144 m apart); vertical links climbed in \
+         1.829 s at 5 m/s\n",
+        "heading rule  none (every direction at every layer)\n",
+        "layered graph 9 nodes, 12 edges: 6 corridors (0 one-way; 0 copies absent), 6 vertical \
+         links\n",
+    ] {
+        assert!(out.contains(line), "no {line:?} in\n{out}");
+    }
+    let at = out.find("\nzone ").expect("a zone is listed") + 1;
+    let want = "\
+zone          MID — Mid (permanent)
+  heights     65–75 m AGL
+  covers      1 nodes: B
+  covers      2 edges: A-B, B-C
+  closes      layer 1: none; layer 2: 1 nodes, 2 corridors; layer 3: none; vertical links: 2
+zone          THIN — Thin (permanent)
+  heights     70–75 m AGL
+  covers      1 nodes: C
+  covers      1 edges: B-C
+  closes      layer 1: none; layer 2: none; layer 3: none; vertical links: 1
+zone          TOP — Top (permanent)
+  heights     from 78 m AGL up
+  covers      1 nodes: A
+  covers      0 edges: none
+  closes      layer 1: none; layer 2: none; layer 3: 1 nodes, 0 corridors; vertical links: 1
+";
+    assert_eq!(&out[at..], want);
+
+    // A zone without limits closes every layer; LOW (0–60 m) layer 1 and the climb from it.
+    let got = zone_lines(&["--airspace", &air, "--zones", &ed318, "--layers", "3"]);
+    assert!(
+        got.contains(
+            "zone          ALL — All (permanent)\n  heights     whole sky\n  covers      1 nodes: C\n  \
+             covers      1 edges: B-C\n  closes      layer 1: 1 nodes, 1 corridors; layer 2: 1 \
+             nodes, 1 corridors; layer 3: 1 nodes, 1 corridors; vertical links: 2\n"
+        ),
+        "{got}"
+    );
+    assert!(
+        got.contains(
+            "  heights     0–60 m AGL\n  covers      1 nodes: A\n  covers      1 edges: A-B\n  \
+             closes      layer 1: 1 nodes, 1 corridors; layer 2: none; layer 3: none; vertical \
+             links: 1\n"
+        ),
+        "{got}"
+    );
+}
+
+#[test]
+fn airspace_info_with_layers_follows_the_heading_rule_and_the_flat_ids() {
+    let dir = scratch_dir("airspace_info_layers_rules");
+    std::fs::create_dir_all(&dir).unwrap();
+    let air = write(&dir, "line.geojson", LINE);
+    let bands = write(&dir, "bands.geojson", BANDS);
+    // Under quadrantal sectors the eastward line is flown at layer 1 only, westward at 3: a
+    // zone closes the copies there are.
+    let got = zone_lines(&[
+        "--airspace",
+        &air,
+        "--zones",
+        &bands,
+        "--layers",
+        "4",
+        "--heading-rule",
+        "sectors",
+    ]);
+    assert!(
+        got.contains("  closes      layer 1: none; layer 2: 1 nodes, 0 corridors; layer 3: none; layer 4: none; vertical links: 2\n"),
+        "{got}"
+    );
+
+    // With one layer nothing changes: the flat listing, heights aside.
+    assert_eq!(
+        zone_lines(&["--airspace", &air, "--zones", &bands, "--layers", "1"]),
+        zone_lines(&["--airspace", &air, "--zones", &bands])
+    );
+
+    // A zone names the flat airspace's ids, not a copy's.
+    let copy = write(
+        &dir,
+        "copy.geojson",
+        &BANDS.replace(r#""nodes": ["A"]"#, r#""nodes": ["A@3"]"#),
+    );
+    let o = muse(&[
+        "airspace",
+        "info",
+        "--airspace",
+        &air,
+        "--zones",
+        &copy,
+        "--layers",
+        "3",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", said(&o));
+    assert!(
+        stderr(&o).contains("zone `TOP` closes node `A@3`, which is not in the airspace"),
+        "{}",
+        said(&o)
+    );
 }

@@ -2,7 +2,8 @@
 //!
 //! - [`builder`]: stations (and waypoints) → Delaunay triangulation → the paper's
 //!   "join collinear nodes" → optional maximum edge length → a connected [`Airspace`](muse_model::Airspace);
-//! - [`closures`]: zones + a date range → each node's and edge's closure windows;
+//! - [`closures`]: zones + a date range → each node's and edge's closure windows (on a
+//!   layered airspace, of the copies at the layers in each zone's vertical band);
 //! - [`announced`]: those windows by when their zones became known (SPEC §11);
 //! - [`shortest`]: Dijkstra on integer traversal times (free-flow times, heuristics);
 //! - [`stats`]: graph statistics for `muse airspace info`.

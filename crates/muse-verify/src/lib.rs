@@ -4,7 +4,10 @@
 //! The verifier is deliberately simple: every rule is written out as the SPEC states it, on
 //! plain integer milliseconds, and it shares no interval or search code with the planner. It
 //! reads zone closures as per-element windows ([`Closures`]) and nothing else from
-//! `muse-airspace`.
+//! `muse-airspace`: on a layered airspace (SPEC §13), windows per copy of a node or corridor
+//! and per vertical link, as `muse-airspace` resolves them on that airspace (a zone closing
+//! only the layers of its vertical band), so what a zone closes, at which layers, is decided
+//! there once for the planner and the verifier.
 //!
 //! [`verify`] lists **every** violation, all pairs of flights included. Pairwise rules are
 //! checked per element (node or edge): occupations are sorted by start and each one is
@@ -30,7 +33,8 @@
 //!   takes off from the station where leg `i` landed, at least `S` after that landing.
 //! - [`Rule::Zone`]: a stay `[a, d]` at a closed node, or a traversal `[s, f]` of a closed
 //!   edge, shares no instant with a closure window `[start, end)`: `d < start` or `a >= end`.
-//!   Origin and destination are no exception. With zones announced during the day
+//!   Origin and destination are no exception; on a layered airspace the rule is per copy
+//!   (node or corridor at a layer, vertical link). With zones announced during the day
 //!   ([`verify_known`]), a zone announced at `n` (and withdrawn at `m`, if it was) binds only
 //!   the stays and traversals that begin in `[n, m)`: one that begins before `n` is exempt.
 //!

@@ -86,3 +86,114 @@ pub(crate) fn zone_rule(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use muse_airspace::announced::KnownZones;
+    use muse_model::{Layers, Metres, Period, Plan, Stay, VerticalLimits, Zone};
+
+    use crate::tests::{airspace, params, request, rules};
+    use crate::{Flight, Rule, Violation, edge_of, traversal_time, verify_known};
+
+    use super::*;
+
+    /// [`airspace`] at two layers, 60 m and 69.144 m.
+    fn two_layers() -> Airspace {
+        let layers = Layers {
+            count: 2,
+            ..Layers::default()
+        };
+        airspace().layered(&layers).unwrap()
+    }
+
+    /// A zone over the listed nodes and corridors from 0 to 1,000 s, in `lower`–`upper` mm.
+    fn zone(nodes: &[&str], edges: &[&str], lower: Option<i64>, upper: Option<i64>) -> Zone {
+        Zone {
+            id: "Z".into(),
+            name: String::new(),
+            restriction: String::new(),
+            area: None,
+            node_ids: nodes.iter().map(|s| (*s).to_owned()).collect(),
+            edge_ids: edges.iter().map(|s| (*s).to_owned()).collect(),
+            announced: None,
+            withdrawn: None,
+            vertical: VerticalLimits::agl(lower.map(Metres::from_mm), upper.map(Metres::from_mm)),
+            periods: vec![Period {
+                start: Some(Instant(0)),
+                end: Some(Instant(1_000_000)),
+                daily: vec![],
+            }],
+        }
+    }
+
+    /// A plan through the nodes `ids` taking off at 10 s, no hover, each hop in its own time
+    /// (a corridor 10 s, a vertical link 1.829 s).
+    fn through(a: &Airspace, ids: &[&str]) -> Plan {
+        let mut now = Instant(10_000);
+        let mut path: Vec<Stay> = Vec::new();
+        for id in ids {
+            let node = a.node_id(id).unwrap();
+            if let Some(last) = path.last() {
+                let e = edge_of(a, last.node, node).unwrap();
+                now += traversal_time(a, &params(), e);
+            }
+            path.push(Stay {
+                node,
+                arrive: now,
+                depart: now,
+            });
+        }
+        Plan { path }
+    }
+
+    fn check(a: &Airspace, zones: &[Zone], plan: &Plan) -> Vec<Violation> {
+        let known = KnownZones::resolve(a, zones, Instant(0), Instant(86_400_000)).unwrap();
+        let r = request(a, plan, plan.takeoff().0);
+        verify_known(a, &known, &params(), &[Flight::new("f", &r, plan)])
+    }
+
+    fn elements(v: &[Violation]) -> Vec<&str> {
+        v.iter().map(|v| v.element.as_str()).collect()
+    }
+
+    #[test]
+    fn a_zone_binds_only_the_layers_of_its_band() {
+        let a = two_layers();
+        let low = through(&a, &["A", "B", "C"]);
+        let high = through(&a, &["A", "A@2", "B@2", "C@2", "C"]);
+        assert_eq!(check(&a, &[], &high), [], "the plan itself is valid");
+        // B and B-C up to 65 m: layer 1 only.
+        let z = [zone(&["B"], &["B-C"], Some(0), Some(65_000))];
+        let v = check(&a, &z, &low);
+        assert_eq!(rules(&v), [Rule::Zone, Rule::Zone]);
+        assert_eq!(elements(&v), ["B", "B-C"]);
+        assert_eq!(check(&a, &z, &high), [], "layer 2 is above the band");
+        // From 65 m up: layer 2 only.
+        let z = [zone(&["B"], &["B-C"], Some(65_000), None)];
+        assert_eq!(check(&a, &z, &low), []);
+        assert_eq!(elements(&check(&a, &z, &high)), ["B@2", "B-C@2"]);
+        // Without limits: both.
+        let z = [zone(&["B"], &[], None, None)];
+        assert_eq!(elements(&check(&a, &z, &low)), ["B"]);
+        assert_eq!(elements(&check(&a, &z, &high)), ["B@2"]);
+    }
+
+    #[test]
+    fn a_zone_binds_the_vertical_links_whose_span_meets_its_band() {
+        let a = two_layers();
+        let high = through(&a, &["A", "A@2", "B@2", "C@2", "C"]);
+        // 66–200 m at A: the climb from 60 m to 69.144 m crosses it, and A@2 lies in it.
+        let v = check(&a, &[zone(&["A"], &[], Some(66_000), Some(200_000))], &high);
+        assert_eq!(rules(&v), [Rule::Zone, Rule::Zone]);
+        assert_eq!(elements(&v), ["A@2", "A@1^2"]);
+        // 61–65 m at A: no layer, but the climb crosses it.
+        let v = check(&a, &[zone(&["A"], &[], Some(61_000), Some(65_000))], &high);
+        assert_eq!(elements(&v), ["A@1^2"]);
+        assert!(v[0].detail.starts_with("traversal ["), "{}", v[0]);
+        // Above both layers: nothing.
+        assert_eq!(
+            check(&a, &[zone(&["A"], &[], Some(70_000), None)], &high),
+            []
+        );
+    }
+}

@@ -14,6 +14,13 @@
 //! - Explicit ids (`Zone::node_ids`, `Zone::edge_ids`) close those elements; an edge may be
 //!   named by its id or as `FROM-TO` with its end nodes' ids in either order. An id not in the
 //!   airspace is an error naming the zone and the id.
+//! - Layered airspace (SPEC §13): all of the above is decided once, on the flat airspace
+//!   ([`Airspace::flat`]), whose ids a zone names (`S001`, not its copy `S001@2`); the zone's
+//!   vertical band then chooses the layers: the copies of a closed node or corridor at the
+//!   layers whose altitude the band contains, and the vertical links at a closed node whose
+//!   span `[h_k, h_{k+1}]` meets the band. A zone without limits closes every layer. On a
+//!   flat airspace (one layer) the band is not used: a zone closes what it covers at any
+//!   height (SPEC §13: one layer is exactly §2–§12).
 
 use std::f64::consts::PI;
 
@@ -24,14 +31,20 @@ use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{AABB, RTree};
 
 use super::ClosureError;
+use super::layers::copies_in_band;
 
 /// The nodes and edges a zone closes (area rule and explicit ids), each sorted by index and
-/// without repeats. Time is not considered.
+/// without repeats. Time is not considered. On a layered airspace, the copies at the layers
+/// of the zone's vertical band and the vertical links whose span meets it (see the [module
+/// docs](self)).
 ///
 /// ```
 /// use geo_types::polygon;
 /// use muse_airspace::closures::closed_elements;
-/// use muse_model::{Airspace, Edge, LonLat, Node, NodeId, NodeKind, Zone, ZoneArea};
+/// use muse_model::{
+///     Airspace, Edge, Layers, LonLat, Metres, Node, NodeId, NodeKind, VerticalLimits, Zone,
+///     ZoneArea,
+/// };
 /// let node = |id: &str, lon| Node {
 ///     id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, 1.30),
 /// };
@@ -51,6 +64,12 @@ use super::ClosureError;
 /// let (nodes, edges) = closed_elements(&airspace, &zone).unwrap();
 /// assert!(nodes.is_empty());
 /// assert_eq!(edges.len(), 1);
+///
+/// // At two layers, 60 m and 69.144 m, the zone up to 65 m closes A-B at layer 1 only.
+/// let layered = airspace.layered(&Layers { count: 2, ..Layers::default() }).unwrap();
+/// let low = Zone { vertical: VerticalLimits::agl(None, Some(Metres::from_mm(65_000))), ..zone };
+/// let (_, edges) = closed_elements(&layered, &low).unwrap();
+/// assert_eq!(edges.iter().map(|&e| layered.edge(e).id.as_str()).collect::<Vec<_>>(), ["A-B"]);
 /// ```
 pub fn closed_elements(
     airspace: &Airspace,
@@ -262,8 +281,22 @@ impl Index {
     }
 }
 
-/// [`closed_elements`], with candidates from `index` when given.
+/// [`closed_elements`], with candidates from `index` (built on [`Airspace::flat`]) when
+/// given.
 pub(super) fn closed_with(
+    airspace: &Airspace,
+    zone: &Zone,
+    index: Option<&Index>,
+) -> Result<(Vec<NodeId>, Vec<EdgeId>), ClosureError> {
+    let (nodes, edges) = closed_flat(airspace.flat(), zone, index)?;
+    Ok(match airspace.layers() {
+        None => (nodes, edges),
+        Some(layers) => copies_in_band(airspace, layers, &zone.vertical, &nodes, &edges),
+    })
+}
+
+/// What a zone closes on a flat airspace, its heights aside.
+fn closed_flat(
     airspace: &Airspace,
     zone: &Zone,
     index: Option<&Index>,

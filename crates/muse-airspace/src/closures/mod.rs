@@ -1,6 +1,8 @@
 //! Zone resolution (SPEC §4): zones and a time range → each node's and edge's closure windows.
 //!
-//! - [`geometry`]: which elements a zone closes ([`closed_elements`]);
+//! - [`geometry`]: which elements a zone closes ([`closed_elements`]); on a layered airspace
+//!   (SPEC §13) the copies, at the layers its vertical band covers, of what it closes on the
+//!   flat one, and the vertical links at its nodes whose span meets the band;
 //! - [`windows`]: when it closes them ([`zone_windows`], [`MAX_RANGE_DAYS`]);
 //! - here: [`resolve`] puts the two together into [`Closures`]. Per element, windows of all
 //!   zones are sorted and overlapping or touching ones merged; [`Closures::add`] forms the
@@ -11,6 +13,7 @@
 //! when `d < start` or `a >= end` ([`Window::blocks`]).
 
 pub mod geometry;
+mod layers;
 pub mod windows;
 
 pub use geometry::closed_elements;
@@ -297,7 +300,9 @@ pub enum ClosureError {
     },
 }
 
-/// Resolves zones over `[from, to)` into per-element closure windows.
+/// Resolves zones over `[from, to)` into per-element closure windows: of every node and edge
+/// of `airspace`, the copies at each layer when it is layered (each zone closing only the
+/// layers of its vertical band, [`closed_elements`]).
 ///
 /// Errors: an explicit node or edge id not in the airspace, an invalid area or schedule, or a
 /// range that ends before it starts, lies outside the years 1000–9000 or is longer than
@@ -339,7 +344,7 @@ pub fn resolve(
     let index = zones
         .iter()
         .any(|z| z.area.is_some())
-        .then(|| Index::new(airspace));
+        .then(|| Index::new(airspace.flat()));
     let mut closures = Closures::none(airspace);
     for zone in zones {
         let (nodes, edges) = closed_with(airspace, zone, index.as_ref())?;
