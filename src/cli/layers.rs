@@ -15,7 +15,7 @@ pub struct LayersArgs {
     /// without layers).
     #[arg(long, default_value_t = 1, value_name = "L", allow_negative_numbers = true, value_parser = ranges::layers)]
     pub layers: u32,
-    /// Altitude of layer 1, metres, from 0 to 10000.
+    /// Altitude of layer 1, metres, from 0 to 10000 (with one layer it changes nothing).
     #[arg(long, default_value_t = 60.0, value_name = "M", allow_negative_numbers = true, value_parser = ranges::altitude_m)]
     pub base_altitude_m: f64,
     /// Spacing between layers, metres, from 0.001 to 1000 (default 9.144: 30 ft, as
