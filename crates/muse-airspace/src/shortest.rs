@@ -153,7 +153,7 @@ impl Dijkstra {
     ) where
         F: FnMut(EdgeId) -> Option<Millis>,
     {
-        self.search_from(airspace, &[source], target, cost);
+        self.search_from(airspace, &[source], target, false, cost);
         self.source = Some(source);
     }
 
@@ -182,7 +182,37 @@ impl Dijkstra {
             times.len() >= airspace.edge_count(),
             "one traversal time per edge is needed"
         );
-        self.search_from(airspace, sources, None, |e| Some(times[e.index()]));
+        self.search_from(airspace, sources, None, false, |e| Some(times[e.index()]));
+    }
+
+    /// Shortest times from every node to the nearest of `targets` (each node's time is to
+    /// whichever target it reaches first), searching backwards along the edges: the same as
+    /// [`Dijkstra::run_from_all`] unless some corridor is one-way (a heading rule, SPEC §13).
+    /// [`Dijkstra::path_to`] is not meaningful after it.
+    ///
+    /// ```
+    /// use muse_airspace::shortest::Dijkstra;
+    /// use muse_model::{Airspace, HeadingRule, Layers, Millis, NodeId};
+    /// // A — B eastward; with the semicircular rule, layer 1 is flown east only, layer 2
+    /// // west only: from B to A means climbing to B@2 and flying west.
+    /// let air = Airspace::line(&[1_000.0])
+    ///     .layered(&Layers { count: 2, heading_rule: HeadingRule::Sectors, ..Layers::default() })
+    ///     .unwrap();
+    /// let times = air.traversal_times(muse_model::Speed::default());
+    /// let mut search = Dijkstra::new(air.node_count());
+    /// search.run_towards_all(&air, &times, &[NodeId(0)]);
+    /// assert_eq!(search.time_to(NodeId(1)), Some(Millis(1_829 + 120_000 + 1_829)));
+    /// search.run_from_all(&air, &times, &[NodeId(0)]);
+    /// assert_eq!(search.time_to(NodeId(1)), Some(Millis(120_000)));
+    /// ```
+    ///
+    /// Panics if `times` is shorter than the edge list or holds a negative time.
+    pub fn run_towards_all(&mut self, airspace: &Airspace, times: &[Millis], targets: &[NodeId]) {
+        assert!(
+            times.len() >= airspace.edge_count(),
+            "one traversal time per edge is needed"
+        );
+        self.search_from(airspace, targets, None, true, |e| Some(times[e.index()]));
     }
 
     fn search_from<F>(
@@ -190,6 +220,7 @@ impl Dijkstra {
         airspace: &Airspace,
         sources: &[NodeId],
         target: Option<NodeId>,
+        backward: bool,
         mut cost: F,
     ) where
         F: FnMut(EdgeId) -> Option<Millis>,
@@ -216,7 +247,12 @@ impl Dijkstra {
             if target.is_some_and(|t| t.0 == u) {
                 break;
             }
-            for adj in airspace.neighbours(NodeId(u)) {
+            let next = if backward {
+                airspace.predecessors(NodeId(u))
+            } else {
+                airspace.neighbours(NodeId(u))
+            };
+            for adj in next {
                 let Some(w) = cost(adj.edge) else { continue };
                 assert!(
                     w.0 >= 0,

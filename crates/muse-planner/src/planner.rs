@@ -73,19 +73,24 @@ impl<'a> Planner<'a> {
     /// ```
     pub fn alternatives(&self, request: &Request) -> usize {
         let limit = self.params.trip_span() - self.params.max_ground_delay;
-        let from = self.heuristics.to(self.airspace, request.origin);
+        let from = self.heuristics.from(self.airspace, request.origin);
         let to = self.heuristics.to(self.airspace, request.destination);
         let times = self.heuristics.traversal_times();
         self.airspace
             .edges()
             .iter()
             .zip(times)
-            .filter(|&(e, &w)| {
+            .enumerate()
+            .filter(|&(i, (e, &w))| {
                 let via = |a: NodeId, b: NodeId| {
                     let (x, y) = (from[a.index()], to[b.index()]);
                     x != Millis::INF && y != Millis::INF && x + w + y <= limit
                 };
-                via(e.from, e.to) || via(e.to, e.from)
+                let one_way = matches!(
+                    self.airspace.edge_kind(muse_model::EdgeId(i as u32)),
+                    muse_model::EdgeKind::Corridor { one_way: true, .. }
+                );
+                via(e.from, e.to) || (!one_way && via(e.to, e.from))
             })
             .count()
     }

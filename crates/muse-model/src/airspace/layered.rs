@@ -205,6 +205,11 @@ mod tests {
         }
         // Each corridor flown one way at two layers; 5 nodes × 3 vertical links.
         assert_eq!(air.edge_count(), 8 + 15);
+        // Backwards, one-way corridors lead only from where they may be flown.
+        let into_ne1: Vec<NodeId> = air.predecessors(to(1, 1)).iter().map(|a| a.node).collect();
+        assert_eq!(into_ne1, [c(1), to(1, 2)]);
+        let out_of_ne1: Vec<NodeId> = air.neighbours(to(1, 1)).iter().map(|a| a.node).collect();
+        assert_eq!(out_of_ne1, [to(1, 2)]);
     }
 
     #[test]

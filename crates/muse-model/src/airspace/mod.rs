@@ -196,7 +196,45 @@ pub struct Airspace {
     edge_by_id: HashMap<String, EdgeId>,
     offsets: Vec<u32>,
     adjacent: Vec<Adjacent>,
+    in_offsets: Vec<u32>,
+    incoming: Vec<Adjacent>,
     layout: Option<Box<Layout>>,
+}
+
+/// Compressed-sparse-row adjacency of `n` nodes from `(at, other, edge, forward)` entries:
+/// each node's entries `(other, edge, forward)`, sorted by `other`.
+fn csr(
+    n: usize,
+    entries: impl Iterator<Item = (NodeId, NodeId, EdgeId, bool)> + Clone,
+) -> (Vec<u32>, Vec<Adjacent>) {
+    let mut degree = vec![0u32; n];
+    for (at, ..) in entries.clone() {
+        degree[at.index()] += 1;
+    }
+    let mut offsets = Vec::with_capacity(n + 1);
+    offsets.push(0u32);
+    for d in &degree {
+        offsets.push(offsets.last().copied().unwrap_or(0) + d);
+    }
+    let mut fill: Vec<u32> = offsets[..n].to_vec();
+    let blank = Adjacent {
+        node: NodeId(0),
+        edge: EdgeId(0),
+        forward: true,
+    };
+    let mut list = vec![blank; offsets[n] as usize];
+    for (at, node, edge, forward) in entries {
+        list[fill[at.index()] as usize] = Adjacent {
+            node,
+            edge,
+            forward,
+        };
+        fill[at.index()] += 1;
+    }
+    for v in 0..n {
+        list[offsets[v] as usize..offsets[v + 1] as usize].sort_by_key(|a| a.node);
+    }
+    (offsets, list)
 }
 
 /// How a layered airspace was built from its flat one.
@@ -336,42 +374,19 @@ impl Airspace {
         layout: Option<Box<Layout>>,
     ) -> Self {
         let one_way = |i: usize| matches!(kinds[i], EdgeKind::Corridor { one_way: true, .. });
-        let mut degree = vec![0u32; nodes.len()];
-        for (i, e) in edges.iter().enumerate() {
-            degree[e.from.index()] += 1;
-            if !one_way(i) {
-                degree[e.to.index()] += 1;
-            }
-        }
-        let mut offsets = Vec::with_capacity(nodes.len() + 1);
-        offsets.push(0u32);
-        for d in &degree {
-            offsets.push(offsets.last().copied().unwrap_or(0) + d);
-        }
-        let mut fill: Vec<u32> = offsets[..nodes.len()].to_vec();
-        let mut adjacent = vec![
-            Adjacent {
-                node: NodeId(0),
-                edge: EdgeId(0),
-                forward: true
-            };
-            offsets[nodes.len()] as usize
-        ];
-        for (i, e) in edges.iter().enumerate() {
-            let eid = EdgeId(i as u32);
-            let ends = [(e.from, e.to, true), (e.to, e.from, false)];
-            for &(x, y, forward) in &ends[..if one_way(i) { 1 } else { 2 }] {
-                adjacent[fill[x.index()] as usize] = Adjacent {
-                    node: y,
-                    edge: eid,
-                    forward,
-                };
-                fill[x.index()] += 1;
-            }
-        }
-        for n in 0..nodes.len() {
-            adjacent[offsets[n] as usize..offsets[n + 1] as usize].sort_by_key(|a| a.node);
-        }
+        // Every direction an edge may be flown in, as (from, to, edge, forward).
+        let moves: Vec<(NodeId, NodeId, EdgeId, bool)> = edges
+            .iter()
+            .enumerate()
+            .flat_map(|(i, e)| {
+                let eid = EdgeId(i as u32);
+                let both = [(e.from, e.to, eid, true), (e.to, e.from, eid, false)];
+                both.into_iter().take(if one_way(i) { 1 } else { 2 })
+            })
+            .collect();
+        let (offsets, adjacent) = csr(nodes.len(), moves.iter().map(|&(x, y, e, f)| (x, y, e, f)));
+        let (in_offsets, incoming) =
+            csr(nodes.len(), moves.iter().map(|&(x, y, e, f)| (y, x, e, f)));
         Airspace {
             nodes,
             edges,
@@ -380,6 +395,8 @@ impl Airspace {
             edge_by_id,
             offsets,
             adjacent,
+            in_offsets,
+            incoming,
             layout,
         }
     }
@@ -434,6 +451,14 @@ impl Airspace {
     #[inline]
     pub fn neighbours(&self, n: NodeId) -> &[Adjacent] {
         &self.adjacent[self.offsets[n.index()] as usize..self.offsets[n.index() + 1] as usize]
+    }
+
+    /// The nodes from which `n` can be reached in one edge, sorted by node index: each with
+    /// the edge and whether it is flown from its `from` end (`forward`). The same nodes as
+    /// [`Airspace::neighbours`] unless some corridor is one-way.
+    #[inline]
+    pub fn predecessors(&self, n: NodeId) -> &[Adjacent] {
+        &self.incoming[self.in_offsets[n.index()] as usize..self.in_offsets[n.index() + 1] as usize]
     }
 
     /// The edge that may be flown from `a` to `b`, if any (a one-way corridor only in its

@@ -5,7 +5,8 @@
 //! and zones only add waiting) and it is consistent (`h(u) ≤ w(u, v) + h(v)` by the triangle
 //! inequality of shortest paths), unlike the paper's straight-line estimate divided by speed,
 //! which is admissible but not tight. Tables are computed once per destination, on first use,
-//! by one Dijkstra search from the destination (edges are undirected), and then shared.
+//! by one Dijkstra search backwards from the destination (a corridor may be one-way under a
+//! heading rule), and then shared.
 //!
 //! A diversion (SPEC §11) goes to whichever station it can land at earliest; its heuristic is
 //! the free-flow time to the *nearest* station, one multi-source search from all stations,
@@ -32,6 +33,7 @@ use swaps::{Near, SwapTable};
 pub struct Heuristics {
     times: Vec<Millis>,
     tables: Vec<OnceLock<Box<[Millis]>>>,
+    from_tables: Vec<OnceLock<Box<[Millis]>>>,
     any_station: OnceLock<Box<[Millis]>>,
     params: FlightParams,
     near: OnceLock<Near>,
@@ -44,6 +46,7 @@ impl Heuristics {
         Heuristics {
             times: airspace.traversal_times(params.speed),
             tables: lazy(airspace),
+            from_tables: lazy(airspace),
             any_station: OnceLock::new(),
             params: *params,
             near: OnceLock::new(),
@@ -86,7 +89,18 @@ impl Heuristics {
     pub fn to(&self, airspace: &Airspace, destination: NodeId) -> &[Millis] {
         self.tables[destination.index()].get_or_init(|| {
             let mut search = Dijkstra::new(airspace.node_count());
-            search.run(airspace, &self.times, destination);
+            // Backwards: corridors may be one-way (SPEC §13's heading rule).
+            search.run_towards_all(airspace, &self.times, &[destination]);
+            times(&search)
+        })
+    }
+
+    /// Free-flow time from `origin` to every node (`Millis::INF` if none), indexed by node.
+    /// Computed on the first call for this origin.
+    pub fn from(&self, airspace: &Airspace, origin: NodeId) -> &[Millis] {
+        self.from_tables[origin.index()].get_or_init(|| {
+            let mut search = Dijkstra::new(airspace.node_count());
+            search.run(airspace, &self.times, origin);
             times(&search)
         })
     }
@@ -97,7 +111,7 @@ impl Heuristics {
         self.any_station.get_or_init(|| {
             let stations: Vec<NodeId> = airspace.stations().collect();
             let mut search = Dijkstra::new(airspace.node_count());
-            search.run_from_all(airspace, &self.times, &stations);
+            search.run_towards_all(airspace, &self.times, &stations);
             times(&search)
         })
     }

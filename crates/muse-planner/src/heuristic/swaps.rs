@@ -34,11 +34,15 @@ use muse_model::{Airspace, Millis, NodeId};
 
 use crate::time::Unbounded;
 
-/// Stations within one battery of each node: `(station, free-flow time)`, nearest first.
+/// Stations within one battery of each node: `(station, free-flow time)`, nearest first;
+/// and, per station, the stations within one battery of it the other way (a corridor may be
+/// one-way under a heading rule, SPEC §13).
 #[derive(Debug)]
 pub struct Near {
     offsets: Vec<u32>,
     entries: Vec<(NodeId, Millis)>,
+    into_offsets: Vec<u32>,
+    into_entries: Vec<(NodeId, Millis)>,
 }
 
 impl Near {
@@ -50,28 +54,52 @@ impl Near {
         to_station: impl Fn(NodeId) -> Vec<Millis>,
     ) -> Self {
         let mut per_node: Vec<Vec<(NodeId, Millis)>> = vec![Vec::new(); airspace.node_count()];
+        let mut into: Vec<Vec<(NodeId, Millis)>> = vec![Vec::new(); airspace.node_count()];
         for x in airspace.stations() {
             for (v, &t) in to_station(x).iter().enumerate() {
                 if t != Millis::INF && t <= t_max {
-                    per_node[v].push((x, t));
+                    let v = NodeId(v as u32);
+                    per_node[v.index()].push((x, t));
+                    if airspace.is_station(v) {
+                        into[x.index()].push((v, t));
+                    }
                 }
             }
         }
-        let mut offsets = Vec::with_capacity(per_node.len() + 1);
-        let mut entries = Vec::new();
-        offsets.push(0);
-        for mut list in per_node {
-            list.sort_unstable_by_key(|&(x, t)| (t, x));
-            entries.extend(list);
-            offsets.push(entries.len() as u32);
+        let (offsets, entries) = flatten(per_node);
+        let (into_offsets, into_entries) = flatten(into);
+        Near {
+            offsets,
+            entries,
+            into_offsets,
+            into_entries,
         }
-        Near { offsets, entries }
     }
 
     /// The stations within one battery of `v`, nearest first.
     pub fn of(&self, v: NodeId) -> &[(NodeId, Millis)] {
         &self.entries[self.offsets[v.index()] as usize..self.offsets[v.index() + 1] as usize]
     }
+
+    /// The stations from which station `x` is within one battery, with the time from each,
+    /// nearest first.
+    pub fn into(&self, x: NodeId) -> &[(NodeId, Millis)] {
+        &self.into_entries
+            [self.into_offsets[x.index()] as usize..self.into_offsets[x.index() + 1] as usize]
+    }
+}
+
+/// Per-node lists, each sorted nearest first, as one offsets array and one flat array.
+fn flatten(lists: Vec<Vec<(NodeId, Millis)>>) -> (Vec<u32>, Vec<(NodeId, Millis)>) {
+    let mut offsets = Vec::with_capacity(lists.len() + 1);
+    let mut entries = Vec::new();
+    offsets.push(0);
+    for mut list in lists {
+        list.sort_unstable_by_key(|&(x, t)| (t, x));
+        entries.extend(list);
+        offsets.push(entries.len() as u32);
+    }
+    (offsets, entries)
 }
 
 /// The multi-leg tables for one destination.
@@ -193,9 +221,9 @@ fn station_dijkstra(airspace: &Airspace, near: &Near, d: NodeId, swap: Millis) -
         if cy > c[y.index()] {
             continue;
         }
-        // `D` is symmetric (edges are undirected): the stations near `y` are those `y` is
-        // near to.
-        for &(x, t) in near.of(y) {
+        // The stations from which `y` is within one battery (`D` is not symmetric when a
+        // heading rule makes corridors one-way).
+        for &(x, t) in near.into(y) {
             if x == y || x == d {
                 continue;
             }

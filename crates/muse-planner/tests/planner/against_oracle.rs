@@ -213,6 +213,7 @@ fn line(secs: &[u32], waypoints: &[usize]) -> Instance {
         requests: vec![],
         zones: vec![],
         swap: None,
+        layers: None,
     }
 }
 

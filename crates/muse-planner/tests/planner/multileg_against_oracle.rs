@@ -206,6 +206,7 @@ fn line(secs: &[u32], t_max: u32, swap: u32) -> Instance {
             time: swap,
             max_legs: None,
         }),
+        layers: None,
     }
 }
 

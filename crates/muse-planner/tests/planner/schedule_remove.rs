@@ -123,6 +123,7 @@ fn plan_insert_remove_replan() {
             len: 10,
         }],
         swap: None,
+        layers: None,
     };
     let b = instance.build();
     let planner = Planner::new(&b.airspace, b.params);

@@ -47,8 +47,8 @@
 pub mod multileg;
 
 use muse_model::{
-    Airspace, EdgeId, EdgeRule, FlightParams, Instant, Millis, NodeId, Plan, RejectReason, Request,
-    Stay,
+    Airspace, EdgeId, EdgeKind, EdgeRule, FlightParams, Instant, Millis, NodeId, Plan,
+    RejectReason, Request, Stay,
 };
 
 /// Closure windows `[start, end)` in ms, per node and per edge index, as the zones give them.
@@ -82,9 +82,9 @@ pub fn free_flow(
     dist[from.index()] = 0;
     for _ in 0..airspace.node_count() {
         let mut changed = false;
-        for e in airspace.edges() {
-            let w = params.speed.traversal_time(e.length_m).0;
-            for (x, y) in [(e.from, e.to), (e.to, e.from)] {
+        for i in 0..airspace.edge_count() {
+            let w = weight(airspace, params, EdgeId(i as u32));
+            for (x, y) in ends(airspace, EdgeId(i as u32)) {
                 if dist[x.index()] != i64::MAX && dist[x.index()] + w < dist[y.index()] {
                     dist[y.index()] = dist[x.index()] + w;
                     changed = true;
@@ -96,6 +96,36 @@ pub fn free_flow(
         }
     }
     (dist[to.index()] != i64::MAX).then_some(Millis(dist[to.index()]))
+}
+
+/// Traversal time of edge `e`, ms, straight from the SPEC: a corridor's at cruise speed
+/// (§3), a vertical link's `ceil(Δ_mm · 1000 / c_mm_per_s)` (§13).
+pub fn weight(airspace: &Airspace, params: &FlightParams, e: EdgeId) -> i64 {
+    match (airspace.edge_kind(e), airspace.layers()) {
+        (EdgeKind::Vertical { .. }, Some(l)) => {
+            let (um, rate) = (l.spacing.um(), i64::from(l.climb_mm_per_s));
+            (um + rate - 1) / rate
+        }
+        _ => params.speed.traversal_time(airspace.edge(e).length_m).0,
+    }
+}
+
+/// The directions edge `e` may be flown in, as `(from, to)`: a one-way corridor only from
+/// its `from` end (§13's heading rule).
+pub fn ends(airspace: &Airspace, e: EdgeId) -> Vec<(NodeId, NodeId)> {
+    let edge = airspace.edge(e);
+    match airspace.edge_kind(e) {
+        EdgeKind::Corridor { one_way: true, .. } => vec![(edge.from, edge.to)],
+        _ => vec![(edge.from, edge.to), (edge.to, edge.from)],
+    }
+}
+
+/// The edge rule on `e`: vertical links are exclusive whatever the corridors' (§13).
+pub fn rule_of(airspace: &Airspace, params: &FlightParams, e: EdgeId) -> EdgeRule {
+    match airspace.edge_kind(e) {
+        EdgeKind::Vertical { .. } => EdgeRule::Exclusive,
+        EdgeKind::Corridor { .. } => params.edge_rule,
+    }
 }
 
 /// The other flights' stays per node `(a, d)` and traversals per edge `(s, f, forward)`.
@@ -122,7 +152,7 @@ impl Traffic {
                 let e = airspace
                     .edge_between(from.node, to.node)
                     .expect("plans follow edges");
-                let w = params.speed.traversal_time(airspace.edge(e).length_m).0;
+                let w = weight(airspace, params, e);
                 let forward = airspace.edge(e).from == from.node;
                 traversals[e.index()].push((from.depart.0, from.depart.0 + w, forward));
             }
@@ -175,13 +205,13 @@ fn traversal_ok(
     forward: bool,
     start: i64,
     weight: i64,
-    params: &FlightParams,
+    rule: EdgeRule,
     traffic: &Traffic,
     closures: &RawClosures,
 ) -> bool {
     let finish = start + weight;
     for &(s1, f1, forward1) in &traffic.traversals[edge.index()] {
-        let ok = match params.edge_rule {
+        let ok = match rule {
             // SPEC: same direction under headway: |s2 - s1| >= h.
             EdgeRule::Headway(h) if forward == forward1 => (start - s1).abs() >= h.0,
             // SPEC: s2 >= f1 || s1 >= f2.
@@ -253,10 +283,8 @@ pub fn solve(
         assert!(whole(h.0));
     }
     assert!(whole(request.departure.0));
-    let weights: Vec<i64> = airspace
-        .edges()
-        .iter()
-        .map(|e| params.speed.traversal_time(e.length_m).0)
+    let weights: Vec<i64> = (0..airspace.edge_count())
+        .map(|i| weight(airspace, params, EdgeId(i as u32)))
         .collect();
     assert!(weights.iter().all(|&w| w > 0 && whole(w)));
     let windows = closures.nodes.iter().chain(&closures.edges).flatten();
@@ -346,10 +374,8 @@ pub fn solve_airborne(
     goal: Goal,
     unit: i64,
 ) -> Option<Plan> {
-    let weights: Vec<i64> = airspace
-        .edges()
-        .iter()
-        .map(|e| params.speed.traversal_time(e.length_m).0)
+    let weights: Vec<i64> = (0..airspace.edge_count())
+        .map(|i| weight(airspace, params, EdgeId(i as u32)))
         .collect();
     assert!(weights.iter().all(|&w| w > 0 && w % unit == 0));
     let traffic = Traffic::new(airspace, params, others);
@@ -488,14 +514,14 @@ impl Search<'_> {
                         continue;
                     }
                     let forward = self.airspace.edge(adj.edge).from == node;
-                    let (params, traffic) = (self.params, &self.traffic);
+                    let rule = rule_of(self.airspace, self.params, adj.edge);
                     if !traversal_ok(
                         adj.edge,
                         forward,
                         now,
                         weight,
-                        params,
-                        traffic,
+                        rule,
+                        &self.traffic,
                         self.closures,
                     ) {
                         continue;

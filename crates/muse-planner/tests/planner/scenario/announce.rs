@@ -68,7 +68,7 @@ fn breaks(
         let e = airspace
             .edge_between(p[0].node, p[1].node)
             .expect("plans follow edges");
-        let w = params.speed.traversal_time(airspace.edge(e).length_m).0;
+        let w = crate::oracle::weight(airspace, params, e);
         p[0].depart.0 >= n && overlaps(&raw.edges[e.index()], p[0].depart.0, p[0].depart.0 + w)
     });
     stays || traversals

@@ -17,13 +17,9 @@ pub(super) fn describe(b: &Built, accepted: &[(usize, Plan)]) -> String {
     let mut s = String::new();
     let a = &b.airspace;
     let _ = writeln!(s, "params: {:?}", b.params);
-    for e in a.edges() {
-        let _ = writeln!(
-            s,
-            "edge {} w = {}",
-            e.id,
-            b.params.speed.traversal_time(e.length_m)
-        );
+    for (i, e) in a.edges().iter().enumerate() {
+        let w = crate::oracle::weight(a, &b.params, muse_model::EdgeId(i as u32));
+        let _ = writeln!(s, "edge {} w = {w} ms", e.id);
     }
     for n in a.nodes() {
         let _ = writeln!(s, "node {} {:?}", n.id, n.kind);

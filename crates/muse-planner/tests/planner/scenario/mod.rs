@@ -7,8 +7,9 @@ use muse_airspace::closures::{Closures, resolve};
 use muse_model::request::sort_for_planning;
 use muse_model::testing::{airspace, named_edge, node, request};
 use muse_model::{
-    Airspace, BatterySwap, Edge, EdgeRule, FlightParams, Instant, Millis, Node, NodeId, NodeKind,
-    Period, Request, Speed, Zone,
+    Airspace, BatterySwap, Edge, EdgeId, EdgeKind, EdgeRule, FlightParams, HeadingRule, Instant,
+    Layers, Metres, Millis, Node, NodeId, NodeKind, Period, Request, Speed, VerticalLimit,
+    VerticalLimits, VerticalReference, Zone,
 };
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, RngSeed, TestRunner};
@@ -70,6 +71,56 @@ pub struct Instance {
     pub zones: Vec<ZoneSpec>,
     /// Battery swaps at stations (SPEC §12), or none: single legs only.
     pub swap: Option<SwapSpec>,
+    /// Layers (SPEC §13), or none: the flat airspace.
+    pub layers: Option<LayerSpec>,
+}
+
+/// The layers of a layered instance: vertical links take whole units too.
+#[derive(Clone, Debug)]
+pub struct LayerSpec {
+    /// Number of layers.
+    pub count: u32,
+    /// Time to cross a vertical link, units (> 0).
+    pub climb: u32,
+    /// The `sectors` heading rule, or none.
+    pub sectors: bool,
+    /// Per zone (cycled; empty: every zone the whole sky): the layers `(lo, hi)` its band
+    /// covers, or `None` for the whole sky.
+    pub bands: Vec<Option<(u32, u32)>>,
+}
+
+impl LayerSpec {
+    /// The layering: layer 1 at 60 m, climbing at 1 m/s over `climb` units of spacing.
+    pub fn layers(&self, unit: i64) -> Layers {
+        Layers {
+            count: self.count,
+            base: Metres::from_mm(60_000),
+            spacing: Metres::from_mm(i64::from(self.climb) * unit),
+            climb_mm_per_s: 1_000,
+            heading_rule: if self.sectors {
+                HeadingRule::Sectors
+            } else {
+                HeadingRule::None
+            },
+        }
+    }
+
+    /// The vertical band of zone `k`.
+    fn band(&self, k: usize, layers: &Layers) -> VerticalLimits {
+        let Some(&Some((lo, hi))) = self.bands.get(k % self.bands.len().max(1)) else {
+            return VerticalLimits::WHOLE_SKY;
+        };
+        let at = |layer: u32| {
+            Some(VerticalLimit {
+                height: layers.altitude(layer),
+                reference: VerticalReference::default(),
+            })
+        };
+        VerticalLimits {
+            lower: at(lo.min(hi)),
+            upper: at(lo.max(hi)),
+        }
+    }
 }
 
 /// An instance turned into model types.
@@ -101,7 +152,13 @@ impl Instance {
                 node(&format!("N{i}"), kind, lon, lat)
             })
             .collect();
-        let airspace = airspace(nodes, self.edges(n));
+        let flat = airspace(nodes, self.edges(n));
+        let airspace = match &self.layers {
+            None => flat,
+            Some(l) => flat
+                .layered(&l.layers(self.unit))
+                .expect("layered ids are free"),
+        };
         let units = |k: u32| Millis(i64::from(k) * self.unit);
         let params = FlightParams {
             speed: speed(),
@@ -175,16 +232,27 @@ impl Instance {
             .collect()
     }
 
-    /// Zones as `muse_model` zones, and their windows per element for the oracle.
+    /// Zones as `muse_model` zones, and their windows per element for the oracle (on a
+    /// layered airspace, straight from SPEC §13: the copies of a listed node or corridor at
+    /// the layers in the zone's band, and the vertical links at a listed node whose span
+    /// meets the band).
     fn zones(&self, airspace: &Airspace) -> (Vec<Zone>, RawClosures) {
-        let n = airspace.node_count();
+        let flat = airspace.flat();
+        let n = flat.node_count();
         let mut raw = RawClosures {
             nodes: vec![Vec::new(); airspace.node_count()],
             edges: vec![Vec::new(); airspace.edge_count()],
         };
+        let layers = self.layers.as_ref().map(|l| (l, l.layers(self.unit)));
+        let count = layers.as_ref().map_or(1, |(_, l)| l.count);
         let mut zones = Vec::new();
         for (k, z) in self.zones.iter().enumerate() {
             let window = (z.start * self.unit, (z.start + z.len) * self.unit);
+            let vertical = layers
+                .as_ref()
+                .map_or(VerticalLimits::WHOLE_SKY, |(spec, l)| spec.band(k, l));
+            let height = |layer: u32| layers.as_ref().map(|(_, l)| l.altitude(layer));
+            let in_band = |layer: u32| height(layer).is_none_or(|h| vertical.contains(h));
             let mut zone = Zone {
                 id: format!("Z{k}"),
                 name: String::new(),
@@ -194,7 +262,7 @@ impl Instance {
                 edge_ids: Vec::new(),
                 announced: None,
                 withdrawn: None,
-                vertical: muse_model::VerticalLimits::WHOLE_SKY,
+                vertical,
                 periods: vec![Period {
                     start: Some(Instant(window.0)),
                     end: Some(Instant(window.1)),
@@ -202,15 +270,38 @@ impl Instance {
                 }],
             };
             for &s in &z.nodes {
-                let v = s % n;
-                zone.node_ids.push(format!("N{v}"));
-                raw.nodes[v].push(window);
+                let v = NodeId((s % n) as u32);
+                zone.node_ids.push(format!("N{}", v.0));
+                for layer in (1..=count).filter(|&l| in_band(l)) {
+                    let copy = airspace.at_layer(v, layer).expect("a layer");
+                    raw.nodes[copy.index()].push(window);
+                }
+                for layer in 1..count {
+                    let (lo, hi) = (height(layer), height(layer + 1));
+                    if let (Some(lo), Some(hi)) = (lo, hi)
+                        && vertical.meets(lo, hi)
+                    {
+                        let below = airspace.at_layer(v, layer).expect("a layer");
+                        let above = airspace.at_layer(v, layer + 1).expect("a layer");
+                        let link = airspace.edge_between(below, above).expect("a link");
+                        raw.edges[link.index()].push(window);
+                    }
+                }
             }
-            if airspace.edge_count() > 0 {
+            if flat.edge_count() > 0 {
                 for &s in &z.edges {
-                    let e = s % airspace.edge_count();
-                    zone.edge_ids.push(airspace.edges()[e].id.clone());
-                    raw.edges[e].push(window);
+                    let e = EdgeId((s % flat.edge_count()) as u32);
+                    zone.edge_ids.push(flat.edge(e).id.clone());
+                    for copy in 0..airspace.edge_count() {
+                        let copy = EdgeId(copy as u32);
+                        let layer = match airspace.edge_kind(copy) {
+                            EdgeKind::Corridor { layer, .. } => layer,
+                            EdgeKind::Vertical { .. } => continue,
+                        };
+                        if airspace.flat_edge(copy) == Some(e) && in_band(layer) {
+                            raw.edges[copy.index()].push(window);
+                        }
+                    }
                 }
             }
             zones.push(zone);
@@ -358,7 +449,30 @@ pub fn instances(shape: Shape) -> impl Strategy<Value = Instance> {
             requests,
             zones,
             swap: None,
+            layers: None,
         })
+}
+
+/// The instances of `base` made layered: 2 to 4 layers, vertical links of 1 to 3 units, with
+/// or without the heading rule, zones with or without a band.
+pub fn layered(base: impl Strategy<Value = Instance>) -> impl Strategy<Value = Instance> {
+    let band = prop_oneof![1 => Just(None), 2 => (1..=4u32, 1..=4u32).prop_map(Some)];
+    let spec = (
+        2..=4u32,
+        1..=3u32,
+        any::<bool>(),
+        proptest::collection::vec(band, 1..=3),
+    )
+        .prop_map(|(count, climb, sectors, bands)| LayerSpec {
+            count,
+            climb,
+            sectors,
+            bands,
+        });
+    (base, spec).prop_map(|(mut instance, spec)| {
+        instance.layers = Some(spec);
+        instance
+    })
 }
 
 /// Counts of what happened, to check that the generator exercises every case.

@@ -216,7 +216,7 @@ pub fn check_trip(b: &Built, request: &Request, plan: &Plan) -> Result<(), Strin
                     w[0].node.0, w[1].node.0
                 ));
             };
-            let t = p.speed.traversal_time(b.airspace.edge(e).length_m);
+            let t = Millis(crate::oracle::weight(&b.airspace, p, e));
             if w[1].arrive != w[0].depart + t {
                 return Err(format!("leg {k}: traversal of {} not at cruise speed", e.0));
             }
@@ -243,9 +243,7 @@ pub fn check_rules(built: &Built, accepted: &[(usize, Plan)], plan: &Plan) -> Re
             .airspace
             .edge_between(from.node, to.node)
             .expect("checked");
-        let w = params
-            .speed
-            .traversal_time(built.airspace.edge(edge).length_m);
+        let w = Millis(crate::oracle::weight(&built.airspace, params, edge));
         let forward = from.node == built.airspace.edge(edge).from;
         (edge, forward, from.depart, from.depart + w)
     };
@@ -280,7 +278,7 @@ pub fn check_rules(built: &Built, accepted: &[(usize, Plan)], plan: &Plan) -> Re
                 if edge1 != edge {
                     continue;
                 }
-                let ok = match params.edge_rule {
+                let ok = match crate::oracle::rule_of(&built.airspace, params, edge) {
                     EdgeRule::Headway(h) if forward == forward1 => (enter - enter1).0.abs() >= h.0,
                     _ => enter >= leave1 || enter1 >= leave,
                 };

@@ -377,10 +377,8 @@ pub fn resume(
 ) -> Option<(Trip, Plan)> {
     assert!(legs >= 1);
     let (swap, _) = swap_of(params);
-    let weights_whole = airspace
-        .edges()
-        .iter()
-        .all(|e| params.speed.traversal_time(e.length_m).0 % unit == 0);
+    let weights_whole = (0..airspace.edge_count())
+        .all(|i| super::weight(airspace, params, muse_model::EdgeId(i as u32)) % unit == 0);
     assert!(weights_whole && swap % unit == 0);
     let traffic = Traffic::new(airspace, params, others);
     let (at, start) = match from {

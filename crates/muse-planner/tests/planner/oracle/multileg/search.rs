@@ -4,9 +4,9 @@
 use std::cmp::Reverse;
 use std::collections::HashMap;
 
-use muse_model::{Airspace, FlightParams, Instant, NodeId, Plan, Stay};
+use muse_model::{Airspace, EdgeId, FlightParams, Instant, NodeId, Plan, Stay};
 
-use super::super::{Goal, Grid, RawClosures, Traffic, dmax, traversal_ok};
+use super::super::{Goal, Grid, RawClosures, Traffic, dmax, rule_of, traversal_ok, weight};
 use super::{Chains, Trip, last_event, swap_of};
 
 /// Where a search starts.
@@ -166,10 +166,8 @@ impl<'a> Search<'a> {
         goal: Goal,
         chains: Option<Chains>,
     ) -> Self {
-        let weights: Vec<i64> = airspace
-            .edges()
-            .iter()
-            .map(|e| params.speed.traversal_time(e.length_m).0)
+        let weights: Vec<i64> = (0..airspace.edge_count())
+            .map(|i| weight(airspace, params, EdgeId(i as u32)))
             .collect();
         assert!(weights.iter().all(|&w| w > 0 && w % grid.unit == 0));
         let (swap, max_legs) = swap_of(params);
@@ -389,14 +387,14 @@ impl<'a> Search<'a> {
                         continue;
                     }
                     let forward = self.airspace.edge(adj.edge).from == node;
-                    let (params, traffic) = (self.params, &self.traffic);
+                    let rule = rule_of(self.airspace, self.params, adj.edge);
                     if !traversal_ok(
                         adj.edge,
                         forward,
                         now,
                         weight,
-                        params,
-                        traffic,
+                        rule,
+                        &self.traffic,
                         self.closures,
                     ) {
                         continue;
