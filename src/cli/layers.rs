@@ -13,16 +13,18 @@ use super::recorded::Summary;
 #[derive(Args, Debug, Clone)]
 pub struct LayersArgs {
     /// Cruise layers `L`: the corridor graph is flown at `L` altitudes, joined by vertical
-    /// links at every node (1: the paper's single altitude, every output as without layers).
+    /// links at every node (1: the paper's single altitude, every output as without layers),
+    /// from 1 to 64.
     #[arg(long, default_value_t = 1, value_name = "L", allow_negative_numbers = true, value_parser = ranges::layers)]
     pub layers: u32,
-    /// Altitude of layer 1, metres.
+    /// Altitude of layer 1, metres, from 0 to 10000.
     #[arg(long, default_value_t = 60.0, value_name = "M", allow_negative_numbers = true, value_parser = ranges::altitude_m)]
     pub base_altitude_m: f64,
-    /// Spacing between layers, metres (default 9.144: 30 ft, as Metropolis 2).
+    /// Spacing between layers, metres (default 9.144: 30 ft, as Metropolis 2), from 0.001 to
+    /// 1000.
     #[arg(long, default_value_t = 9.144, value_name = "M", allow_negative_numbers = true, value_parser = ranges::layer_spacing_m)]
     pub layer_spacing_m: f64,
-    /// Vertical speed, metres per second (whole millimetres per second).
+    /// Vertical speed, metres per second (whole millimetres per second), from 0.001 to 100.
     #[arg(long, default_value_t = 5.0, value_name = "MPS", allow_negative_numbers = true, value_parser = ranges::climb_mps)]
     pub climb_mps: f64,
     /// Which corridor directions each layer may be flown in: `none` (every direction) or
