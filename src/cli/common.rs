@@ -357,7 +357,25 @@ impl FlightArgs {
 }
 
 /// Stations are labelled on maps with at most this many stations (more would be illegible).
-const MAX_LABELLED_STATIONS: usize = 150;
+pub const MAX_LABELLED_STATIONS: usize = 150;
+
+/// Singapore's land outline when the world is one of its scenarios; none otherwise.
+pub fn world_land(world: &World) -> Vec<geo_types::Polygon<f64>> {
+    if world.land {
+        muse_scenario::singapore_land().0
+    } else {
+        Vec::new()
+    }
+}
+
+/// The data attribution a map of `world` must carry (empty for a file or synthetic airspace).
+pub fn world_attribution(world: &World) -> String {
+    if world.scenario.is_some() {
+        muse_scenario::ATTRIBUTION.to_owned()
+    } else {
+        String::new()
+    }
+}
 
 /// Draws a world's airspace, land (for the Singapore scenarios) and zones as an SVG map;
 /// `edge_load` colours corridors by how busy they were.
@@ -368,11 +386,7 @@ pub fn render_world_map(
 ) -> anyhow::Result<String> {
     use muse_model::zone_area_polygons;
     use muse_render::{MapInput, MapOptions, ZoneLayer, render_map};
-    let land: Vec<geo_types::Polygon<f64>> = if world.land {
-        muse_scenario::singapore_land().0
-    } else {
-        Vec::new()
-    };
+    let land = world_land(world);
     let mut zones = Vec::new();
     for zone in &world.zones {
         let (closed_nodes, closed_edges) =
@@ -392,15 +406,10 @@ pub fn render_world_map(
     let mut input = MapInput::new(&world.airspace);
     input.land = &land;
     input.zones = zones;
-    let attribution = if world.scenario.is_some() {
-        muse_scenario::ATTRIBUTION.to_owned()
-    } else {
-        String::new()
-    };
     let mut opts = MapOptions {
         width_px,
         title: world.title.clone(),
-        attribution,
+        attribution: world_attribution(world),
         label_stations: world.airspace.stations().count() <= MAX_LABELLED_STATIONS,
         ..MapOptions::default()
     };

@@ -1,11 +1,13 @@
 //! `--layers` and its options (SPEC §13): the airspace flown at several cruise altitudes.
 
 use anyhow::Context;
-use clap::Args;
+use clap::{ArgMatches, Args};
 use muse_model::{HeadingRule, Layers, Metres};
+use muse_sim::metrics::recorded::LayersRecord;
 
 use super::common::World;
 use super::ranges;
+use super::recorded::Summary;
 
 /// The layering of the airspace (SPEC §13).
 #[derive(Args, Debug, Clone)]
@@ -82,8 +84,173 @@ impl World {
                 .airspace
                 .layered(&layers)
                 .with_context(|| format!("--layers {}", layers.count))?;
-            self.record.layers = Some(muse_sim::metrics::recorded::LayersRecord::of(&layers));
+            self.record.layers = Some(LayersRecord::of(&layers));
         }
         Ok(self)
+    }
+}
+
+/// The layering options, by clap id (the summary's `world.layers` records them as `count`,
+/// `base_altitude_m`, `spacing_m`, `climb_mps` and `heading_rule`).
+const LAYER_OPTIONS: [&str; 5] = [
+    "layers",
+    "base_altitude_m",
+    "layer_spacing_m",
+    "climb_mps",
+    "heading_rule",
+];
+
+/// The layering of a run, for `muse verify` and `muse view`: the one its summary records
+/// (`world.layers`; flat when the world records none), each option the command line gives
+/// overriding its own (said in `notes`); the command line's and the defaults without a summary
+/// or when it records no world.
+///
+/// # Errors
+/// A recorded layering out of range or inconsistent (its `climb_ms` not that of its spacing
+/// and vertical speed), named by the summary's file and field.
+pub fn recorded_layers(
+    cli: &LayersArgs,
+    matches: &ArgMatches,
+    summary: Option<&Summary>,
+    notes: &mut Vec<String>,
+) -> anyhow::Result<LayersArgs> {
+    let Some(world) = summary.and_then(|s| s.recorded.world.as_ref().map(|w| (s, w))) else {
+        return Ok(cli.clone());
+    };
+    let (s, world) = world;
+    let name = s.path.display();
+    let recorded = match &world.layers {
+        Some(rec) => args_of(rec).with_context(|| format!("{name}: field `world.layers`"))?,
+        None => LayersArgs::flat(),
+    };
+    let mut merged = recorded.clone();
+    for id in LAYER_OPTIONS {
+        if !super::recorded::given(matches, id) {
+            continue;
+        }
+        let (theirs, mine) = (value(&recorded, id), value(cli, id));
+        let option = format!("--{} {mine}", id.replace('_', "-"));
+        notes.push(if theirs == mine {
+            format!("{option} given: as in {name}")
+        } else {
+            format!("{option} given: overrides {name}'s {theirs}")
+        });
+        set(&mut merged, cli, id);
+    }
+    Ok(merged)
+}
+
+impl LayersArgs {
+    /// One layer, every other option at its default.
+    fn flat() -> Self {
+        LayersArgs {
+            layers: 1,
+            base_altitude_m: 60.0,
+            layer_spacing_m: 9.144,
+            climb_mps: 5.0,
+            heading_rule: HeadingArg::None,
+        }
+    }
+}
+
+/// The options a summary's layering stands for, each checked as the option would be.
+fn args_of(rec: &LayersRecord) -> anyhow::Result<LayersArgs> {
+    let check = |field: &str, text: String, parse: fn(&str) -> Result<f64, String>| {
+        parse(&text).map_err(|e| anyhow::anyhow!("`{field}` {text}: {e}"))
+    };
+    ranges::layers(&rec.count.to_string())
+        .map_err(|e| anyhow::anyhow!("`count` {}: {e}", rec.count))?;
+    let args = LayersArgs {
+        layers: rec.count,
+        base_altitude_m: check(
+            "base_altitude_m",
+            rec.base_altitude_m.to_string(),
+            ranges::altitude_m,
+        )?,
+        layer_spacing_m: check(
+            "spacing_m",
+            rec.spacing_m.to_string(),
+            ranges::layer_spacing_m,
+        )?,
+        climb_mps: check("climb_mps", rec.climb_mps.to_string(), ranges::climb_mps)?,
+        heading_rule: match rec.heading_rule.as_str() {
+            "none" => HeadingArg::None,
+            "sectors" => HeadingArg::Sectors,
+            other => anyhow::bail!("`heading_rule` `{other}`: expected `none` or `sectors`"),
+        },
+    };
+    let layers = args.layers()?;
+    let climb = layers.climb_time().0;
+    anyhow::ensure!(
+        rec.climb_ms == climb,
+        "`climb_ms` {}: {} m at {} m/s takes {climb} ms",
+        rec.climb_ms,
+        rec.spacing_m,
+        rec.climb_mps
+    );
+    Ok(args)
+}
+
+/// The value of option `id` in `a`, as the command line would write it.
+fn value(a: &LayersArgs, id: &str) -> String {
+    match id {
+        "layers" => a.layers.to_string(),
+        "base_altitude_m" => a.base_altitude_m.to_string(),
+        "layer_spacing_m" => a.layer_spacing_m.to_string(),
+        "climb_mps" => a.climb_mps.to_string(),
+        "heading_rule" => match a.heading_rule {
+            HeadingArg::None => "none".to_owned(),
+            HeadingArg::Sectors => "sectors".to_owned(),
+        },
+        _ => unreachable!("every id of LAYER_OPTIONS is listed"),
+    }
+}
+
+/// Sets option `id` of `to` to its value in `from`.
+fn set(to: &mut LayersArgs, from: &LayersArgs, id: &str) {
+    match id {
+        "layers" => to.layers = from.layers,
+        "base_altitude_m" => to.base_altitude_m = from.base_altitude_m,
+        "layer_spacing_m" => to.layer_spacing_m = from.layer_spacing_m,
+        "climb_mps" => to.climb_mps = from.climb_mps,
+        "heading_rule" => to.heading_rule = from.heading_rule,
+        _ => unreachable!("every id of LAYER_OPTIONS is listed"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_recorded_layering_reads_back_and_is_checked() {
+        let layers = Layers {
+            count: 4,
+            base: Metres::from_mm(45_500),
+            spacing: Metres::from_mm(12_000),
+            climb_mm_per_s: 2_500,
+            heading_rule: HeadingRule::Sectors,
+        };
+        let rec = LayersRecord::of(&layers);
+        assert_eq!(args_of(&rec).unwrap().layers().unwrap(), layers);
+        let err = |rec: LayersRecord| format!("{:#}", args_of(&rec).unwrap_err());
+        assert_eq!(
+            err(LayersRecord {
+                climb_ms: 4_000,
+                ..rec.clone()
+            }),
+            "`climb_ms` 4000: 12 m at 2.5 m/s takes 4800 ms"
+        );
+        assert_eq!(
+            err(LayersRecord {
+                heading_rule: "north".into(),
+                ..rec.clone()
+            }),
+            "`heading_rule` `north`: expected `none` or `sectors`"
+        );
+        assert!(
+            err(LayersRecord { count: 0, ..rec }).starts_with("`count` 0: must be"),
+            "the option's range"
+        );
     }
 }

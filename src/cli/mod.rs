@@ -5,6 +5,7 @@ mod bench;
 mod common;
 mod demand;
 mod experiment;
+mod layer_map;
 mod layers;
 mod load;
 mod optimize;

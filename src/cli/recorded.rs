@@ -40,7 +40,7 @@ pub fn find(plans: &Path, given: Option<&Path>) -> anyhow::Result<Option<Summary
 }
 
 /// Whether the option with clap id `id` was given on the command line.
-fn given(matches: &ArgMatches, id: &str) -> bool {
+pub fn given(matches: &ArgMatches, id: &str) -> bool {
     matches.value_source(id) == Some(ValueSource::CommandLine)
 }
 
@@ -321,7 +321,25 @@ fn describe_world(world: &World) -> String {
         let ids: Vec<&str> = world.zones.iter().map(|z| z.id.as_str()).collect();
         format!("zones {}", ids.join(", "))
     };
-    format!("{}, {zones}", world.airspace_source)
+    match describe_layers(&world.airspace) {
+        Some(layers) => format!("{}, {layers}, {zones}", world.airspace_source),
+        None => format!("{}, {zones}", world.airspace_source),
+    }
+}
+
+/// The layering of `airspace`, for messages: `4 layers from 60 m, 9.144 m apart, climbing at
+/// 5 m/s, heading rule sectors`; `None` when flat.
+fn describe_layers(airspace: &muse_model::Airspace) -> Option<String> {
+    airspace.layers().map(|l| {
+        format!(
+            "{} layers from {} m, {} m apart, climbing at {} m/s, heading rule {}",
+            l.count,
+            l.base.m(),
+            l.spacing.m(),
+            f64::from(l.climb_mm_per_s) / 1e3,
+            l.heading_rule
+        )
+    })
 }
 
 /// Flight parameters, for messages.

@@ -17,6 +17,7 @@ use muse_verify::{Flight, verify_known_in};
 
 use super::common::{FlightArgs, World, WorldArgs, render_world_map};
 use super::demand::DemandArgs;
+use super::layer_map::render_layer_map;
 use super::layers::LayersArgs;
 use super::optimize::{OptimizeArgs, report_lines};
 use super::output;
@@ -150,8 +151,8 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
     })
 }
 
-/// Writes the day's drawings into `out`: `flights.geojson`, `map.svg` (corridor load) and
-/// `view.html` (the page that plays the day).
+/// Writes the day's drawings into `out`: `flights.geojson`, `map.svg` (corridor load; per
+/// layer when layered) and `view.html` (the page that plays the day).
 fn write_maps(
     world: &World,
     run: &DayRun,
@@ -178,12 +179,16 @@ fn write_maps(
         &out.join("flights.geojson"),
         &write_flights(&features, &world.airspace, world.offset),
     )?;
-    let load = edge_load(world, flights);
-    let svg = render_world_map(
-        world,
-        1_800,
-        Some((load, "Flights per corridor".to_owned())),
-    )?;
+    let svg = if let Some(svg) = render_layer_map(world, flights)? {
+        svg
+    } else {
+        let load = edge_load(world, flights);
+        render_world_map(
+            world,
+            1_800,
+            Some((load, "Flights per corridor".to_owned())),
+        )?
+    };
     write_atomically(&out.join("map.svg"), &svg)?;
     let summary_json =
         serde_json::from_str(&summary.to_json()).context("re-reading the summary")?;

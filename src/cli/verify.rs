@@ -11,6 +11,7 @@ use muse_verify::recorded::Recorded;
 use muse_verify::verify_known_in;
 
 use super::common::{FlightArgs, WorldArgs};
+use super::layers::{LayersArgs, recorded_layers};
 use super::recorded;
 
 /// Arguments of `muse verify`.
@@ -26,6 +27,8 @@ pub struct VerifyArgs {
     summary: Option<PathBuf>,
     #[command(flatten)]
     world: WorldArgs,
+    #[command(flatten)]
+    layers: LayersArgs,
     #[command(flatten)]
     flight: FlightArgs,
     /// Print at most this many violations (all are counted), from 0 to 1000000.
@@ -51,8 +54,9 @@ pub fn run(args: &VerifyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> 
     let summary = recorded::find(&args.plans, args.summary.as_deref())?;
     let mut notes = Vec::new();
     let world_args = recorded::world_args(&args.world, matches, summary.as_ref(), &mut notes)?;
+    let layers = recorded_layers(&args.layers, matches, summary.as_ref(), &mut notes)?;
     let params = recorded::flight_params(&args.flight, matches, summary.as_ref(), &mut notes)?;
-    let world = recorded::load_world(&world_args, summary.as_ref())?;
+    let world = recorded::load_world(&world_args, summary.as_ref())?.layered(&layers)?;
     for line in recorded::said(&args.plans, summary.as_ref(), &world, Some(&params), &notes) {
         eprintln!("{line}");
     }
@@ -94,8 +98,11 @@ pub fn run(args: &VerifyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> 
                 zones.announced.len()
             )
         };
+        let layers = a.layers().map_or(String::new(), |l| {
+            format!("; {} layers, heading rule {}", l.count, l.heading_rule)
+        });
         println!(
-            "OK: {read}; {} flights checked, every rule holds ({}; {} zone(s){announced})",
+            "OK: {read}; {} flights checked, every rule holds ({}{layers}; {} zone(s){announced})",
             flights.len(),
             params.edge_rule.name(),
             world.zones.len()

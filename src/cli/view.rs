@@ -10,6 +10,7 @@ use muse_formats::plans::{OperatorCancellation, PlanItem, PlanRecord, read_plan_
 use muse_model::{Instant, Millis};
 
 use super::common::{World, WorldArgs};
+use super::layers::{LayersArgs, recorded_layers};
 use super::output::write_atomically;
 use super::{output, recorded};
 
@@ -25,6 +26,8 @@ pub struct ViewArgs {
     summary: Option<PathBuf>,
     #[command(flatten)]
     world: WorldArgs,
+    #[command(flatten)]
+    layers: LayersArgs,
     /// Output file (`-`: standard output).
     #[arg(long, value_name = "FILE", default_value = "view.html")]
     out: PathBuf,
@@ -44,7 +47,8 @@ pub fn run(args: &ViewArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
     let out = output::file("--out", &args.out, &inputs)?;
     let mut notes = Vec::new();
     let world_args = recorded::world_args(&args.world, matches, found.as_ref(), &mut notes)?;
-    let world = recorded::load_world(&world_args, found.as_ref())?;
+    let layers = recorded_layers(&args.layers, matches, found.as_ref(), &mut notes)?;
+    let world = recorded::load_world(&world_args, found.as_ref())?.layered(&layers)?;
     for line in recorded::said(&args.plans, found.as_ref(), &world, None, &notes) {
         eprintln!("{line}");
     }

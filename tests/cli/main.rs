@@ -2,8 +2,9 @@
 //! `muse airspace info` (`airspace_info`), multi-leg days
 //! (`swaps`), sweeps sharded and merged (`sweep_shards`), the deployment scripts
 //! (`deploy_scripts`), bad inputs refused (`bad_inputs`), outputs that never clobber
-//! (`outputs`), batch planning (`optimize`), parameters read from the summary beside the plans (`params_travel`) and every
-//! example of docs/reference.md read by MUSE (`reference_examples`).
+//! (`outputs`), batch planning (`optimize`), parameters read from the summary beside the plans (`params_travel`), layered
+//! airspace's outputs and their verification (`layers`) and every example of docs/reference.md
+//! read by MUSE (`reference_examples`).
 
 /// What this area's tests share (tests/support): `muse serve` on a loopback port, scratch
 /// folders; [`csv`] compares the CSV files of sweeps.
@@ -18,6 +19,7 @@ mod airspace_info;
 mod bad_inputs;
 mod commands;
 mod deploy_scripts;
+mod layers;
 mod optimize;
 mod outputs;
 mod params_travel;

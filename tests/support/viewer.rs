@@ -138,9 +138,16 @@ pub fn eval_string(page: &Page<'_>, expr: &str) -> String {
 /// Runs `muse simulate --out OUT` (the default scenario and demand) and returns the plans it
 /// wrote and its `view.html`.
 pub fn simulate(out: &Path) -> (Vec<Plan>, PathBuf) {
+    simulate_with(out, &[])
+}
+
+/// Runs `muse simulate --out OUT` with the options `args` and returns the plans it wrote and
+/// its `view.html`.
+pub fn simulate_with(out: &Path, args: &[&str]) -> (Vec<Plan>, PathBuf) {
     let run = Command::new(env!("CARGO_BIN_EXE_muse"))
         .args(["simulate", "--out"])
         .arg(out)
+        .args(args)
         .output()
         .expect("muse simulate runs");
     assert!(

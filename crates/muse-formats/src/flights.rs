@@ -11,6 +11,11 @@
 //! the time on the ground between legs included), `nodes` and `times` (the feature's own
 //! vertices). A leg of a multi-leg trip adds `leg` (1 for the first) and `legs` (how many the
 //! trip has); a single-leg flight has neither.
+//!
+//! In a layered airspace (SPEC §13) the third coordinate is the stay's altitude in metres,
+//! `h_k` of its layer (a climb is two positions at the same place, one above the other), the
+//! `nodes` are flat ids, and `layers` gives each node's layer. A flat airspace's positions
+//! keep `0` there, and its features have no `layers`.
 
 use std::fmt::Write as _;
 
@@ -74,7 +79,7 @@ fn features(f: &FlightFeature<'_>, airspace: &Airspace, offset: UtcOffset) -> Ve
     let count = p.leg_count();
     let end = |stay: Option<&muse_model::Stay>| {
         stay.map_or(Value::Null, |s| {
-            Value::String(airspace.node(s.node).id.clone())
+            Value::String(airspace.flat().node(airspace.flat_node(s.node)).id.clone())
         })
     };
     let (origin, destination) = (end(p.path.first()), end(p.path.last()));
@@ -84,15 +89,27 @@ fn features(f: &FlightFeature<'_>, airspace: &Airspace, offset: UtcOffset) -> Ve
             let mut coords = Vec::with_capacity(leg.len() * 2);
             let mut times = Vec::with_capacity(leg.len() * 2);
             let mut nodes = Vec::with_capacity(leg.len());
+            let mut layers = Vec::with_capacity(leg.len());
             for stay in leg {
                 let node = airspace.node(stay.node);
-                nodes.push(Value::String(node.id.clone()));
+                let flat = airspace.flat().node(airspace.flat_node(stay.node));
+                nodes.push(Value::String(flat.id.clone()));
+                let k = airspace.node_layer(stay.node);
+                layers.push(json!(k));
+                let altitude = airspace
+                    .layers()
+                    .map_or_else(|| json!(0), |l| json!(l.altitude(k).m()));
                 let mut instants = vec![stay.arrive];
                 if stay.depart > stay.arrive {
                     instants.push(stay.depart);
                 }
                 for t in instants {
-                    coords.push(json!([node.pos.lon, node.pos.lat, 0, t.0 as f64 / 1e3]));
+                    coords.push(json!([
+                        node.pos.lon,
+                        node.pos.lat,
+                        altitude,
+                        t.0 as f64 / 1e3
+                    ]));
                     times.push(Value::String(t.to_rfc3339(offset)));
                 }
             }
@@ -108,6 +125,9 @@ fn features(f: &FlightFeature<'_>, airspace: &Airspace, offset: UtcOffset) -> Ve
                 "nodes": nodes,
                 "times": times,
             });
+            if airspace.layers().is_some() {
+                properties["layers"] = Value::Array(layers);
+            }
             if count > 1 {
                 properties["leg"] = json!(k + 1);
                 properties["legs"] = json!(count);
@@ -216,5 +236,58 @@ mod tests {
             assert_eq!(props(i)["air_delay_s"], json!(302.0));
             assert_eq!(props(i)["ground_delay_s"], json!(1.0));
         }
+    }
+
+    #[test]
+    fn layered_positions_carry_the_altitude() {
+        let layers = muse_model::Layers {
+            count: 2,
+            ..muse_model::Layers::default()
+        };
+        let air = air().layered(&layers).unwrap();
+        // A at layer 1, up to A@2 (node 3), along to B@2 (node 4), down to B (node 1).
+        let climbing = plan(&[
+            (0, 0, 0),
+            (3, 1_829, 1_829),
+            (4, 121_829, 122_829),
+            (1, 124_658, 124_658),
+        ]);
+        let f = FlightFeature {
+            request: "r1",
+            plan: &climbing,
+            requested_departure: Instant(0),
+            free_flow: Some(Millis(120_000)),
+        };
+        let doc: Value =
+            serde_json::from_str(&write_flights(&[f], &air, UtcOffset::SINGAPORE)).unwrap();
+        let feature = &doc["features"][0];
+        assert_eq!(
+            feature["geometry"]["coordinates"],
+            json!([
+                [103.8, 1.3, 60.0, 0.0],
+                [103.8, 1.3, 69.144, 1.829],
+                [103.8089, 1.3, 69.144, 121.829],
+                [103.8089, 1.3, 69.144, 122.829],
+                [103.8089, 1.3, 60.0, 124.658]
+            ])
+        );
+        let props = &feature["properties"];
+        assert_eq!(props["nodes"], json!(["A", "A", "B", "B"]));
+        assert_eq!(props["layers"], json!([1, 2, 2, 1]));
+        assert_eq!(
+            (&props["origin"], &props["destination"]),
+            (&json!("A"), &json!("B"))
+        );
+        // Flat: no `layers`, altitude 0 (the golden file of `single_leg_golden`).
+        let flat_plan = plan(&[(0, 0, 0), (1, 120_000, 120_000)]);
+        let f = FlightFeature {
+            plan: &flat_plan,
+            ..f
+        };
+        let flat = write_flights(&[f], air.flat(), UtcOffset::SINGAPORE);
+        assert!(
+            !flat.contains("layers") && flat.contains("[103.8,1.3,0,0.0]"),
+            "{flat}"
+        );
     }
 }

@@ -23,6 +23,10 @@
 //!   to, ending at the node it reached at or after the announcement; `takeoff` is its take-off,
 //!   `landing` null.
 //!
+//! In a layered airspace (SPEC §13: `--layers` 2 or more) every stay adds `layer` (1…L) and
+//! its `node` is the flat station or waypoint id (`{"node": "S012", "layer": 3, ...}`); a flat
+//! airspace's stays have no `layer`, and reading refuses one.
+//!
 //! A multi-leg plan (SPEC §12: battery swaps at stations) keeps these fields for the trip as a
 //! whole (`takeoff` the first take-off, `landing` the last landing, `airborne_s` between them,
 //! ground time included, `distance_m` the edges flown, `path` every stay with the station
@@ -40,7 +44,7 @@
 use std::fmt::Write as _;
 
 use muse_model::plan::{Change, Fate, ZONE_ANNOUNCED};
-use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Stay, UtcOffset};
+use muse_model::{Airspace, EdgeKind, Instant, Millis, Plan, RejectReason, Stay, UtcOffset};
 use serde::{Deserialize, Serialize};
 
 mod legs;
@@ -150,8 +154,11 @@ pub struct OriginalLine {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StayLine {
-    /// Node id.
+    /// Node id: in a layered airspace (SPEC §13), the id of the flat station or waypoint.
     pub node: String,
+    /// The layer (1…L) of the stay in a layered airspace; absent in a flat one.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub layer: Option<u32>,
     /// Arrival, RFC 3339.
     pub arrive: String,
     /// Departure, RFC 3339.
@@ -324,12 +331,14 @@ impl PlanEntry {
     }
 }
 
-/// Total length of the edges a plan flies, metres (rounded to the millimetre): the time on
-/// the ground between two legs adds nothing.
+/// Total length of the corridors a plan flies, metres (rounded to the millimetre): the time
+/// on the ground between two legs adds nothing, nor do the vertical links between layers
+/// (SPEC §13).
 pub fn plan_distance_m(airspace: &Airspace, plan: &Plan) -> f64 {
     let total: f64 = plan
         .hops()
         .filter_map(|(x, y)| airspace.edge_between(x.node, y.node))
+        .filter(|&e| matches!(airspace.edge_kind(e), EdgeKind::Corridor { .. }))
         .map(|e| airspace.edge(e).length_m)
         .sum();
     (total * 1e3).round() / 1e3
@@ -361,12 +370,15 @@ pub fn write_plan_line(
     let _ = writeln!(out, "{}", serde_json::to_string(&line).unwrap_or_default());
 }
 
-/// `stays` as written, times in `offset`.
+/// `stays` as written, times in `offset`: in a layered airspace, each node as its flat id and
+/// its layer.
 fn stay_lines(airspace: &Airspace, offset: UtcOffset, stays: &[Stay]) -> Vec<StayLine> {
+    let layered = airspace.layers().is_some();
     stays
         .iter()
         .map(|s| StayLine {
-            node: airspace.node(s.node).id.clone(),
+            node: airspace.flat().node(airspace.flat_node(s.node)).id.clone(),
+            layer: layered.then(|| airspace.node_layer(s.node)),
             arrive: s.arrive.to_rfc3339(offset),
             depart: s.depart.to_rfc3339(offset),
         })
@@ -428,7 +440,7 @@ pub fn plan_line(airspace: &Airspace, offset: UtcOffset, record: &PlanRecord) ->
         diverted_to: plan
             .filter(|_| diverted)
             .and_then(|p| p.path.last())
-            .map(|s| airspace.node(s.node).id.clone()),
+            .map(|s| airspace.flat().node(airspace.flat_node(s.node)).id.clone()),
         path: plan.map(|p| stay_lines(airspace, offset, &p.path)),
         legs: plan.and_then(|p| leg_lines(airspace, offset, p, true)),
         committed: committed.map(|p| stay_lines(airspace, offset, &p.path)),
@@ -803,5 +815,109 @@ mod tests {
                 format!("p.jsonl: line 1: field `{field}`: unknown node id `{id}`")
             );
         }
+    }
+
+    /// `A — B` (1 km, eastward) at two layers, and A→B climbing to layer 2: up at `A` in
+    /// 1.829 s, along in 120 s, down at `B`.
+    fn layered() -> (Airspace, PlanRecord) {
+        let layers = muse_model::Layers {
+            count: 2,
+            ..muse_model::Layers::default()
+        };
+        let air = Airspace::line(&[1_000.0]).layered(&layers).unwrap();
+        let plan = muse_model::testing::plan(&[
+            (0, 0, 0),
+            (2, 1_829, 1_829),
+            (3, 121_829, 124_000),
+            (1, 125_829, 125_829),
+        ]);
+        let rec = PlanRecord::first(
+            "r1".into(),
+            "A".into(),
+            "B".into(),
+            Instant(0),
+            Ok(plan),
+            Some(Millis(120_000)),
+            4,
+        );
+        (air, rec)
+    }
+
+    #[test]
+    fn layered_stays_give_the_flat_node_and_the_layer() {
+        let (air, rec) = layered();
+        let mut out = String::new();
+        write_plan_line(&mut out, &air, UtcOffset::SINGAPORE, &rec);
+        let stay = |node: &str, layer: u32, arrive: &str, depart: &str| {
+            format!(
+                r#"{{"node":"{node}","layer":{layer},"arrive":"1970-01-01T08:0{arrive}+08:00","depart":"1970-01-01T08:0{depart}+08:00"}}"#
+            )
+        };
+        let path = [
+            stay("A", 1, "0:00.000", "0:00.000"),
+            stay("A", 2, "0:01.829", "0:01.829"),
+            stay("B", 2, "2:01.829", "2:04.000"),
+            stay("B", 1, "2:05.829", "2:05.829"),
+        ]
+        .join(",");
+        // The vertical links add to the time, not to the distance.
+        assert!(
+            out.ends_with(&format!(
+                "{}{path}]}}\n",
+                r#""distance_m":1000.0,"expanded":4,"path":["#
+            )),
+            "{out}"
+        );
+        assert_eq!(read_plans(&out, "p.jsonl", &air).unwrap(), vec![rec]);
+    }
+
+    #[test]
+    fn layers_out_of_place_are_refused() {
+        let (air, rec) = layered();
+        let mut out = String::new();
+        write_plan_line(&mut out, &air, UtcOffset::SINGAPORE, &rec);
+        let err = |text: &str, air: &Airspace| {
+            read_plans(&format!("\n{text}"), "p.jsonl", air)
+                .unwrap_err()
+                .to_string()
+        };
+        assert_eq!(
+            err(&out.replacen(r#""layer":2"#, r#""layer":3"#, 1), &air),
+            "p.jsonl: line 2: field `path[1].layer`: layer 3 is out of range: give 1 to 2"
+        );
+        assert_eq!(
+            err(&out.replacen(r#""layer":1,"#, r#""layer":0,"#, 1), &air),
+            "p.jsonl: line 2: field `path[0].layer`: layer 0 is out of range: give 1 to 2"
+        );
+        assert_eq!(
+            err(&out.replacen(r#""layer":2,"#, "", 1), &air),
+            "p.jsonl: line 2: field `path[1].layer`: missing: the airspace has 2 layers, and \
+             every stay gives its layer (1 to 2)"
+        );
+        assert_eq!(
+            err(&out, air.flat()),
+            "p.jsonl: line 2: field `path[0].layer`: layer 1, but the airspace is flat (one \
+             layer): a stay gives its layer only in a layered airspace (`--layers` 2 or more)"
+        );
+        // The layered ids are not written, nor read.
+        assert_eq!(
+            err(
+                &out.replacen(r#""node":"A","layer":2"#, r#""node":"A@2","layer":2"#, 1),
+                &air
+            ),
+            "p.jsonl: line 2: field `path[1].node`: unknown node id `A@2`"
+        );
+        assert_eq!(
+            err(
+                &out.replacen(r#""origin":"A""#, r#""origin":"A@2""#, 1),
+                &air
+            ),
+            "p.jsonl: line 2: field `origin`: unknown node id `A@2`"
+        );
+        let e = err(&out.replacen(r#""layer":2"#, r#""layer":-2"#, 1), &air);
+        assert!(
+            e.starts_with("p.jsonl: line 2: field `path[1].layer`: not a plan record"),
+            "{e}"
+        );
     }
 }

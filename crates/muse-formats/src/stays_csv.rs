@@ -21,7 +21,7 @@ use muse_model::{Airspace, Instant, UtcOffset};
 use crate::flights_csv::{Table, day_s, number};
 use crate::plans::PlanRecord;
 
-/// The header of `stays.csv`.
+/// The header of `stays.csv` (in a layered airspace, `layer` follows `node`).
 pub const STAYS_COLUMNS: [&str; 9] = [
     "request",
     "leg",
@@ -35,7 +35,8 @@ pub const STAYS_COLUMNS: [&str; 9] = [
 ];
 
 /// The table of the stays of `records`, header first, flights in their order. Instants are
-/// written in `offset`, and as seconds since `day_start` (the scenario's local midnight).
+/// written in `offset`, and as seconds since `day_start` (the scenario's local midnight); in a
+/// layered `airspace`, each stay's node as its flat id and its layer.
 ///
 /// ```
 /// use muse_formats::stays_csv::write_stays_csv;
@@ -62,7 +63,12 @@ pub fn write_stays_csv(
     offset: UtcOffset,
     day_start: Instant,
 ) -> String {
-    let mut out = Table::new(&STAYS_COLUMNS);
+    let layered = airspace.layers().is_some();
+    let mut columns = STAYS_COLUMNS.to_vec();
+    if layered {
+        columns.insert(4, "layer");
+    }
+    let mut out = Table::new(&columns);
     for record in records {
         let plan = match (&record.fate, record.final_plan()) {
             (Some(Fate::Contingency(committed)), _) => committed,
@@ -73,19 +79,81 @@ pub fn write_stays_csv(
         for (k, leg) in plan.legs().enumerate() {
             for stay in leg {
                 count += 1;
-                out.row(&[
+                let mut row = vec![
                     record.request.clone(),
                     (k + 1).to_string(),
                     count.to_string(),
-                    airspace.node(stay.node).id.clone(),
+                    airspace
+                        .flat()
+                        .node(airspace.flat_node(stay.node))
+                        .id
+                        .clone(),
                     stay.arrive.to_rfc3339(offset),
                     day_s(stay.arrive, day_start),
                     stay.depart.to_rfc3339(offset),
                     day_s(stay.depart, day_start),
                     number((stay.depart - stay.arrive).as_secs_f64()),
-                ]);
+                ];
+                if layered {
+                    row.insert(4, airspace.node_layer(stay.node).to_string());
+                }
+                out.row(&row);
             }
         }
     }
     out.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use muse_model::testing::plan;
+    use muse_model::{Airspace, Layers, Millis};
+
+    use super::*;
+
+    #[test]
+    fn layered_stays_have_a_layer_column() {
+        let layers = Layers {
+            count: 3,
+            ..Layers::default()
+        };
+        let air = Airspace::line(&[1_000.0]).layered(&layers).unwrap();
+        // A at layer 1, climbing to 2, along to B at 2, down to B at 1.
+        let flown = plan(&[
+            (0, 0, 0),
+            (2, 1_829, 1_829),
+            (3, 121_829, 121_829),
+            (1, 123_658, 123_658),
+        ]);
+        let r = PlanRecord::first(
+            "r1".into(),
+            "A".into(),
+            "B".into(),
+            Instant(0),
+            Ok(flown.clone()),
+            Some(Millis(120_000)),
+            2,
+        );
+        let csv = write_stays_csv(std::slice::from_ref(&r), &air, UtcOffset(0), Instant(0));
+        let rows: Vec<&str> = csv.lines().collect();
+        assert_eq!(
+            rows[0],
+            "request,leg,stay,node,layer,arrive,arrive_day_s,depart,depart_day_s,hover_s"
+        );
+        let nodes: Vec<(&str, &str)> = rows[1..]
+            .iter()
+            .map(|r| {
+                let cells: Vec<&str> = r.split(',').collect();
+                (cells[3], cells[4])
+            })
+            .collect();
+        assert_eq!(nodes, [("A", "1"), ("A", "2"), ("B", "2"), ("B", "1")]);
+        // The same flight in the flat airspace, nodes at layer 1: no column.
+        let flat = PlanRecord {
+            result: Ok(plan(&[(0, 0, 0), (1, 120_000, 120_000)])),
+            ..r
+        };
+        let csv = write_stays_csv(&[flat], air.flat(), UtcOffset(0), Instant(0));
+        assert_eq!(csv.lines().next(), Some(STAYS_COLUMNS.join(",").as_str()));
+    }
 }

@@ -1,5 +1,6 @@
-//! Plans files with multi-leg plans (SPEC §7, §11, §12): the golden file is what the writer
-//! gives for known records, byte for byte, and reads back to the same records.
+//! Plans files with multi-leg plans (SPEC §7, §11, §12) and with layers (§13): each golden
+//! file is what the writer gives for known records, byte for byte, and reads back to the same
+//! records.
 
 use std::path::PathBuf;
 
@@ -167,5 +168,134 @@ fn multi_leg_lines_describe_the_whole_trip() {
     assert_eq!(
         FateKind::parse(&stranded.status),
         Some(FateKind::Contingency)
+    );
+}
+
+/// The airspace of `air.geojson` at two layers under the semicircular rule: eastward at
+/// layer 1, westward at layer 2 (SPEC §13).
+fn layered_air() -> Airspace {
+    let layers = muse_model::Layers {
+        count: 2,
+        heading_rule: muse_model::HeadingRule::Sectors,
+        ..muse_model::Layers::default()
+    };
+    air().layered(&layers).unwrap()
+}
+
+/// A trip from `takeoff` (seconds after 08:00) through `(node, layer)` pairs, no hovering:
+/// 120 s per corridor, 1.829 s per vertical link.
+fn layered_trip(air: &Airspace, takeoff: i64, stays: &[(&str, u32)]) -> Plan {
+    let mut t = at(takeoff);
+    let mut path: Vec<Stay> = Vec::new();
+    for &(id, layer) in stays {
+        let node = air.at_layer(air.node_id(id).unwrap(), layer).unwrap();
+        if let Some(last) = path.last() {
+            let same_place = air.flat_node(last.node) == air.flat_node(node);
+            t = Instant(t.0 + if same_place { 1_829 } else { 120_000 });
+        }
+        path.push(Stay {
+            node,
+            arrive: t,
+            depart: t,
+        });
+    }
+    Plan { path }
+}
+
+/// The records of `layered.jsonl`: eastward at layer 1; westward at layer 2 (climbing at `C`,
+/// descending at `A`), replanned later; westward left in contingency at `W` of layer 2.
+fn layered_records(air: &Airspace) -> Vec<PlanRecord> {
+    let east = layered_trip(air, 0, &[("A", 1), ("B", 1), ("W", 1), ("C", 1)]);
+    let west = |t: i64| {
+        layered_trip(
+            air,
+            t,
+            &[("C", 1), ("C", 2), ("W", 2), ("B", 2), ("A", 2), ("A", 1)],
+        )
+    };
+    let stranded = layered_trip(air, 1_800, &[("C", 1), ("C", 2), ("W", 2)]);
+    vec![
+        record("r1", "A", "C", 0, east),
+        changed(
+            record("r2", "C", "A", 600, west(600)),
+            "Z1",
+            300,
+            Fate::Replanned(west(900)),
+        ),
+        changed(
+            record("r3", "C", "A", 1_800, west(1_800)),
+            "Z2",
+            1_900,
+            Fate::Contingency(stranded),
+        ),
+    ]
+}
+
+#[test]
+fn layered_golden_file() {
+    let air = layered_air();
+    let records = layered_records(&air);
+    let mut text = String::new();
+    for r in &records {
+        write_plan_line(&mut text, &air, UtcOffset::SINGAPORE, r);
+    }
+    let golden = std::fs::read_to_string(fixture("layered.jsonl")).unwrap();
+    assert_eq!(text, golden);
+    assert_eq!(
+        read_plans_file(&fixture("layered.jsonl"), &air).unwrap(),
+        records
+    );
+    // Every stay names a flat node and its layer: the path, the original, the committed part.
+    let ids = |stays: &[muse_formats::plans::StayLine]| -> Vec<(String, Option<u32>)> {
+        stays.iter().map(|s| (s.node.clone(), s.layer)).collect()
+    };
+    let replanned = plan_line(&air, UtcOffset::SINGAPORE, &records[1]);
+    let west: Vec<(String, Option<u32>)> =
+        [("C", 1), ("C", 2), ("W", 2), ("B", 2), ("A", 2), ("A", 1)]
+            .iter()
+            .map(|&(n, k)| (n.to_owned(), Some(k)))
+            .collect();
+    assert_eq!(ids(replanned.path.as_ref().unwrap()), west);
+    assert_eq!(ids(&replanned.original.unwrap().path), west);
+    assert_eq!(
+        replanned.distance_m,
+        Some(3_000.0),
+        "climbs fly no corridor"
+    );
+    let stranded = plan_line(&air, UtcOffset::SINGAPORE, &records[2]);
+    assert_eq!(ids(&stranded.committed.unwrap()), west[..3]);
+}
+
+#[test]
+fn layered_files_are_refused_where_the_layering_differs() {
+    let text = std::fs::read_to_string(fixture("layered.jsonl")).unwrap();
+    // On the flat airspace.
+    let e = muse_formats::plans::read_plans(&text, "layered.jsonl", &air())
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        "layered.jsonl: line 1: field `path[0].layer`: layer 1, but the airspace is flat (one \
+         layer): a stay gives its layer only in a layered airspace (`--layers` 2 or more)"
+    );
+    // A flat file on the layered airspace.
+    let flat = std::fs::read_to_string(fixture("multi_leg.jsonl")).unwrap();
+    let e = muse_formats::plans::read_plans(&flat, "multi_leg.jsonl", &layered_air())
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        "multi_leg.jsonl: line 1: field `path[0].layer`: missing: the airspace has 2 layers, \
+         and every stay gives its layer (1 to 2)"
+    );
+    // A layer beyond the airspace's, in the original plan of line 2.
+    let third = text.replacen(r#"{"node":"W","layer":2"#, r#"{"node":"W","layer":3"#, 2);
+    let e = muse_formats::plans::read_plans(&third, "layered.jsonl", &layered_air())
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        "layered.jsonl: line 2: field `original.path[2].layer`: layer 3 is out of range: give \
+         1 to 2"
     );
 }

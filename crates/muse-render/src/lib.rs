@@ -2,7 +2,8 @@
 //!
 //! - [`render_map`]: the airspace map (the paper's Fig. 1): land, no-fly zones, corridors
 //!   (optionally coloured by how busy they are), stations with their ids, a scale bar, a
-//!   north arrow and lon/lat ticks;
+//!   north arrow and lon/lat ticks; [`render_map_panels`]: several such maps side by side
+//!   (small multiples, e.g. one per layer of a layered airspace) on one load scale;
 //! - [`render_line_plot`]: line plots with 95% confidence bands, one line per series (the
 //!   sweep's runtime, success-rate and delay figures).
 //!
@@ -21,7 +22,7 @@ use plotters::backend::SVGBackend;
 use plotters::coord::Shift;
 use plotters::drawing::DrawingArea;
 
-pub use map::{MapInput, MapOptions, ZoneLayer, render_map};
+pub use map::{MapInput, MapOptions, MapPanel, ZoneLayer, render_map, render_map_panels};
 pub use plot::{PlotOptions, Point, Series, render_line_plot};
 
 /// Why a map or plot could not be drawn.

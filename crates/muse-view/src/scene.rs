@@ -1,13 +1,17 @@
 //! The scene: everything the page draws, as compact JSON. Times are integer milliseconds
 //! from [`Scene::t0`] (the start of the local hour the day begins in), coordinates WGS84
 //! degrees rounded to 1e-5 (about a metre).
+//!
+//! A layered airspace (SPEC §13) is drawn from above: its flat nodes and corridors, each
+//! flight's stays at flat nodes (a climb or descent shown as a hover at the node), and a
+//! zone closing a node or corridor at any layer as closing it.
 
 use geo::Simplify;
 use geo_types::{LineString, Polygon};
 use muse_airspace::closures::{closed_elements, zone_windows};
 use muse_formats::plans::{OperatorCancellation, PlanRecord};
 use muse_model::plan::{CANCELLED_BY_OPERATOR, Fate, ZONE_ANNOUNCED};
-use muse_model::{Airspace, Instant, NodeKind, Plan, UtcOffset, Zone};
+use muse_model::{Airspace, Instant, NodeId, NodeKind, Plan, Stay, UtcOffset, Zone};
 use serde::Serialize;
 
 use crate::ViewError;
@@ -216,7 +220,9 @@ pub fn scene(input: &SceneInput<'_>) -> Result<Scene, ViewError> {
     let t0 = (first.0 + off).div_euclid(HOUR_MS) * HOUR_MS - off;
     let end = (last.0 + off + HOUR_MS - 1).div_euclid(HOUR_MS) * HOUR_MS - off;
 
+    // A layered airspace (SPEC §13) is drawn from above: its flat nodes and corridors.
     let nodes = a
+        .flat()
         .nodes()
         .iter()
         .map(|n| SceneNode {
@@ -226,7 +232,12 @@ pub fn scene(input: &SceneInput<'_>) -> Result<Scene, ViewError> {
             station: n.kind == NodeKind::Station,
         })
         .collect();
-    let edges = a.edges().iter().map(|e| [e.from.0, e.to.0]).collect();
+    let edges = a
+        .flat()
+        .edges()
+        .iter()
+        .map(|e| [e.from.0, e.to.0])
+        .collect();
     let land = input
         .land
         .iter()
@@ -271,6 +282,17 @@ fn scene_zone(a: &Airspace, z: &Zone, t0: i64, end: i64) -> Result<SceneZone, Vi
     };
     let windows = zone_windows(z, Instant(t0), Instant(end)).map_err(|e| err(&e))?;
     let (closed_nodes, closed_edges) = closed_elements(a, z).map_err(|e| err(&e))?;
+    // Drawn from above: a node or corridor closed at any layer; vertical links are not drawn.
+    let mut nodes: Vec<u32> = closed_nodes.iter().map(|&n| a.flat_node(n).0).collect();
+    let mut edges: Vec<u32> = closed_edges
+        .iter()
+        .filter_map(|&e| a.flat_edge(e))
+        .map(|e| e.0)
+        .collect();
+    for list in [&mut nodes, &mut edges] {
+        list.sort_unstable();
+        list.dedup();
+    }
     Ok(SceneZone {
         id: z.id.clone(),
         name: z.name.clone(),
@@ -287,8 +309,8 @@ fn scene_zone(a: &Airspace, z: &Zone, t0: i64, end: i64) -> Result<SceneZone, Vi
             .map(|w| [w.start.0 - t0, w.end.0 - t0])
             .collect(),
         announced: z.announced.map(|t| t.0 - t0),
-        nodes: closed_nodes.iter().map(|n| n.0).collect(),
-        edges: closed_edges.iter().map(|e| e.0).collect(),
+        nodes,
+        edges,
     })
 }
 
@@ -313,12 +335,30 @@ fn scene_flight(
         dep: r.requested_departure.0 - t0,
         ff: r.free_flow.map(|m| m.0),
         status,
-        s: plan
-            .path
+        s: flat_stays(a, plan)
             .iter()
             .flat_map(|s| [i64::from(s.node.0), s.arrive.0 - t0, s.depart.0 - t0])
             .collect(),
     })
+}
+
+/// The stays of `plan` seen from above: at flat nodes, a climb or descent between layers
+/// (consecutive stays at copies of one node) merged into one stay from the first arrival to
+/// the last departure. A battery swap, the same node twice in a row, stays two stays. A flat
+/// airspace's plan is returned as it is.
+fn flat_stays(a: &Airspace, plan: &Plan) -> Vec<Stay> {
+    let mut out: Vec<(Stay, NodeId)> = Vec::with_capacity(plan.path.len());
+    for s in &plan.path {
+        let flat = a.flat_node(s.node);
+        match out.last_mut() {
+            Some((last, layered)) if last.node == flat && *layered != s.node => {
+                last.depart = s.depart;
+                *layered = s.node;
+            }
+            _ => out.push((Stay { node: flat, ..*s }, s.node)),
+        }
+    }
+    out.into_iter().map(|(s, _)| s).collect()
 }
 
 /// The requests of `input` with nothing to draw, and their reasons (each listed once).
@@ -536,5 +576,48 @@ mod tests {
         );
         let json = serde_json::to_string(&s.unflown[3]).unwrap();
         assert_eq!(json, r#"["op1",0,1,90000,2]"#, "compact");
+    }
+
+    #[test]
+    fn a_layered_day_is_drawn_from_above() {
+        let layers = muse_model::Layers {
+            count: 3,
+            ..muse_model::Layers::default()
+        };
+        let a = Airspace::line(&[1_000.0, 1_000.0])
+            .layered(&layers)
+            .unwrap();
+        // A (0) up to A@2 (3) and A@3 (6), along to B@3 (7) and C@3 (8), down to C@2 (5) and
+        // C (2); then a swap at C (the same node twice) and back to B at layer 1.
+        let flights = [record(
+            "r1",
+            &[
+                (0, 0, 0),
+                (3, 1_829, 1_829),
+                (6, 3_658, 3_658),
+                (7, 123_658, 123_658),
+                (8, 243_658, 243_658),
+                (5, 245_487, 245_487),
+                (2, 247_316, 247_316),
+                (2, 547_316, 547_316),
+                (1, 667_316, 667_316),
+            ],
+        )];
+        let mut input = SceneInput::new(&a, UtcOffset(0), (Instant(0), Instant(0)));
+        input.flights = &flights;
+        let s = scene(&input).unwrap();
+        let ids: Vec<&str> = s.nodes.iter().map(|n| n.id.as_str()).collect();
+        assert_eq!(ids, ["A", "B", "C"]);
+        assert_eq!(s.edges, [[0, 1], [1, 2]]);
+        assert_eq!(
+            s.flights[0].s,
+            [
+                0, 0, 3_658, // A, climbing to layer 3
+                1, 123_658, 123_658, // B
+                2, 243_658, 247_316, // C, descending
+                2, 547_316, 547_316, // C again after the swap
+                1, 667_316, 667_316
+            ]
+        );
     }
 }

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use muse_model::plan::{CANCELLED_BY_OPERATOR, Change, Fate, FateKind, ZONE_ANNOUNCED};
-use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Stay};
+use muse_model::{Airspace, Instant, Millis, NodeId, Plan, RejectReason, Stay};
 
 use super::legs::PlanFields;
 use super::line::LineReader;
@@ -15,7 +15,8 @@ use crate::error::InputError;
 /// answer (planned, rejected, or changed by zone announcements). A line of a flight its
 /// operator cancelled (a service listing) is read and checked like any other but, holding no
 /// answer that flies, is left out; [`read_plan_entries`] gives every line. Node ids are
-/// resolved against `airspace`; every error names the file, line and field.
+/// resolved against `airspace` (in a layered one, each stay's flat id at its `layer`); every
+/// error names the file, line and field.
 pub fn read_plans(
     text: &str,
     file: &str,
@@ -107,12 +108,7 @@ impl LineReader<'_> {
         }
         let mut path = Vec::with_capacity(stays.len());
         for (k, s) in stays.iter().enumerate() {
-            let node = self.airspace.node_id(&s.node).ok_or_else(|| {
-                self.err(
-                    Some(&format!("{field}[{k}].node")),
-                    format!("unknown node id `{}`", s.node),
-                )
-            })?;
+            let node = self.stay_node(&format!("{field}[{k}]"), s)?;
             path.push(Stay {
                 node,
                 arrive: self.time(&format!("{field}[{k}].arrive"), &s.arrive)?,
@@ -120,6 +116,42 @@ impl LineReader<'_> {
             });
         }
         Ok(Plan { path })
+    }
+
+    /// The node of stay `at` (`path[3]`): its flat id, at its `layer` in a layered airspace
+    /// (SPEC §13), which every stay of a layered airspace gives and no stay of a flat one.
+    fn stay_node(&self, at: &str, s: &StayLine) -> Result<NodeId, InputError> {
+        let a = self.airspace;
+        let flat = a.flat().node_id(&s.node).ok_or_else(|| {
+            self.err(
+                Some(&format!("{at}.node")),
+                format!("unknown node id `{}`", s.node),
+            )
+        })?;
+        let field = format!("{at}.layer");
+        match (a.layers(), s.layer) {
+            (None, None) => Ok(flat),
+            (None, Some(k)) => Err(self.err(
+                Some(&field),
+                format!(
+                    "layer {k}, but the airspace is flat (one layer): a stay gives its layer only \
+                     in a layered airspace (`--layers` 2 or more)"
+                ),
+            )),
+            (Some(layers), None) => Err(self.err(
+                Some(&field),
+                format!(
+                    "missing: the airspace has {} layers, and every stay gives its layer (1 to {})",
+                    layers.count, layers.count
+                ),
+            )),
+            (Some(layers), Some(k)) => a.at_layer(flat, k).ok_or_else(|| {
+                self.err(
+                    Some(&field),
+                    format!("layer {k} is out of range: give 1 to {}", layers.count),
+                )
+            }),
+        }
     }
 
     pub(super) fn free_flow(&self, line: &PlanLine) -> Result<Option<Millis>, InputError> {
@@ -133,7 +165,7 @@ impl LineReader<'_> {
     /// What a line holds: a request's answer, or a flight its operator cancelled.
     pub(super) fn item(&self, line: &PlanLine) -> Result<PlanItem, InputError> {
         for (field, id) in [("origin", &line.origin), ("destination", &line.destination)] {
-            if self.airspace.node_id(id).is_none() {
+            if self.airspace.flat().node_id(id).is_none() {
                 return Err(self.err(Some(field), format!("unknown node id `{id}`")));
             }
         }

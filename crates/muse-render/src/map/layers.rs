@@ -9,7 +9,7 @@ use plotters::element::{
 };
 use plotters::style::{Color, ShapeStyle};
 
-use super::{MapCtx, STATION_R, WAYPOINT_R};
+use super::{MapCtx, STATION_R, WAYPOINT_R, load_top};
 use crate::style::{COAST, EDGE, INK, LAND, PAPER, SEA, WAYPOINT, ZONE, ramp};
 use crate::{RenderError, drawing_err};
 
@@ -95,7 +95,7 @@ impl MapCtx<'_, '_, '_> {
         let root = self.root;
         let airspace = self.input.airspace;
         if let Some(load) = &self.input.edge_load {
-            let max = load.iter().copied().fold(0.0, f64::max);
+            let max = load_top(load, self.opts);
             let mut order: Vec<usize> = (0..load.len()).collect();
             order.sort_by(|&a, &b| load[a].total_cmp(&load[b]).then(a.cmp(&b)));
             for i in order {

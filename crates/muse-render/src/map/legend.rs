@@ -6,7 +6,9 @@ use plotters::element::{Circle, DashedPathElement, PathElement, Rectangle};
 use plotters::style::Color;
 use plotters::style::text_anchor::{HPos, VPos};
 
-use super::{MARGIN_LEFT, MARGIN_RIGHT, MapInput, MapOptions, STATION_R, TICK_PX, WAYPOINT_R};
+use super::{
+    MARGIN_LEFT, MARGIN_RIGHT, MapInput, MapOptions, STATION_R, TICK_PX, WAYPOINT_R, load_top,
+};
 use crate::style::{EDGE, INK, MUTED, WAYPOINT, ZONE, ramp, text, text_width};
 use crate::ticks::fmt_num;
 use crate::{Area, RenderError, drawing_err};
@@ -86,12 +88,10 @@ impl Legend {
                 row.push(item);
             }
         }
-        let load = input.edge_load.as_ref().map(|l| {
-            (
-                l.iter().copied().fold(0.0, f64::max),
-                opts.load_label.clone(),
-            )
-        });
+        let load = input
+            .edge_load
+            .as_ref()
+            .map(|l| (load_top(l, opts), opts.load_label.clone()));
         Legend {
             rows,
             load,

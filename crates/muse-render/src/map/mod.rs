@@ -9,6 +9,7 @@ mod furniture;
 mod labels;
 mod layers;
 mod legend;
+mod panels;
 
 use geo::BoundingRect;
 use geo_types::Polygon;
@@ -19,6 +20,7 @@ use plotters::style::text_anchor::{HPos, VPos};
 
 use self::layers::merge_land;
 use self::legend::Legend;
+pub use self::panels::{MapPanel, render_map_panels};
 use crate::geom::{Extent, Projection, Rect};
 use crate::style::{MUTED, PAPER, text};
 use crate::{Area, RenderError, drawing_err};
@@ -80,6 +82,10 @@ pub struct MapOptions {
     pub load_label: String,
     /// Small print under the legend, e.g. the data attribution a licence requires.
     pub attribution: String,
+    /// The load at the top of the colour scale; `None`: the busiest corridor's. Maps meant to
+    /// be compared (the panels of [`render_map_panels`]) share one; it may not be below the
+    /// busiest corridor's load.
+    pub load_max: Option<f64>,
 }
 
 impl Default for MapOptions {
@@ -90,6 +96,7 @@ impl Default for MapOptions {
             label_stations: true,
             load_label: "Corridor load".to_owned(),
             attribution: String::new(),
+            load_max: None,
         }
     }
 }
@@ -244,8 +251,23 @@ fn validate(input: &MapInput<'_>, opts: &MapOptions) -> Result<(), RenderError> 
                 load[i]
             )));
         }
+        let busiest = load.iter().copied().fold(0.0, f64::max);
+        if let Some(top) = opts.load_max
+            && !(top.is_finite() && top >= busiest)
+        {
+            return Err(RenderError::Input(format!(
+                "load_max {top} is below the busiest corridor's load {busiest}"
+            )));
+        }
     }
     Ok(())
+}
+
+/// The load at the top of the colour scale: [`MapOptions::load_max`], else the busiest
+/// corridor's.
+fn load_top(load: &[f64], opts: &MapOptions) -> f64 {
+    opts.load_max
+        .unwrap_or_else(|| load.iter().copied().fold(0.0, f64::max))
 }
 
 /// What the drawing methods share: the canvas, the input, the projection and the frame.
