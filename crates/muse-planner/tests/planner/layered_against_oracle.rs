@@ -5,13 +5,10 @@
 //! corridors and zones per layer straight from the SPEC (`scenario::Instance::zones`,
 //! `oracle::weight`, `oracle::ends`, `oracle::rule_of`).
 
-use proptest::test_runner::TestCaseError;
-
 use crate::scenario::multileg::multileg_instances;
-use crate::scenario::{self, Instance, Shape, Tally, instances, layered, runner};
+use crate::scenario::{self, Instance, Shape, Tally, check_property, instances, layered};
 
-/// Runs `cases` layered instances through `run`; panics with the seed and the minimal
-/// failing instance.
+/// Runs `cases` layered instances of `strategy` through `run`.
 fn property_of(
     run: fn(&Instance) -> Result<Tally, String>,
     strategy: impl proptest::strategy::Strategy<Value = Instance>,
@@ -19,20 +16,7 @@ fn property_of(
     cases: u32,
     seed: u64,
 ) -> Tally {
-    let total = std::cell::Cell::new(Tally::default());
-    let result = runner(cases, seed).run(&layered(strategy), |instance| {
-        let tally = run(&instance).map_err(TestCaseError::fail)?;
-        let mut t = total.get();
-        t.add(&tally);
-        total.set(t);
-        Ok(())
-    });
-    if let Err(e) = result {
-        panic!("seed {seed:#x}: {e}");
-    }
-    let t = total.get();
-    println!("{path} (seed {seed:#x}): {t:?}");
-    t
+    check_property(run, layered(strategy), path, cases, seed)
 }
 
 #[test]

@@ -31,20 +31,8 @@ fn property_of(
     cases: u32,
     seed: u64,
 ) -> Tally {
-    let total = std::cell::Cell::new(Tally::default());
-    let result = runner(cases, seed).run(&multileg_instances(shape), |instance| {
-        let tally = run(&instance).map_err(TestCaseError::fail)?;
-        let mut t = total.get();
-        t.add(&tally);
-        total.set(t);
-        Ok(())
-    });
-    if let Err(e) = result {
-        panic!("seed {seed:#x}: {e}");
-    }
-    let t = total.get();
-    println!("{path} {shape:?} (seed {seed:#x}): {t:?}");
-    t
+    let label = format!("{path} {shape:?}");
+    scenario::check_property(run, multileg_instances(shape), &label, cases, seed)
 }
 
 /// The batch path (`scenario::run`).

@@ -475,6 +475,31 @@ pub fn layered(base: impl Strategy<Value = Instance>) -> impl Strategy<Value = I
     })
 }
 
+/// Runs `cases` instances of `strategy` (deterministic runner, [`runner`]) through `run`,
+/// adding up their tallies; panics with the seed and the minimal failing instance.
+pub fn check_property(
+    run: fn(&Instance) -> Result<Tally, String>,
+    strategy: impl Strategy<Value = Instance>,
+    path: &str,
+    cases: u32,
+    seed: u64,
+) -> Tally {
+    let total = std::cell::Cell::new(Tally::default());
+    let result = runner(cases, seed).run(&strategy, |instance| {
+        let tally = run(&instance).map_err(proptest::test_runner::TestCaseError::fail)?;
+        let mut t = total.get();
+        t.add(&tally);
+        total.set(t);
+        Ok(())
+    });
+    if let Err(e) = result {
+        panic!("seed {seed:#x}: {e}");
+    }
+    let t = total.get();
+    println!("{path} (seed {seed:#x}): {t:?}");
+    t
+}
+
 /// Counts of what happened, to check that the generator exercises every case.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Tally {
