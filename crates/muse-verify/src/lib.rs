@@ -420,10 +420,37 @@ fn span(a: Instant, b: Instant, offset: UtcOffset) -> String {
 }
 
 fn node_name(airspace: &Airspace, n: NodeId) -> String {
-    if n.index() < airspace.node_count() {
-        airspace.node(n).id.clone()
-    } else {
-        n.to_string()
+    if n.index() >= airspace.node_count() {
+        return n.to_string();
+    }
+    match airspace.layers() {
+        // A layered airspace's copies are named as the files name them: flat id and layer.
+        Some(_) => format!(
+            "{} (layer {})",
+            airspace.flat().node(airspace.flat_node(n)).id,
+            airspace.node_layer(n)
+        ),
+        None => airspace.node(n).id.clone(),
+    }
+}
+
+/// How violations name edge `e`: its id, or on a layered airspace the flat corridor and its
+/// layer, or the vertical link's node and layers.
+fn edge_name(airspace: &Airspace, e: EdgeId) -> String {
+    let edge = airspace.edge(e);
+    if airspace.layers().is_none() {
+        return edge.id.clone();
+    }
+    match (airspace.edge_kind(e), airspace.flat_edge(e)) {
+        (EdgeKind::Vertical { layer, .. }, _) => format!(
+            "the vertical link at {} between layers {layer} and {}",
+            airspace.flat().node(airspace.flat_node(edge.from)).id,
+            layer + 1
+        ),
+        (EdgeKind::Corridor { layer, .. }, Some(flat)) => {
+            format!("{} (layer {layer})", airspace.flat().edge(flat).id)
+        }
+        (EdgeKind::Corridor { .. }, None) => edge.id.clone(),
     }
 }
 

@@ -138,7 +138,7 @@ fn check_hops(
             if y.arrive != x.depart + w {
                 out.push(one(
                     Rule::Path,
-                    airspace.edge(e).id.clone(),
+                    crate::edge_name(airspace, e),
                     format!(
                         "{prefix}departs `{}` at {} and arrives at `{}` at {}; the traversal \
                          takes {}, so the arrival must be {}",

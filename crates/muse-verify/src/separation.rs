@@ -161,7 +161,7 @@ pub(crate) fn edge_rule(
             out.push(Violation {
                 rule: Rule::Edge,
                 flights: pair_names(flights, x, y),
-                element: edge.id.clone(),
+                element: crate::edge_name(airspace, e),
                 detail,
             });
         }

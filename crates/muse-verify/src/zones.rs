@@ -80,7 +80,7 @@ pub(crate) fn zone_rule(
         for (layer, by) in binding(s) {
             for &w in layer.edge(e) {
                 if shares_instant(w, s, f) {
-                    push(airspace.edge(e).id.clone(), "traversal", s, f, w, &by);
+                    push(crate::edge_name(airspace, e), "traversal", s, f, w, &by);
                 }
             }
         }
@@ -166,16 +166,19 @@ mod tests {
         let z = [zone(&["B"], &["B-C"], Some(0), Some(65_000))];
         let v = check(&a, &z, &low);
         assert_eq!(rules(&v), [Rule::Zone, Rule::Zone]);
-        assert_eq!(elements(&v), ["B", "B-C"]);
+        assert_eq!(elements(&v), ["B (layer 1)", "B-C (layer 1)"]);
         assert_eq!(check(&a, &z, &high), [], "layer 2 is above the band");
         // From 65 m up: layer 2 only.
         let z = [zone(&["B"], &["B-C"], Some(65_000), None)];
         assert_eq!(check(&a, &z, &low), []);
-        assert_eq!(elements(&check(&a, &z, &high)), ["B@2", "B-C@2"]);
+        assert_eq!(
+            elements(&check(&a, &z, &high)),
+            ["B (layer 2)", "B-C (layer 2)"]
+        );
         // Without limits: both.
         let z = [zone(&["B"], &[], None, None)];
-        assert_eq!(elements(&check(&a, &z, &low)), ["B"]);
-        assert_eq!(elements(&check(&a, &z, &high)), ["B@2"]);
+        assert_eq!(elements(&check(&a, &z, &low)), ["B (layer 1)"]);
+        assert_eq!(elements(&check(&a, &z, &high)), ["B (layer 2)"]);
     }
 
     #[test]
@@ -185,10 +188,19 @@ mod tests {
         // 66–200 m at A: the climb from 60 m to 69.144 m crosses it, and A@2 lies in it.
         let v = check(&a, &[zone(&["A"], &[], Some(66_000), Some(200_000))], &high);
         assert_eq!(rules(&v), [Rule::Zone, Rule::Zone]);
-        assert_eq!(elements(&v), ["A@2", "A@1^2"]);
+        assert_eq!(
+            elements(&v),
+            [
+                "A (layer 2)",
+                "the vertical link at A between layers 1 and 2"
+            ]
+        );
         // 61–65 m at A: no layer, but the climb crosses it.
         let v = check(&a, &[zone(&["A"], &[], Some(61_000), Some(65_000))], &high);
-        assert_eq!(elements(&v), ["A@1^2"]);
+        assert_eq!(
+            elements(&v),
+            ["the vertical link at A between layers 1 and 2"]
+        );
         assert!(v[0].detail.starts_with("traversal ["), "{}", v[0]);
         // Above both layers: nothing.
         assert_eq!(
