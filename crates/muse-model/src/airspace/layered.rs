@@ -57,12 +57,20 @@ impl Airspace {
                 pos: node.pos,
             }));
         }
+        // Each corridor's initial bearing in both directions, once.
+        let bearings: Vec<(f64, f64)> = flat
+            .edges()
+            .iter()
+            .map(|e| {
+                let (a, b) = (flat.node(e.from).pos, flat.node(e.to).pos);
+                (bearing(a, b), bearing(b, a))
+            })
+            .collect();
         let (mut edges, mut kinds, mut origin) = (Vec::new(), Vec::new(), Vec::new());
         for k in 1..=layers.count {
-            for (i, e) in flat.edges().iter().enumerate() {
-                let (a, b) = (flat.node(e.from).pos, flat.node(e.to).pos);
-                let forward = layers.allows(k, bearing(a, b));
-                let backward = layers.allows(k, bearing(b, a));
+            for (i, (e, &(ahead, back))) in flat.edges().iter().zip(&bearings).enumerate() {
+                let forward = layers.allows(k, ahead);
+                let backward = layers.allows(k, back);
                 let (from, to) = match (forward, backward) {
                     (false, false) => continue,
                     (true, _) => (e.from, e.to),
@@ -81,7 +89,7 @@ impl Airspace {
                 origin.push(u32::try_from(i).expect("an edge index"));
             }
         }
-        let spacing_m = layers.spacing.um() as f64 / 1e6;
+        let spacing_m = layers.spacing.m();
         for k in 1..layers.count {
             for (i, node) in flat.nodes().iter().enumerate() {
                 let v = NodeId(u32::try_from(i).expect("a node index"));

@@ -36,20 +36,8 @@ fn property_of(
     cases: u32,
     seed: u64,
 ) -> Tally {
-    let total = std::cell::Cell::new(Tally::default());
-    let result = runner(cases, seed).run(&scenario::instances(shape), |instance| {
-        let tally = run(&instance).map_err(proptest::test_runner::TestCaseError::fail)?;
-        let mut t = total.get();
-        t.add(&tally);
-        total.set(t);
-        Ok(())
-    });
-    if let Err(e) = result {
-        panic!("seed {seed}: {e}");
-    }
-    let t = total.get();
-    println!("{path} {shape:?}: {t:?}");
-    t
+    let label = format!("{path} {shape:?}");
+    scenario::check_property(run, scenario::instances(shape), &label, cases, seed)
 }
 
 #[test]

@@ -53,8 +53,8 @@ impl LayersRecord {
     pub fn of(layers: &muse_model::Layers) -> Self {
         LayersRecord {
             count: layers.count,
-            base_altitude_m: layers.base.um() as f64 / 1e6,
-            spacing_m: layers.spacing.um() as f64 / 1e6,
+            base_altitude_m: layers.base.m(),
+            spacing_m: layers.spacing.m(),
             climb_mps: f64::from(layers.climb_mm_per_s) / 1e3,
             climb_ms: layers.climb_time().0,
             heading_rule: layers.heading_rule.name().to_owned(),
