@@ -201,13 +201,14 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         writeln!(out, "  API        http://{}/v1/openapi.json", running.addr)?;
         let token_hint = if running.open { "" } else { "?token=YOUR_TOKEN" };
         writeln!(out, "  viewer     http://{}/{token_hint}", running.addr)?;
+        let stop = shutdown_signal();
         writeln!(out, "listening on http://{}", running.addr)?;
         out.flush()?;
         drop(out);
         if let Some(path) = &args.tokens {
             tokio::spawn(reload_on_hangup(tokens, path.clone()));
         }
-        running.serve_until(shutdown_signal()).await?;
+        running.serve_until(stop).await?;
         anyhow::Ok(())
     })?;
     Ok(ExitCode::SUCCESS)
@@ -419,24 +420,37 @@ fn reload(tokens: &Tokens, path: &Path) {
     }
 }
 
-/// Completes on Ctrl-C or SIGTERM.
-async fn shutdown_signal() {
-    let ctrl_c = async {
-        let _ = tokio::signal::ctrl_c().await;
-    };
+/// A future that completes on Ctrl-C or SIGTERM. The handlers are installed when this is
+/// called, not when the future is first polled: called before `listening on` is printed, a
+/// signal sent as soon as that line is read stops the service cleanly rather than killing it.
+fn shutdown_signal() -> impl std::future::Future<Output = ()> {
     #[cfg(unix)]
-    let term = async {
-        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
-            Ok(mut s) => {
-                s.recv().await;
-            }
-            Err(_) => std::future::pending::<()>().await,
-        }
+    let (interrupt, terminate) = {
+        use tokio::signal::unix::{SignalKind, signal};
+        (
+            signal(SignalKind::interrupt()).ok(),
+            signal(SignalKind::terminate()).ok(),
+        )
     };
-    #[cfg(not(unix))]
-    let term = std::future::pending::<()>();
-    tokio::select! {
-        () = ctrl_c => {},
-        () = term => {},
+    async move {
+        #[cfg(unix)]
+        {
+            let wait = |s: Option<tokio::signal::unix::Signal>| async move {
+                match s {
+                    Some(mut s) => {
+                        s.recv().await;
+                    }
+                    None => std::future::pending::<()>().await,
+                }
+            };
+            tokio::select! {
+                () = wait(interrupt) => {},
+                () = wait(terminate) => {},
+            }
+        }
+        #[cfg(not(unix))]
+        {
+            let _ = tokio::signal::ctrl_c().await;
+        }
     }
 }
