@@ -7,10 +7,11 @@
 #   view-simulate.png  the default day at 10:30, a flight clicked   (tests/viewer/page.rs)
 #   view-narrow.png    the same day on a 600 px wide touch screen    (tests/viewer/truth.rs)
 #   view-live.png      muse serve's live page, a zone announced live (tests/viewer/live.rs)
+#   view-layers.png    a four-layer day, a flight's altitude over time (tests/viewer/layers.rs)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 CI=1 cargo test --test viewer
-for image in view-simulate.png view-narrow.png view-live.png; do
+for image in view-simulate.png view-narrow.png view-live.png view-layers.png; do
   cp "target/screenshots/$image" "docs/images/$image"
   echo "docs/images/$image"
 done

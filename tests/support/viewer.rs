@@ -26,12 +26,33 @@ pub struct Plan {
     pub airborne: Vec<(i64, i64)>,
     /// The nodes of its path, in order (a station repeated at a battery swap).
     pub path: Vec<String>,
+    /// Its stays: node, layer (1 when flat), arrival and departure in epoch milliseconds.
+    pub stays: Vec<(String, u32, i64, i64)>,
 }
 
 impl Plan {
     /// Whether the flight is in the air at `t` (epoch milliseconds).
     pub fn airborne_at(&self, t: i64) -> bool {
         self.airborne.iter().any(|&(from, to)| from <= t && t < to)
+    }
+
+    /// Its layer at `t`, from its stays (SPEC §13): the stay's layer while it is at a node,
+    /// evenly between two layers while it crosses a vertical link (two stays in a row at one
+    /// node), and the layer it flies at along a corridor. `None` before take-off or after
+    /// landing.
+    pub fn layer_at(&self, t: i64) -> Option<f64> {
+        let i = self.stays.iter().rposition(|s| s.2 <= t)?;
+        let (node, layer, _, depart) = &self.stays[i];
+        let next = self.stays.get(i + 1);
+        Some(match next {
+            Some((n, k, arrive, _)) if t > *depart && n == node && k != layer => {
+                f64::from(*layer)
+                    + (f64::from(*k) - f64::from(*layer)) * (t - depart) as f64
+                        / (arrive - depart) as f64
+            }
+            None if t > *depart => return None,
+            _ => f64::from(*layer),
+        })
     }
 }
 
@@ -76,12 +97,23 @@ pub fn read_plans(path: &Path) -> Vec<Plan> {
                     _ => Vec::new(),
                 },
             };
-            let path = v["path"].as_array().map_or_else(Vec::new, |stays| {
-                stays
-                    .iter()
-                    .map(|s| s["node"].as_str().expect("a stay's node").to_owned())
-                    .collect()
-            });
+            let stays: Vec<(String, u32, i64, i64)> =
+                v["path"].as_array().map_or_else(Vec::new, |stays| {
+                    stays
+                        .iter()
+                        .map(|s| {
+                            (
+                                s["node"].as_str().expect("a stay's node").to_owned(),
+                                s["layer"]
+                                    .as_u64()
+                                    .map_or(1, |k| u32::try_from(k).expect("a layer fits in u32")),
+                                instant(&s["arrive"], "a stay's arrival"),
+                                instant(&s["depart"], "a stay's departure"),
+                            )
+                        })
+                        .collect()
+                });
+            let path = stays.iter().map(|s| s.0.clone()).collect();
             Plan {
                 request,
                 status: v["status"].as_str().expect("a status").to_owned(),
@@ -90,6 +122,7 @@ pub fn read_plans(path: &Path) -> Vec<Plan> {
                 landing,
                 airborne,
                 path,
+                stays,
             }
         })
         .collect()

@@ -136,22 +136,27 @@ fn click_flight(page: &Page<'_>, plan: &Value) -> i64 {
     drawn
 }
 
-/// Announces the stadium zone (15:00–18:00 on the service's day) with `POST /v1/zones` and
-/// waits for the page to draw it: not active before 15:00, active at 15:30.
-fn announce_zone_and_see_it(page: &Page<'_>, base: &str) {
+/// The stadium zone file as a body for `POST /v1/zones` (the service sets the announcement
+/// instant itself).
+fn stadium_announcement() -> String {
     let file =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/singapore-77/stadium_zone.geojson");
     let mut zone: Value =
         serde_json::from_str(&std::fs::read_to_string(file).expect("the stadium zone file"))
             .expect("GeoJSON");
-    // The service sets the announcement instant itself.
     for f in zone["features"].as_array_mut().expect("features") {
         f["properties"]
             .as_object_mut()
             .expect("properties")
             .remove("announced");
     }
-    let (status, answer) = post(base, "/v1/zones", None, &zone.to_string());
+    zone.to_string()
+}
+
+/// Announces the stadium zone (15:00–18:00 on the service's day) with `POST /v1/zones` and
+/// waits for the page to draw it: not active before 15:00, active at 15:30.
+fn announce_zone_and_see_it(page: &Page<'_>, base: &str) {
+    let (status, answer) = post(base, "/v1/zones", None, &stadium_announcement());
     assert_eq!(status, 201, "the zone is announced: {answer}");
     let id = "SG-NATIONAL-STADIUM-EVENT";
     page.wait_for(
@@ -392,4 +397,142 @@ fn live_page_shows_an_operator_its_own_flights_and_the_authority_all() {
         no_console_errors(p);
     }
     server.kill();
+}
+
+/// `muse serve --layers 4 --heading-rule sectors`: the live page draws a flight planned over
+/// HTTP from above, at each of its stays at the layer the service's answer gives, and reads
+/// what the CBD zone closes per layer from `GET /v1/closures` (flat ids and the layers).
+#[test]
+fn live_page_follows_a_layered_service() {
+    let Some(browser) = browser_or_skip("live_page_follows_a_layered_service") else {
+        return;
+    };
+    let data = crate::support::scratch_dir("view-live-layers");
+    let layered = [
+        "--clock",
+        CLOCK,
+        "--layers",
+        "4",
+        "--heading-rule",
+        "sectors",
+    ];
+    let server = crate::support::start(&data, &layered);
+    let page = browser.new_page().expect("a page");
+    open_live(&page, &format!("{}/", server.base));
+    let p = plan(&server.base, None, "up1", ("S012", "S040"), 60);
+    wait_for_flight(&page, "up1");
+    page.eval("museView.follow(false)").expect("follow off");
+    let stays = p["path"].as_array().expect("the plan's stays");
+    let top = stays
+        .iter()
+        .map(|s| s["layer"].as_u64().expect("a layered stay gives its layer"))
+        .max()
+        .expect("stays");
+    for s in stays {
+        let t = epoch_ms(&s["arrive"]);
+        let layer = page
+            .eval(&format!("museView.setTime({t}), museView.layerOf('up1')"))
+            .expect("layerOf");
+        assert_eq!(
+            layer.as_f64(),
+            s["layer"].as_f64(),
+            "up1 at {} on arriving at {}",
+            s["arrive"],
+            s["node"]
+        );
+    }
+    // What each zone closes per layer, as the planner works it out on the layered airspace:
+    // the CBD zone from the page's own scene, the stadium's from `GET /v1/closures` once it is
+    // announced.
+    let scenario = muse_scenario::by_name("singapore-77").expect("the default scenario");
+    let airspace = scenario
+        .airspace
+        .layered(&muse_model::Layers {
+            count: 4,
+            heading_rule: muse_model::HeadingRule::Sectors,
+            ..muse_model::Layers::default()
+        })
+        .expect("four layers");
+    let stadium = muse_scenario::stadium_zone().expect("the stadium zone");
+    let (status, answer) = post(&server.base, "/v1/zones", None, &stadium_announcement());
+    assert_eq!(status, 201, "the zone is announced: {answer}");
+    page.wait_for(
+        &format!(
+            "museView.scene.zones.some((z) => z.id === {:?} && z.layers)",
+            stadium.id
+        ),
+        Duration::from_secs(25),
+    )
+    .expect("the announced zone reaches the page with its layers");
+    let cbd = &scenario.zones[0];
+    for (zone, hh_mm) in [(cbd, "10:30"), (&stadium, "15:30")] {
+        assert_closes_per_layer(&page, &airspace, zone, hh_mm);
+    }
+    no_console_errors(&page);
+    println!(
+        "layered live page: up1 climbs to layer {top}, its layer right at each of its {} stays",
+        stays.len(),
+    );
+    server.kill();
+}
+
+/// The corridors `zone` closes at each of the four layers of `airspace`, by their flat end
+/// nodes' ids, as the planner works them out.
+fn closed_per_layer(
+    airspace: &muse_model::Airspace,
+    zone: &muse_model::Zone,
+) -> Vec<BTreeSet<(String, String)>> {
+    let (_, edges) =
+        muse_airspace::closures::closed_elements(airspace, zone).expect("its closures");
+    let id = |n| airspace.flat().node(airspace.flat_node(n)).id.clone();
+    (1..=4)
+        .map(|k| {
+            edges
+                .iter()
+                .filter(|&&e| {
+                    matches!(airspace.edge_kind(e), muse_model::EdgeKind::Corridor { layer, .. } if layer == k)
+                })
+                .map(|&e| ordered(&id(airspace.edge(e).from), &id(airspace.edge(e).to)))
+                .collect()
+        })
+        .collect()
+}
+
+/// At `hh_mm` on the service's day, each layer shown alone draws closed exactly the corridors
+/// `zone` closes there, and every layer those it closes at any.
+fn assert_closes_per_layer(
+    page: &Page<'_>,
+    airspace: &muse_model::Airspace,
+    zone: &muse_model::Zone,
+    hh_mm: &str,
+) {
+    let t = format!("2026-01-05T{hh_mm}:00+08:00")
+        .parse::<jiff::Timestamp>()
+        .expect("RFC 3339")
+        .as_millisecond();
+    page.eval(&format!("museView.setTime({t})"))
+        .expect("the time");
+    let expected = closed_per_layer(airspace, zone);
+    let mut shown = Vec::new();
+    for (k, want) in (1..=4).zip(&expected) {
+        page.eval(&format!("museView.setLayer({k})"))
+            .expect("one layer");
+        let closed = closed_corridors(page);
+        assert_eq!(&closed, want, "{} at {hh_mm}, layer {k}", zone.id);
+        shown.push(closed.len());
+    }
+    page.eval("museView.setLayer(null)").expect("every layer");
+    let any: BTreeSet<_> = expected.iter().flatten().cloned().collect();
+    assert!(!any.is_empty(), "{} closes corridors", zone.id);
+    assert_eq!(
+        closed_corridors(page),
+        any,
+        "{} at {hh_mm}, every layer",
+        zone.id
+    );
+    println!(
+        "{} at {hh_mm}: corridors closed per layer {shown:?}, {} at any",
+        zone.id,
+        any.len()
+    );
 }

@@ -1,6 +1,6 @@
 //! The viewer's tests in headless Chromium: the browser client itself (`cdp_selftest`), the
-//! page `muse simulate` writes (`page`), what it tells the user (`truth`) and the live page of
-//! `muse serve` (`live`). Each is skipped with a notice when Chromium is not installed, unless
+//! page `muse simulate` writes (`page`), what it tells the user (`truth`), a layered day
+//! (`layers`) and the live page of `muse serve` (`live`). Each is skipped with a notice when Chromium is not installed, unless
 //! `CI` is set.
 
 /// What this area's tests share (tests/support): `muse serve` on a loopback port, scratch
@@ -15,6 +15,7 @@ mod support {
 }
 
 mod cdp_selftest;
+mod layers;
 mod live;
 mod page;
 mod truth;

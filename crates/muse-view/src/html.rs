@@ -15,6 +15,8 @@ const PALETTE: &str = include_str!("../web/src/palette.js");
 const VIEWER: &str = include_str!("../web/src/viewer.js");
 /// Drawing the map.
 const DRAW: &str = include_str!("../web/src/draw.js");
+/// The side view of a layered airspace: the selected flight's altitude over time.
+const PROFILE: &str = include_str!("../web/src/profile.js");
 /// The side panel: the day, the zones, the search, the flight.
 const PANELS: &str = include_str!("../web/src/panels.js");
 /// Mouse, touch, wheel and keys.
@@ -58,7 +60,7 @@ fn render(scene: &Scene) -> String {
         .expect("a scene always serializes")
         .replace('<', "\\u003c");
     let script = format!(
-        "(() => {{\n'use strict';\n{}\n{}\n{}\n{VIEWER}\n{DRAW}\n{PANELS}\n{INPUT}\n{START}\n{LIVE}\n}})();\n",
+        "(() => {{\n'use strict';\n{}\n{}\n{}\n{VIEWER}\n{DRAW}\n{PROFILE}\n{PANELS}\n{INPUT}\n{START}\n{LIVE}\n}})();\n",
         plain_script(MODEL),
         plain_script(FEED),
         plain_script(PALETTE)

@@ -4,14 +4,18 @@
 //!
 //! A layered airspace (SPEC §13) is drawn from above: its flat nodes and corridors, each
 //! flight's stays at flat nodes (a climb or descent shown as a hover at the node), and a
-//! zone closing a node or corridor at any layer as closing it.
+//! zone closing a node or corridor at any layer as closing it. [`Scene::layers`] then gives
+//! the layers' altitudes and which way each corridor is flown at each, each flight's
+//! [`SceneFlight::z`] its layer over time, and each zone's [`SceneZone::layers`] the layers
+//! it closes: the page colours drones by layer, shows one layer alone, and draws the selected
+//! flight's altitude over time.
 
 use geo::Simplify;
 use geo_types::{LineString, Polygon};
 use muse_airspace::closures::{closed_elements, zone_windows};
 use muse_formats::plans::{OperatorCancellation, PlanRecord};
 use muse_model::plan::{CANCELLED_BY_OPERATOR, Fate, ZONE_ANNOUNCED};
-use muse_model::{Airspace, Instant, NodeId, NodeKind, Plan, Stay, UtcOffset, Zone};
+use muse_model::{Airspace, EdgeKind, Instant, NodeId, NodeKind, Plan, Stay, UtcOffset, Zone};
 use serde::Serialize;
 
 use crate::ViewError;
@@ -85,6 +89,9 @@ pub struct Scene {
     pub nodes: Vec<SceneNode>,
     /// Corridors, in airspace order, as `[from, to]` node indices.
     pub edges: Vec<[u32; 2]>,
+    /// The layers of a layered airspace (SPEC §13); absent when flat.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub layers: Option<SceneLayers>,
     /// Land polygons: rings (outer first) of `[lon, lat]`.
     pub land: Vec<Vec<Vec<[f64; 2]>>>,
     /// No-fly zones.
@@ -116,6 +123,18 @@ pub struct SceneNode {
     pub station: bool,
 }
 
+/// The layers of a layered airspace.
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneLayers {
+    /// Each layer's altitude, metres, from layer 1 up.
+    pub altitudes_m: Vec<f64>,
+    /// The heading rule: `none` or `sectors`.
+    pub heading_rule: &'static str,
+    /// Per layer (from 1 up), per corridor of [`Scene::edges`], which way it is flown there:
+    /// 0 not at all, 1 from its first node to its second only, 2 the other way only, 3 both.
+    pub ways: Vec<Vec<u8>>,
+}
+
 /// A no-fly zone.
 #[derive(Clone, Debug, Serialize)]
 pub struct SceneZone {
@@ -135,6 +154,10 @@ pub struct SceneZone {
     pub nodes: Vec<u32>,
     /// The corridors it closes (indices).
     pub edges: Vec<u32>,
+    /// In a layered airspace, the layers it closes nodes or corridors at (from 1 up; at each,
+    /// the nodes of `nodes` and those corridors of `edges` flown there); empty when flat.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub layers: Vec<u32>,
 }
 
 /// One flight.
@@ -156,6 +179,11 @@ pub struct SceneFlight {
     /// The stays, flat: node index, arrival and departure (ms from `t0`) for each. A station
     /// met twice in a row is a battery swap: the drone is on the ground between the two.
     pub s: Vec<i64>,
+    /// In a layered airspace, its layer over time, flat: `[t, layer, t, layer, ...]` (ms from
+    /// `t0`, 1 up), from take-off to landing; between two points the layer changes evenly (a
+    /// climb or descent) or stays; empty when flat.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub z: Vec<i64>,
 }
 
 /// A request with nothing to draw, compact: `[id, origin, destination, requested departure,
@@ -238,6 +266,11 @@ pub fn scene(input: &SceneInput<'_>) -> Result<Scene, ViewError> {
         .iter()
         .map(|e| [e.from.0, e.to.0])
         .collect();
+    let layers = a.layers().map(|l| SceneLayers {
+        altitudes_m: (1..=l.count).map(|k| l.altitude(k).m()).collect(),
+        heading_rule: l.heading_rule.name(),
+        ways: ways(a, l.count),
+    });
     let land = input
         .land
         .iter()
@@ -264,6 +297,7 @@ pub fn scene(input: &SceneInput<'_>) -> Result<Scene, ViewError> {
         span: end - t0,
         nodes,
         edges,
+        layers,
         land,
         zones,
         flights,
@@ -289,7 +323,15 @@ fn scene_zone(a: &Airspace, z: &Zone, t0: i64, end: i64) -> Result<SceneZone, Vi
         .filter_map(|&e| a.flat_edge(e))
         .map(|e| e.0)
         .collect();
-    for list in [&mut nodes, &mut edges] {
+    let mut layers: Vec<u32> = Vec::new();
+    if a.layers().is_some() {
+        layers.extend(closed_nodes.iter().map(|&n| a.node_layer(n)));
+        layers.extend(closed_edges.iter().filter_map(|&e| match a.edge_kind(e) {
+            EdgeKind::Corridor { layer, .. } => Some(layer),
+            EdgeKind::Vertical { .. } => None,
+        }));
+    }
+    for list in [&mut nodes, &mut edges, &mut layers] {
         list.sort_unstable();
         list.dedup();
     }
@@ -311,6 +353,7 @@ fn scene_zone(a: &Airspace, z: &Zone, t0: i64, end: i64) -> Result<SceneZone, Vi
         announced: z.announced.map(|t| t.0 - t0),
         nodes,
         edges,
+        layers,
     })
 }
 
@@ -339,7 +382,55 @@ fn scene_flight(
             .iter()
             .flat_map(|s| [i64::from(s.node.0), s.arrive.0 - t0, s.depart.0 - t0])
             .collect(),
+        z: layer_profile(a, plan, t0),
     })
+}
+
+/// Per layer of `a` (`count` of them), per flat corridor, which way it is flown there (see
+/// [`SceneLayers::ways`]).
+fn ways(a: &Airspace, count: u32) -> Vec<Vec<u8>> {
+    let flat = a.flat();
+    let mut ways = vec![vec![0_u8; flat.edge_count()]; count as usize];
+    for (i, e) in a.edges().iter().enumerate() {
+        let id = muse_model::EdgeId(u32::try_from(i).expect("an edge index"));
+        let (EdgeKind::Corridor { layer, one_way }, Some(f)) = (a.edge_kind(id), a.flat_edge(id))
+        else {
+            continue;
+        };
+        let way = if !one_way {
+            3
+        } else if a.flat_node(e.from) == flat.edge(f).from {
+            1
+        } else {
+            2
+        };
+        ways[layer as usize - 1][f.index()] |= way;
+    }
+    ways
+}
+
+/// The layer of `plan` over time in a layered airspace, as [`SceneFlight::z`] gives it: each
+/// stay's arrival and departure at its layer, less the points that say nothing (a repeat, or
+/// the middle of three at one layer). Empty when `a` is flat.
+fn layer_profile(a: &Airspace, plan: &Plan, t0: i64) -> Vec<i64> {
+    if a.layers().is_none() {
+        return Vec::new();
+    }
+    let mut points: Vec<[i64; 2]> = Vec::with_capacity(2 * plan.path.len());
+    for s in &plan.path {
+        let layer = i64::from(a.node_layer(s.node));
+        for t in [s.arrive.0 - t0, s.depart.0 - t0] {
+            let p = [t, layer];
+            match points.as_slice() {
+                [.., last] if *last == p => {}
+                [.., before, last] if before[1] == layer && last[1] == layer => {
+                    *points.last_mut().expect("two points") = p;
+                }
+                _ => points.push(p),
+            }
+        }
+    }
+    points.into_iter().flatten().collect()
 }
 
 /// The stays of `plan` seen from above: at flat nodes, a climb or descent between layers
@@ -618,6 +709,70 @@ mod tests {
                 2, 547_316, 547_316, // C again after the swap
                 1, 667_316, 667_316
             ]
+        );
+        assert_eq!(
+            s.flights[0].z,
+            [
+                0, 1, 1_829, 2, 3_658, 3, 243_658, 3, 245_487, 2, 247_316, 1, 667_316, 1
+            ],
+            "up at A, level to C, down at C, level through the swap and back to B"
+        );
+        let l = s.layers.as_ref().expect("layered");
+        assert_eq!(l.altitudes_m, [60.0, 69.144, 78.288]);
+        assert_eq!(
+            (l.heading_rule, l.ways.as_slice()),
+            ("none", &vec![vec![3, 3]; 3][..])
+        );
+    }
+
+    #[test]
+    fn a_layered_scene_tells_each_corridors_ways_and_each_zones_layers() {
+        // A — B — C run east off the equator: quadrantal, eastward (an initial bearing just
+        // under 90°) is layer 1's (0°–90°), westward (just over 270°) layer 4's (270°–360°).
+        let layers = muse_model::Layers {
+            count: 4,
+            heading_rule: muse_model::HeadingRule::Sectors,
+            ..muse_model::Layers::default()
+        };
+        let a = Airspace::line(&[1_000.0, 1_000.0])
+            .layered(&layers)
+            .unwrap();
+        // A zone on B from the ground to 70 m: layers 1 (60 m) and 2 (69.144 m).
+        let zone = Zone {
+            id: "LOW".into(),
+            name: "low".into(),
+            restriction: "PROHIBITED".into(),
+            area: None,
+            node_ids: vec!["B".into()],
+            edge_ids: Vec::new(),
+            periods: Vec::new(),
+            announced: None,
+            withdrawn: None,
+            vertical: muse_model::VerticalLimits::agl(
+                None,
+                Some(muse_model::Metres::from_mm(70_000)),
+            ),
+        };
+        let zones = [zone];
+        let mut input = SceneInput::new(&a, UtcOffset(0), (Instant(0), Instant(1)));
+        input.zones = &zones;
+        let s = scene(&input).unwrap();
+        let ways = &s.layers.as_ref().unwrap().ways;
+        assert_eq!(ways, &[vec![1, 1], vec![0, 0], vec![0, 0], vec![2, 2]]);
+        assert_eq!(
+            (s.zones[0].nodes.as_slice(), s.zones[0].layers.as_slice()),
+            (&[1][..], &[1, 2][..])
+        );
+        let flat_scene = scene(&SceneInput {
+            airspace: a.flat(),
+            ..input
+        })
+        .unwrap();
+        assert!(flat_scene.layers.is_none() && flat_scene.zones[0].layers.is_empty());
+        let json = serde_json::to_string(&flat_scene).unwrap();
+        assert!(
+            !json.contains("\"layers\"") && !json.contains("\"z\""),
+            "{json}"
         );
     }
 }

@@ -194,12 +194,25 @@ struct ClosuresBody {
     zones: Vec<ZoneClosureBody>,
 }
 
-/// What one zone closes while it is active.
+/// What one zone closes while it is active. In a layered airspace (SPEC §13) nodes and
+/// corridors are the flat ones, closed at each of `layers` where they are flown, and the
+/// vertical links it closes are listed apart.
 #[derive(Serialize)]
 struct ZoneClosureBody {
     zone: String,
     nodes: Vec<String>,
     corridors: Vec<CorridorBody>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    layers: Option<Vec<u32>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    vertical_links: Option<Vec<VerticalLinkBody>>,
+}
+
+/// A vertical link of a layered airspace: at `node`, between `layer` and the one above.
+#[derive(Serialize)]
+struct VerticalLinkBody {
+    node: String,
+    layer: u32,
 }
 
 /// A corridor, by its id and its end nodes.
@@ -208,6 +221,65 @@ struct CorridorBody {
     id: String,
     from: String,
     to: String,
+}
+
+/// What zone `zone` closes, `nodes` and `edges` of `airspace`, as `GET /v1/closures` gives
+/// it: in a layered airspace, by flat node and corridor, in flat order, with the layers and
+/// the vertical links apart.
+fn zone_closure(
+    airspace: &muse_model::Airspace,
+    zone: &str,
+    nodes: &[muse_model::NodeId],
+    edges: &[muse_model::EdgeId],
+) -> ZoneClosureBody {
+    use muse_model::EdgeKind;
+    let flat = airspace.flat();
+    let mut flat_nodes: Vec<muse_model::NodeId> =
+        nodes.iter().map(|&n| airspace.flat_node(n)).collect();
+    let mut flat_edges: Vec<muse_model::EdgeId> = edges
+        .iter()
+        .filter_map(|&e| airspace.flat_edge(e))
+        .collect();
+    flat_nodes.sort_unstable();
+    flat_nodes.dedup();
+    flat_edges.sort_unstable();
+    flat_edges.dedup();
+    let id = |n: muse_model::NodeId| flat.node(n).id.clone();
+    let (layers, vertical_links) = if airspace.layers().is_some() {
+        let mut layers: Vec<u32> = nodes.iter().map(|&n| airspace.node_layer(n)).collect();
+        let mut vertical = Vec::new();
+        for &e in edges {
+            match airspace.edge_kind(e) {
+                EdgeKind::Corridor { layer, .. } => layers.push(layer),
+                EdgeKind::Vertical { layer, .. } => vertical.push(VerticalLinkBody {
+                    node: id(airspace.flat_node(airspace.edge(e).from)),
+                    layer,
+                }),
+            }
+        }
+        layers.sort_unstable();
+        layers.dedup();
+        (Some(layers), Some(vertical))
+    } else {
+        (None, None)
+    };
+    ZoneClosureBody {
+        zone: zone.to_owned(),
+        nodes: flat_nodes.into_iter().map(id).collect(),
+        corridors: flat_edges
+            .into_iter()
+            .map(|e| {
+                let edge = flat.edge(e);
+                CorridorBody {
+                    id: edge.id.clone(),
+                    from: id(edge.from),
+                    to: id(edge.to),
+                }
+            })
+            .collect(),
+        layers,
+        vertical_links,
+    }
 }
 
 /// `GET /v1/closures`: the nodes and corridors each zone of `GET /v1/zones` closes while it is
@@ -238,22 +310,8 @@ pub(super) async fn closures(
                     format!("zone `{}`: {e}", zone.id),
                 )
             })?;
-        let id = |n: muse_model::NodeId| airspace.node(n).id.clone();
-        body.zones.push(ZoneClosureBody {
-            zone: zone.id.clone(),
-            nodes: nodes.into_iter().map(id).collect(),
-            corridors: edges
-                .into_iter()
-                .map(|e| {
-                    let edge = airspace.edge(e);
-                    CorridorBody {
-                        id: edge.id.clone(),
-                        from: id(edge.from),
-                        to: id(edge.to),
-                    }
-                })
-                .collect(),
-        });
+        body.zones
+            .push(zone_closure(airspace, &zone.id, &nodes, &edges));
     }
     Ok(json(StatusCode::OK, &body))
 }

@@ -1,6 +1,8 @@
 // Drawing the map: land, zones, corridors by load, closed corridors, stations, the selected
-// flight's path, the drones; the count of drones in the air and in view; the load key.
-// Styles and colours are palette.js's.
+// flight's path, the drones; the count of drones in the air and in view; the load key. In a
+// layered airspace the drones are coloured by layer, and with one layer shown alone
+// (`state.layer`) only its drones, its corridors (one-way ones with an arrow), their load and
+// its closures are drawn. Styles and colours are palette.js's.
 
 // The land's colour, from the style sheet (read once, not every frame).
 const LAND = getComputedStyle(document.documentElement).getPropertyValue('--land').trim() || '#f3f1ea';
@@ -37,9 +39,12 @@ function pathRings(rings) {
   }
 }
 
-/** The day's load per corridor (computed once). */
+/** The day's load per corridor, at the layer shown (computed once for each). */
 function dayLoad() {
-  if (!state.dayLoad) state.dayLoad = edgeLoad(scene);
+  if (!state.dayLoad || state.dayLoadLayer !== state.layer) {
+    state.dayLoad = edgeLoad(scene, -Infinity, Infinity, state.layer);
+    state.dayLoadLayer = state.layer;
+  }
   return state.dayLoad;
 }
 
@@ -49,8 +54,8 @@ function loadNow() {
   if (state.load === 'day') {
     values = dayLoad();
   } else if (state.load === 'hour') {
-    const at = Math.floor(state.t / 10000);
-    if (state.hourLoad.at !== at) state.hourLoad = { at, load: edgeLoad(scene, state.t - HOUR, state.t) };
+    const at = `${Math.floor(state.t / 10000)}:${state.layer}`;
+    if (state.hourLoad.at !== at) state.hourLoad = { at, load: edgeLoad(scene, state.t - HOUR, state.t, state.layer) };
     values = state.hourLoad.load;
   }
   if (!values) return null;
@@ -75,15 +80,18 @@ function drawZones(t) {
   const closed = new Set();
   const closedNodes = new Set();
   for (const z of scene.zones) {
-    const s = zoneState(z, t);
+    let s = zoneState(z, t);
     if (s === 'unannounced' || s === 'withdrawn') continue;
+    const closes = zoneClosesAt(scene, z, state.layer);
+    // A zone whose band misses the layer shown is drawn as one not active.
+    if (s === 'active' && state.layer !== null && z.layers && !z.layers.includes(state.layer)) s = 'idle';
     ctx.beginPath();
     for (const poly of z.area) pathRings(poly);
     if (s === 'active') {
       ctx.fillStyle = zoneHatching();
       ctx.fill('evenodd');
-      for (const e of z.edges) closed.add(e);
-      for (const n of z.nodes) closedNodes.add(n);
+      for (const e of closes.edges) closed.add(e);
+      for (const n of closes.nodes) closedNodes.add(n);
     }
     ctx.setLineDash(s === 'active' ? [] : [6, 4]);
     ctx.strokeStyle = COLOURS.zone;
@@ -94,10 +102,29 @@ function drawZones(t) {
   return [closed, closedNodes];
 }
 
+/** An arrowhead in the middle of corridor `i`, pointing from its first node (`way` 1) or to it (2). */
+function arrow(i, way) {
+  const [[x1, y1], [x2, y2]] = way === 1 ? segment(i) : segment(i).reverse();
+  const len = Math.hypot(x2 - x1, y2 - y1);
+  if (len < 24) return;
+  const [ux, uy] = [(x2 - x1) / len, (y2 - y1) / len];
+  const [mx, my] = [(x1 + x2) / 2 + ux * 4, (y1 + y2) / 2 + uy * 4];
+  ctx.beginPath();
+  ctx.moveTo(mx, my);
+  ctx.lineTo(mx - ux * 8 - uy * 4.5, my - uy * 8 + ux * 4.5);
+  ctx.lineTo(mx - ux * 8 + uy * 4.5, my - uy * 8 - ux * 4.5);
+  ctx.closePath();
+  ctx.fillStyle = ctx.strokeStyle;
+  ctx.fill();
+}
+
 function drawCorridors(load, closed) {
   ctx.lineCap = 'butt';
   scene.edges.forEach((_, i) => {
     if (closed.has(i)) return;
+    const way = corridorWays(scene, i, state.layer);
+    // Not flown at the layer shown: not drawn.
+    if (way === 0) return;
     const u = load ? loadPosition(load.values[i], load.max) : null;
     if (!load) {
       ctx.strokeStyle = PLAIN;
@@ -110,6 +137,10 @@ function drawCorridors(load, closed) {
       ctx.lineWidth = 1.2 + 3.3 * u;
     }
     strokeSegment(i);
+    if (way !== 3) {
+      if (u === null || !load) ctx.strokeStyle = PLAIN;
+      arrow(i, way);
+    }
   });
   // Closed corridors: black dashes on a white line, over everything else.
   for (const i of closed) {
@@ -172,9 +203,16 @@ function drawSelectedPath(f) {
 }
 
 /** Draws the airborne drones that are in view; returns how many are airborne in all. */
+/**
+ * Draws the airborne drones that are in view (at the layer shown, if one is); returns how
+ * many are airborne in all, at any layer.
+ */
 function drawDrones(t, drawn) {
   const moving = new Path2D();
   const hovering = new Path2D();
+  // In a layered airspace: the drones' dots per layer, coloured by it.
+  const count = scene.layers ? scene.layers.altitudes_m.length : 0;
+  const dots = Array.from({ length: count }, () => new Path2D());
   let airborne = 0;
   let selectedAt = null;
   for (const f of scene.flights) {
@@ -182,14 +220,21 @@ function drawDrones(t, drawn) {
     const p = positionAt(f, t, scene.nodes);
     if (!p) continue;
     airborne += 1;
+    if (!onLayer(f, t, state.layer)) continue;
     const [x, y] = toScreen(p.x, p.y);
     if (x < 0 || y < 0 || x > state.width || y > state.height) continue;
-    drawn.push({ id: f.id, x, y, hovering: p.hovering });
+    drawn.push({ id: f.id, x, y, hovering: p.hovering, vertical: p.vertical ?? 0 });
     if (f.id === state.selected) selectedAt = [x, y];
+    if (count > 0) {
+      const k = Math.min(count, Math.max(1, Math.round(layerAt(f, t))));
+      dots[k - 1].moveTo(x + 3.5, y);
+      dots[k - 1].arc(x, y, 3.5, 0, 2 * Math.PI);
+    }
     if (p.hovering) {
-      hovering.moveTo(x + 5, y);
-      hovering.arc(x, y, 5, 0, 2 * Math.PI);
-    } else {
+      const r = count > 0 ? 6 : 5;
+      hovering.moveTo(x + r, y);
+      hovering.arc(x, y, r, 0, 2 * Math.PI);
+    } else if (count === 0) {
       moving.moveTo(x + 3.5, y);
       moving.arc(x, y, 3.5, 0, 2 * Math.PI);
     }
@@ -199,6 +244,12 @@ function drawDrones(t, drawn) {
   ctx.strokeStyle = COLOURS.droneRim;
   ctx.lineWidth = 1;
   ctx.stroke(moving);
+  dots.forEach((dot, i) => {
+    ctx.fillStyle = layerColour(i + 1, count);
+    ctx.fill(dot);
+    ctx.strokeStyle = COLOURS.layerRim;
+    ctx.stroke(dot);
+  });
   ctx.strokeStyle = COLOURS.hover;
   ctx.lineWidth = 2.5;
   ctx.stroke(hovering);
@@ -236,7 +287,9 @@ function draw() {
   state.dirty = false;
 
   $('clock').textContent = clock(scene, t);
-  $('airborne').textContent = `${state.airborne} in the air, ${drawn.length} in view`;
+  const where = state.layer === null ? '' : ` at layer ${state.layer}`;
+  $('airborne').textContent = `${state.airborne} in the air, ${drawn.length}${where} in view`;
+  drawProfile();
   const slider = $('slider');
   if (document.activeElement !== slider) slider.value = String(Math.round(t / 1000));
   showLoadKey(load);

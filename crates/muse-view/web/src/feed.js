@@ -2,9 +2,13 @@
 // events, its zones and what they close. No DOM here (node's test runner loads it); the page
 // inlines it after model.js with its `import` lines and `export` keywords dropped.
 
-import { edgeKey } from './model.js';
+import { edgeKey, pushLayerPoint } from './model.js';
 
-/** A scene flight (model.js's compact form) from a flight as the API shows it. */
+/**
+ * A scene flight (model.js's compact form) from a flight as the API shows it. In a layered
+ * airspace (stays with a `layer`), a climb or descent (stays at one node, layer after layer)
+ * is one stay from above, and `z` gives the layer over time, as the Rust scene does.
+ */
 export function flightFromApi(scene, nodeIndex, plan) {
   const path = plan.path ?? plan.committed;
   if (!path || path.length === 0) return null;
@@ -14,7 +18,21 @@ export function flightFromApi(scene, nodeIndex, plan) {
     if (i === undefined) throw new Error(`unknown node ${id}`);
     return i;
   };
-  return {
+  const s = [];
+  const z = [];
+  let lastLayer = null;
+  for (const st of path) {
+    const [n, a, d] = [node(st.node), rel(st.arrive), rel(st.depart)];
+    const layered = st.layer !== undefined && st.layer !== null;
+    if (layered) {
+      pushLayerPoint(z, a, st.layer);
+      pushLayerPoint(z, d, st.layer);
+    }
+    if (layered && s.length > 0 && s[s.length - 3] === n && lastLayer !== st.layer) s[s.length - 1] = d;
+    else s.push(n, a, d);
+    lastLayer = layered ? st.layer : null;
+  }
+  const flight = {
     id: plan.request,
     o: node(plan.origin),
     d: node(plan.destination),
@@ -22,8 +40,10 @@ export function flightFromApi(scene, nodeIndex, plan) {
     ff: plan.free_flow_s === null || plan.free_flow_s === undefined ? null : Math.round(plan.free_flow_s * 1000),
     status: plan.status,
     operator: plan.operator ?? null,
-    s: path.flatMap((st) => [node(st.node), rel(st.arrive), rel(st.depart)]),
+    s,
   };
+  if (z.length > 0) flight.z = z;
+  return flight;
 }
 
 /**
@@ -76,7 +96,9 @@ export function closuresFromApi(scene, nodeIndex, body) {
       if (e === undefined) throw new Error(`zone ${z.zone}: unknown corridor ${c.id}`);
       return e;
     });
-    out.set(z.zone, { nodes, edges });
+    const closes = { nodes, edges };
+    if (z.layers) closes.layers = z.layers;
+    out.set(z.zone, closes);
   }
   return out;
 }

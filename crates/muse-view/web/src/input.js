@@ -59,7 +59,11 @@ function corridorText(i) {
 /** The tooltip's text at canvas point `(x, y)`, or null. */
 function tooltipAt(x, y) {
   const hit = pick(x, y, PICK_PX);
-  if (hit) return `${hit.id}${hit.hovering ? ' (hovering)' : ''}`;
+  if (hit) {
+    const doing = { 1: ' (climbing)', '-1': ' (descending)' }[hit.vertical] ?? (hit.hovering ? ' (hovering)' : '');
+    const layer = scene.layers ? `, layer ${Math.round(layerAt(scene.byId.get(hit.id), state.t))}` : '';
+    return `${hit.id}${doing}${layer}`;
+  }
   const station = pickStation(x, y);
   if (station) {
     const i = scene.nodes.indexOf(station);
@@ -171,6 +175,26 @@ function wirePointers() {
   }, { passive: false });
 }
 
+/**
+ * A layered airspace: the layer picker (every layer, coloured, or one alone) and the layers'
+ * colours in the legend. Hidden when flat.
+ */
+function wireLayers() {
+  if (!scene.layers) return;
+  const alts = scene.layers.altitudes_m;
+  const pick = $('layer');
+  pick.innerHTML = '<option value="all">all, by colour</option>'
+    + alts.map((m, i) => `<option value="${i + 1}">${i + 1} only (${Math.round(m)} m)</option>`).join('');
+  pick.addEventListener('change', (e) => { setLayer(e.target.value === 'all' ? null : Number(e.target.value)); });
+  $('layer-pick').hidden = false;
+  const rule = scene.layers.heading_rule === 'sectors' ? ', each flown in its own headings' : '';
+  $('legend-layers').innerHTML = `<span class="key layers">${alts.map((_, i) => `<i style="background:${layerColour(i + 1, alts.length)}"></i>`).join('')}</span>`
+    + `drone's layer, lowest (${Math.round(alts[0])} m) to highest (${Math.round(alts[alts.length - 1])} m)${esc(rule)}`;
+  $('legend-layers').hidden = false;
+  $('legend-drone').hidden = true;
+  $('legend-one-way').hidden = scene.layers.heading_rule !== 'sectors';
+}
+
 function wire() {
   $('title').textContent = scene.title || 'MUSE';
   document.title = `MUSE — ${scene.title || 'viewer'}`;
@@ -181,6 +205,8 @@ function wire() {
   $('play').addEventListener('click', () => setPlaying(!state.playing));
   $('speed').addEventListener('change', (e) => { state.speed = Number(e.target.value); });
   $('load').addEventListener('change', (e) => { state.load = e.target.value; state.dirty = true; });
+  wireLayers();
+  $('details').addEventListener('click', profileClick);
   document.addEventListener('keydown', (e) => {
     if (e.target instanceof HTMLInputElement && e.target.id === 'find') return;
     if (e.code === 'Space') { e.preventDefault(); setPlaying(!state.playing); }

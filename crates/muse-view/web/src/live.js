@@ -102,7 +102,7 @@ function startLive() {
   // and `withdrawn` instants), their windows within the time the page shows, so that zones
   // announced (or withdrawn) while the page is open appear (or go); and what each closes
   // (`GET /v1/closures`, asked again whenever a zone the page has not seen appears).
-  let closures = new Map(scene.zones.map((z) => [z.id, { nodes: z.nodes, edges: z.edges }]));
+  let closures = new Map(scene.zones.map((z) => [z.id, { nodes: z.nodes, edges: z.edges, layers: z.layers }]));
   async function syncZones() {
     try {
       const fc = await (await fetch('/v1/zones', { headers: auth })).json();

@@ -69,11 +69,116 @@ export function decodeFlight(raw) {
       first = i;
     }
   }
+  const z = [];
+  for (let i = 0; i + 1 < (raw.z ?? []).length; i += 2) z.push([raw.z[i], raw.z[i + 1]]);
   return {
     id: raw.id, o: raw.o, d: raw.d, dep: raw.dep, ff: raw.ff ?? null,
     status: raw.status ?? 'planned', operator: raw.operator ?? null,
-    stays, legs, takeoff: stays[0].arrive, landing: stays[stays.length - 1].depart,
+    stays, legs, takeoff: stays[0].arrive, landing: stays[stays.length - 1].depart, z,
   };
+}
+
+/**
+ * Adds the point `[t, layer]` to a flight's layer profile `z` (a flat array, as the scene's
+ * `z`), leaving out what says nothing: a repeat, or the middle of three at one layer.
+ */
+export function pushLayerPoint(z, t, layer) {
+  const n = z.length;
+  if (n >= 2 && z[n - 2] === t && z[n - 1] === layer) return;
+  if (n >= 4 && z[n - 1] === layer && z[n - 3] === layer) {
+    z[n - 2] = t;
+    return;
+  }
+  z.push(t, layer);
+}
+
+/**
+ * The layer of flight `f` at `t` (SPEC §13): 1 in a flat airspace; between two layers, a
+ * fraction, while it climbs or descends over a vertical link; before take-off and after
+ * landing, the first and last.
+ */
+export function layerAt(f, t) {
+  const z = f.z;
+  if (z.length === 0) return 1;
+  if (t <= z[0][0]) return z[0][1];
+  if (t >= z[z.length - 1][0]) return z[z.length - 1][1];
+  let lo = 0;
+  let hi = z.length - 1;
+  while (hi - lo > 1) {
+    const mid = (lo + hi) >> 1;
+    if (z[mid][0] <= t) lo = mid;
+    else hi = mid;
+  }
+  const [ta, ka] = z[lo];
+  const [tb, kb] = z[hi];
+  return ka + ((kb - ka) * (t - ta)) / (tb - ta);
+}
+
+/**
+ * How long flight `f` spends climbing or descending between layers within `[from, to)`, ms
+ * (0 in a flat airspace).
+ */
+export function climbingWithin(f, from, to) {
+  let total = 0;
+  for (let i = 1; i < f.z.length; i++) {
+    const [ta, ka] = f.z[i - 1];
+    const [tb, kb] = f.z[i];
+    if (ka !== kb) total += Math.max(0, Math.min(tb, to) - Math.max(ta, from));
+  }
+  return total;
+}
+
+/**
+ * Whether flight `f` at `t` is shown when the page shows layer `layer` alone (null: every
+ * layer): at that layer, or climbing or descending to or from it.
+ */
+export function onLayer(f, t, layer) {
+  return layer === null || Math.abs(layerAt(f, t) - layer) < 1;
+}
+
+/** The altitude, metres, at (fractional) layer `k` of `scene` (its first layer's when flat). */
+export function altitudeOf(scene, k) {
+  const alts = scene.layers?.altitudes_m;
+  if (!alts || alts.length === 0) return null;
+  const i = Math.max(0, Math.min(alts.length - 1, Math.floor(k) - 1));
+  const next = alts[Math.min(alts.length - 1, i + 1)];
+  return alts[i] + (next - alts[i]) * Math.max(0, k - 1 - i);
+}
+
+/**
+ * The selected flight's side view: its altitude over time as `{ legs, layers, from, to }`:
+ * per leg the points `[t, metres]` of a line from take-off to landing (straight between
+ * them), the layers' altitudes, and the time it spans. Null in a flat airspace.
+ */
+export function altitudeProfile(scene, f) {
+  if (!scene.layers || f.z.length === 0) return null;
+  const legs = f.legs.map((leg) => {
+    const pts = [[leg.takeoff, altitudeOf(scene, layerAt(f, leg.takeoff))]];
+    for (const [t, k] of f.z) if (t > leg.takeoff && t < leg.landing) pts.push([t, altitudeOf(scene, k)]);
+    pts.push([leg.landing, altitudeOf(scene, layerAt(f, leg.landing))]);
+    return pts;
+  });
+  return { legs, layers: scene.layers.altitudes_m, from: f.takeoff, to: f.landing };
+}
+
+/**
+ * Which way corridor `e` is flown at layer `layer` of `scene`: 3 both ways (and always in a
+ * flat airspace or when every layer is shown, `layer` null), 1 from its first node to its
+ * second only, 2 the other way only, 0 not at all.
+ */
+export function corridorWays(scene, e, layer) {
+  if (layer === null || !scene.layers) return 3;
+  return scene.layers.ways[layer - 1]?.[e] ?? 0;
+}
+
+/**
+ * What zone `z` closes at layer `layer` (null: at any): `{ nodes, edges }`, indices. A zone
+ * whose band misses the layer closes nothing there.
+ */
+export function zoneClosesAt(scene, z, layer) {
+  if (layer === null || !scene.layers || !z.layers) return { nodes: z.nodes, edges: z.edges };
+  if (!z.layers.includes(layer)) return { nodes: [], edges: [] };
+  return { nodes: z.nodes, edges: z.edges.filter((e) => corridorWays(scene, e, layer) !== 0) };
 }
 
 /** The leg of `f` in the air at `t` (take-off <= t < landing), or null. */
@@ -97,7 +202,8 @@ export function airborneAt(flights, t) {
 
 /**
  * Where `f` is at `t`, if airborne: `{ x, y }` in the nodes' coordinates (lon, lat), and
- * `hovering` (at a node, waiting) or the corridor `from`→`to` it flies along.
+ * `hovering` (at a node, waiting), `vertical` (at a node, climbing, 1, or descending, −1,
+ * between two layers) or the corridor `from`→`to` it flies along.
  */
 export function positionAt(f, t, nodes) {
   const leg = legAt(f, t);
@@ -114,7 +220,9 @@ export function positionAt(f, t, nodes) {
   const s = st[lo];
   const n = nodes[s.node];
   if (t <= s.depart || lo === leg.last) {
-    return { x: n.lon, y: n.lat, node: s.node, hovering: s.depart > s.arrive };
+    const k = layerAt(f, t);
+    const vertical = Number.isInteger(k) ? 0 : Math.sign(layerAt(f, t + 1) - k);
+    return { x: n.lon, y: n.lat, node: s.node, hovering: s.depart > s.arrive && vertical === 0, vertical };
   }
   const next = st[lo + 1];
   const m = nodes[next.node];
@@ -126,14 +234,18 @@ export function positionAt(f, t, nodes) {
   };
 }
 
-/** Traversals per corridor that begin in `[from, to)` (every flight, every leg). */
-export function edgeLoad(scene, from = -Infinity, to = Infinity) {
+/**
+ * Traversals per corridor that begin in `[from, to)` (every flight, every leg), at layer
+ * `layer` only unless it is null.
+ */
+export function edgeLoad(scene, from = -Infinity, to = Infinity, layer = null) {
   const load = new Array(scene.edges.length).fill(0);
   for (const f of scene.flights) {
     for (let i = 1; i < f.stays.length; i++) {
       const a = f.stays[i - 1];
       const b = f.stays[i];
       if (a.node === b.node || a.depart < from || a.depart >= to) continue;
+      if (layer !== null && Math.round(layerAt(f, a.depart)) !== layer) continue;
       const e = scene.edgeIndex.get(edgeKey(a.node, b.node));
       if (e !== undefined) load[e] += 1;
     }
@@ -188,8 +300,10 @@ export function parseClock(scene, text) {
 }
 
 /**
- * The plan of `f` as rows for a table: each stay (node, arrival, departure, hover), and
- * between legs the time on the ground; plus take-off, landing and delays.
+ * The plan of `f` as rows for a table: each stay (node, arrival, departure, hover; in a
+ * layered airspace its layers on arrival and departure, and the time climbing or descending
+ * there, which is not hovering), and between legs the time on the ground; plus take-off,
+ * landing and delays.
  */
 export function planDetails(scene, f) {
   const rows = [];
@@ -200,7 +314,10 @@ export function planDetails(scene, f) {
     }
     for (let i = leg.first; i <= leg.last; i++) {
       const s = f.stays[i];
-      rows.push({ ground: false, leg: k + 1, node: scene.nodes[s.node].id, arrive: s.arrive, depart: s.depart, hover: s.depart - s.arrive });
+      const layers = scene.layers ? [layerAt(f, s.arrive), layerAt(f, s.depart)].map(Math.round) : null;
+      // A climb or descent at the node is not hovering.
+      const climb = climbingWithin(f, s.arrive, s.depart);
+      rows.push({ ground: false, leg: k + 1, node: scene.nodes[s.node].id, arrive: s.arrive, depart: s.depart, hover: s.depart - s.arrive - climb, climb, layers });
     }
   });
   const airborne = f.landing - f.takeoff;
@@ -215,7 +332,8 @@ export function planDetails(scene, f) {
     groundDelay: f.takeoff - f.dep,
     airDelay: f.ff === null || f.status === 'diverted' ? null : airborne - f.ff,
     legs: f.legs.length,
-    hover: f.stays.reduce((sum, s) => sum + (s.depart - s.arrive), 0),
+    hover: f.stays.reduce((sum, s) => sum + (s.depart - s.arrive), 0) - climbingWithin(f, -Infinity, Infinity),
+    climb: climbingWithin(f, -Infinity, Infinity),
     rows,
   };
 }

@@ -14,7 +14,11 @@
 //   outline alone while not;
 // - the selected flight: its path in cyan inside a thick black casing, and a double ring
 //   round its drone;
-// - drones: blue dots with a white rim, flying; orange rings, hovering.
+// - drones: blue dots with a white rim, flying; orange rings, hovering. In a layered airspace
+//   a drone's fill is its layer's, on a scale from light yellow (the lowest) through green
+//   and teal to dark violet (the highest), its lightness falling steadily (so the order
+//   survives any colour vision), in a dark rim; a hovering drone keeps its orange ring
+//   around it.
 
 /** The load scale's stops, from the fewest flights to the most (sRGB). */
 export const LOAD_STOPS = [
@@ -23,6 +27,16 @@ export const LOAD_STOPS = [
   [120, 122, 125],
   [62, 82, 128],
   [10, 36, 90],
+];
+
+/** The layer scale's stops, from the lowest layer to the highest (sRGB). */
+export const LAYER_STOPS = [
+  [250, 226, 60],
+  [126, 206, 86],
+  [38, 166, 130],
+  [40, 118, 142],
+  [62, 70, 138],
+  [70, 16, 96],
 ];
 
 /** The fixed colours. */
@@ -38,7 +52,24 @@ export const COLOURS = {
   droneRim: '#ffffff',
   hover: '#f79009',
   station: '#344054',
+  layerRim: '#0b1220',
 };
+
+/** The colour of layer `k` of `count` (1 up), as `[r, g, b]`: the layer scale's ends for the
+ * lowest and the highest, evenly between for the others. */
+export function layerRgb(k, count) {
+  const u = count > 1 ? (Math.min(count, Math.max(1, k)) - 1) / (count - 1) : 0;
+  const x = u * (LAYER_STOPS.length - 1);
+  const i = Math.min(LAYER_STOPS.length - 2, Math.floor(x));
+  const f = x - i;
+  return LAYER_STOPS[i].map((v, c) => Math.round(v + (LAYER_STOPS[i + 1][c] - v) * f));
+}
+
+/** [`layerRgb`] as a CSS colour. */
+export function layerColour(k, count) {
+  const [r, g, b] = layerRgb(k, count);
+  return `rgb(${r},${g},${b})`;
+}
 
 /** The load scale's colour at `u` in [0, 1] (0: one flight, 1: the busiest), as `[r, g, b]`. */
 export function loadRgb(u) {

@@ -35,6 +35,11 @@ function showSummary() {
     rows.push(['flights on the map', scene.flights.length]);
     if (scene.unflown.size) rows.push(['requests that did not fly', scene.unflown.size]);
   }
+  if (scene.layers) {
+    const alts = scene.layers.altitudes_m;
+    rows.push(['layers', `${alts.length}, ${Math.round(alts[0])}–${Math.round(alts[alts.length - 1])} m`]);
+    rows.push(['heading rule', scene.layers.heading_rule]);
+  }
   rows.push(['stations', scene.nodes.filter((n) => n.station).length]);
   rows.push(['corridors', scene.edges.length]);
   dl.innerHTML = rows.map(([k, v]) => `<dt>${esc(k)}</dt><dd>${esc(v)}</dd>`).join('');
@@ -85,11 +90,23 @@ function showDetails() {
     ['ground delay', duration(d.groundDelay)],
     ['hovering', duration(d.hover)],
   ];
+  if (scene.layers) head.push(['climbing and descending', duration(d.climb)]);
+  // A layered airspace: each stay's layer (`1→3` for a climb there), and the side view.
+  const layered = Boolean(scene.layers);
+  const layerCell = (r) => {
+    if (!layered) return '';
+    const [a, b] = r.layers;
+    return `<td class="num">${a === b ? a : `${a}→${b}`}</td>`;
+  };
   const rows = d.rows.map((r) => (r.ground
-    ? `<tr class="ground"><td colspan="2">on the ground at ${esc(r.node)} (battery swap)</td><td>${c(r.from)}</td><td class="num">${duration(r.to - r.from)}</td></tr>`
-    : `<tr><td>${esc(r.node)}</td><td>${c(r.arrive)}</td><td>${c(r.depart)}</td><td class="num">${r.hover > 0 ? duration(r.hover) : ''}</td></tr>`)).join('');
-  box.innerHTML = `<div class="flight-id">${esc(d.id)}</div>${rowsHtml(head)}
-    <table><thead><tr><th>node</th><th>arrive</th><th>depart</th><th class="num">hover</th></tr></thead><tbody>${rows}</tbody></table>`;
+    ? `<tr class="ground"><td colspan="${layered ? 3 : 2}">on the ground at ${esc(r.node)} (battery swap)</td><td>${c(r.from)}</td><td class="num">${duration(r.to - r.from)}</td></tr>`
+    : `<tr><td>${esc(r.node)}</td>${layerCell(r)}<td>${c(r.arrive)}</td><td>${c(r.depart)}</td><td class="num">${r.hover > 0 ? duration(r.hover) : ''}</td></tr>`)).join('');
+  const side = layered
+    ? '<h3 class="profile-title">Altitude over time <span class="hint">(click to move the clock)</span></h3><canvas id="profile" aria-label="The flight\'s altitude over time"></canvas>'
+    : '';
+  box.innerHTML = `<div class="flight-id">${esc(d.id)}</div>${rowsHtml(head)}${side}
+    <table><thead><tr><th>node</th>${layered ? '<th class="num">layer</th>' : ''}<th>arrive</th><th>depart</th><th class="num">hover</th></tr></thead><tbody>${rows}</tbody></table>`;
+  if (layered) drawProfile();
 }
 
 // ---- the search ------------------------------------------------------------------------

@@ -42,6 +42,41 @@ const museView = {
   },
   select,
   resetView,
+  /**
+   * A layered airspace: shows layer `k` alone (null: every layer) and draws; returns the
+   * drones drawn (in view).
+   */
+  setLayer(k) {
+    setLayer(k);
+    draw();
+    return state.drawn.length;
+  },
+  /** The layer shown alone, or null for every layer. */
+  layer: () => state.layer,
+  /** The (fractional) layer of flight `id` at the clock's time, or null if it is not in the scene. */
+  layerOf(id) {
+    const f = scene.byId.get(id);
+    return f ? layerAt(f, state.t) : null;
+  },
+  /**
+   * The side view drawn for the selected flight: its legs' points as `[epoch ms, metres]`,
+   * the layers' altitudes, and on the page (CSS px) where instant `t` (epoch ms) is along it;
+   * null when no side view is drawn.
+   */
+  profile() {
+    const canvas = document.getElementById('profile');
+    if (!canvas) return null;
+    const r = canvas.getBoundingClientRect();
+    const geo = profileGeometry(r);
+    if (!geo) return null;
+    return {
+      legs: geo.profile.legs.map((leg) => leg.map(([t, m]) => [scene.t0 + t, m])),
+      layers: geo.profile.layers,
+      box: [r.left, r.top, r.width, r.height],
+      xAt: (t) => r.left + geo.x(t - scene.t0),
+      yAt: (m) => r.top + geo.y(m),
+    };
+  },
   play: () => setPlaying(true),
   pause: () => setPlaying(false),
   redraw() { state.dayLoad = null; state.hourLoad = { at: NaN, load: null }; state.shownLoad = null; state.dirty = true; },

@@ -27,6 +27,7 @@ const state = {
   playing: false,
   speed: 300,
   load: 'day',
+  layer: null, // a layered airspace: the one layer shown alone (1 up), or null for every one
   selected: null, // a request id: a flight's, or one that did not fly
   view: null, // { scale, cx, cy } in world units (see `toScreen`)
   userView: false, // panned or zoomed by the user: a resize keeps the view
@@ -34,6 +35,7 @@ const state = {
   airborne: 0, // flights in the air at the last frame, in view or not
   dirty: true,
   dayLoad: null,
+  dayLoadLayer: null,
   hourLoad: { at: NaN, load: null },
   shownLoad: null, // { mode, values, max } of the last frame
   closed: new Set(), // corridors closed by an active zone at the last frame
@@ -125,6 +127,16 @@ function frame(now) {
   if (state.dirty) draw();
   writeHash(false);
   requestAnimationFrame(frame);
+}
+
+/** Shows layer `k` alone (1 up), or every layer (null); returns the layer shown. */
+function setLayer(k) {
+  const count = scene.layers ? scene.layers.altitudes_m.length : 0;
+  state.layer = Number.isInteger(k) && k >= 1 && k <= count ? k : null;
+  const pick = $('layer');
+  if (pick) pick.value = state.layer === null ? 'all' : String(state.layer);
+  state.dirty = true;
+  return state.layer;
 }
 
 // ---- selection -------------------------------------------------------------------------

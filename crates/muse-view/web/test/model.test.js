@@ -8,12 +8,14 @@ import {
   decodeScene, decodeFlight, legAt, isAirborne, airborneAt, positionAt, edgeLoad,
   zoneState, clock, duration, parseClock, planDetails, addFlight, removeFlight,
   findRequests, reasonText, hashClock, formatHash, parseHash, localDay, windowText,
+  pushLayerPoint, layerAt, onLayer, climbingWithin, altitudeOf, altitudeProfile, corridorWays, zoneClosesAt,
 } from '../src/model.js';
 import {
   flightFromApi, readEvents, zonesFromEd318, unflownFromApi, closuresFromApi,
 } from '../src/feed.js';
 import {
-  LOAD_STOPS, COLOURS, loadRgb, loadColour, loadPosition, loadTicks,
+  LOAD_STOPS, COLOURS, loadRgb, loadColour, loadPosition, loadTicks, LAYER_STOPS, layerRgb,
+  layerColour,
 } from '../src/palette.js';
 
 const nodes = [
@@ -373,4 +375,125 @@ test('the load key: where a corridor sits on the scale, and the values labelled'
     assert.ok(t.length <= 7, `${max}: ${t}`);
     assert.ok(t.every((v, i) => i === 0 || v > t[i - 1]) && t.every(Number.isInteger), `${max}: ${t}`);
   }
+});
+
+// A layered day as the Rust scene gives it (muse-view's scene tests use the same flight):
+// three layers 60 m, 69.144 m and 78.288 m apart; A up to layer 3, along to C, down at C, a
+// swap at C, and back to B at layer 1.
+const layers = { altitudes_m: [60, 69.144, 78.288], heading_rule: 'sectors', ways: [[1, 3], [0, 3], [2, 0]] };
+const climbing = {
+  id: 'c1', o: 0, d: 1, dep: 0, ff: 1000, status: 'planned',
+  s: [0, 0, 3658, 1, 123658, 123658, 2, 243658, 247316, 2, 547316, 547316, 1, 667316, 667316],
+  z: [0, 1, 1829, 2, 3658, 3, 243658, 3, 245487, 2, 247316, 1, 667316, 1],
+};
+
+test('a layered flight: its layer over time, fractional while it climbs, and which layer shows it', () => {
+  const f = decodeFlight(climbing);
+  assert.equal(f.legs.length, 2, 'the climb at A is one stay from above; the swap at C splits');
+  assert.deepEqual(f.z.slice(0, 3), [[0, 1], [1829, 2], [3658, 3]]);
+  assert.equal(layerAt(f, 0), 1);
+  assert.equal(layerAt(f, 914.5), 1.5, 'half way up the first vertical link');
+  assert.equal(layerAt(f, 100000), 3);
+  assert.equal(layerAt(f, 246401.5), 1.5, 'half way down the last');
+  assert.equal(layerAt(f, 400000), 1, 'on the ground at the swap: layer 1');
+  assert.equal(layerAt(f, 1e9), 1);
+  assert.equal(layerAt(decodeFlight(twoLegs), 50), 1, 'flat: always layer 1');
+  assert.ok(onLayer(f, 914.5, 1) && onLayer(f, 914.5, 2) && !onLayer(f, 914.5, 3), 'climbing: both layers');
+  assert.ok(onLayer(f, 100000, 3) && !onLayer(f, 100000, 2) && onLayer(f, 100000, null));
+  // The oracle: layerAt by brute force over the stays' layers, at every 97 ms.
+  const stays = [[0, 1, 0, 0], [0, 2, 1829, 1829], [0, 3, 3658, 3658], [1, 3, 123658, 123658],
+    [2, 3, 243658, 243658], [2, 2, 245487, 245487], [2, 1, 247316, 247316], [2, 1, 547316, 547316], [1, 1, 667316, 667316]];
+  for (let t = 0; t < 667316; t += 97) {
+    let i = 0;
+    while (i + 1 < stays.length && stays[i + 1][2] <= t) i++;
+    const [n, k, , dep] = stays[i];
+    const next = stays[i + 1];
+    const want = t <= dep || next[0] !== n ? k : k + ((next[1] - k) * (t - dep)) / (next[2] - dep);
+    assert.ok(Math.abs(layerAt(f, t) - want) < 1e-9, `${t}: ${layerAt(f, t)} against ${want}`);
+  }
+});
+
+test('the profile is kept short as it is built, and the API\'s layered stays give the scene\'s flight', () => {
+  const z = [];
+  for (const [t, k] of [[0, 1], [0, 1], [10, 1], [20, 1], [30, 2], [40, 2], [50, 2]]) pushLayerPoint(z, t, k);
+  assert.deepEqual(z, [0, 1, 20, 1, 30, 2, 50, 2]);
+  const sc = decodeScene({ t0: Date.parse('2026-01-05T00:00:00Z'), span: 1, offset_s: 0, nodes, edges, layers, land: [], zones: [], flights: [], summary: null, live: true });
+  const index = new Map(nodes.map((n, i) => [n.id, i]));
+  const at = (ms) => new Date(sc.t0 + ms).toISOString();
+  const path = [['A', 1, 0], ['A', 2, 1829], ['A', 3, 3658], ['B', 3, 123658], ['C', 3, 243658], ['C', 2, 245487],
+    ['C', 1, 247316], ['C', 1, 547316], ['B', 1, 667316]].map(([node, layer, t]) => ({ node, layer, arrive: at(t), depart: at(t) }));
+  const raw = flightFromApi(sc, index, {
+    request: 'c1', origin: 'A', destination: 'B', requested_departure: at(0), free_flow_s: 1, status: 'planned', path,
+  });
+  assert.deepEqual(raw.s, climbing.s);
+  assert.deepEqual(raw.z, climbing.z);
+  const flat = flightFromApi(sc, index, { request: 'f', origin: 'A', destination: 'B', requested_departure: at(0), status: 'planned', path: path.map(({ layer, ...st }) => st) });
+  assert.equal(flat.z, undefined, 'a flat answer has no profile');
+  const closures = closuresFromApi(sc, index, { zones: [{ zone: 'LOW', nodes: ['B'], corridors: [{ id: 'A-B', from: 'A', to: 'B' }], layers: [1, 2], vertical_links: [] }] });
+  assert.deepEqual(closures.get('LOW'), { nodes: [1], edges: [0], layers: [1, 2] });
+});
+
+test('one layer alone: its corridors and their ways, its load, its closures; the side view', () => {
+  const sc = scene([climbing], { layers });
+  assert.deepEqual([0, 1].map((e) => corridorWays(sc, e, null)), [3, 3], 'every layer: drawn both ways');
+  assert.deepEqual([1, 2, 3].map((k) => [0, 1].map((e) => corridorWays(sc, e, k))), [[1, 3], [0, 3], [2, 0]]);
+  assert.deepEqual(edgeLoad(sc), [1, 2], 'A→B on A-B; B→C and C→B on B-C');
+  assert.deepEqual(edgeLoad(sc, -Infinity, Infinity, 3), [1, 1], 'at layer 3: A→B and B→C');
+  assert.deepEqual(edgeLoad(sc, -Infinity, Infinity, 1), [0, 1], 'at layer 1: C→B after the swap');
+  assert.deepEqual(edgeLoad(sc, -Infinity, Infinity, 2), [0, 0]);
+  const z = { nodes: [1], edges: [0, 1], layers: [2, 3] };
+  assert.deepEqual(zoneClosesAt(sc, z, null), { nodes: [1], edges: [0, 1] });
+  assert.deepEqual(zoneClosesAt(sc, z, 1), { nodes: [], edges: [] }, 'outside its band');
+  assert.deepEqual(zoneClosesAt(sc, z, 2), { nodes: [1], edges: [1] }, 'A-B is not flown at layer 2');
+  assert.deepEqual(zoneClosesAt(sc, z, 3), { nodes: [1], edges: [0] });
+  const f = sc.byId.get('c1');
+  assert.equal(altitudeOf(sc, 1), 60);
+  assert.ok(Math.abs(altitudeOf(sc, 2.5) - 73.716) < 1e-9);
+  assert.equal(altitudeOf(sc, 3), 78.288);
+  const p = altitudeProfile(sc, f);
+  assert.deepEqual(p.legs.map((leg) => leg.map(([t]) => t)), [[0, 1829, 3658, 243658, 245487, 247316], [547316, 667316]]);
+  assert.deepEqual(p.legs[0].map(([, m]) => m), [60, 69.144, 78.288, 78.288, 69.144, 60]);
+  assert.deepEqual([p.from, p.to], [0, 667316]);
+  assert.equal(altitudeProfile(scene([twoLegs]), decodeFlight(twoLegs)), null, 'flat: no side view');
+  const rows = planDetails(sc, f).rows.filter((r) => !r.ground).map((r) => `${r.node} ${r.layers.join('→')}`);
+  assert.deepEqual(rows, ['A 1→3', 'B 3→3', 'C 3→1', 'C 1→1', 'B 1→1']);
+  const d = planDetails(sc, f);
+  const stays = d.rows.filter((r) => !r.ground);
+  assert.deepEqual(stays.map((r) => [r.climb, r.hover]), [[3658, 0], [0, 0], [3658, 0], [0, 0], [0, 0]], 'climbing is not hovering');
+  assert.deepEqual([d.climb, d.hover], [7316, 0]);
+  const rawWaits = { ...climbing, id: 'w', s: [0, 0, 5658, 1, 123658, 123658], z: [0, 1, 1000, 1, 2829, 2, 3829, 2, 5658, 3, 123658, 3] };
+  const waits = decodeFlight(rawWaits);
+  const w = planDetails(scene([rawWaits], { layers }), waits);
+  assert.deepEqual([w.climb, w.hover, w.rows[0].hover], [3658, 2000, 2000], 'a second at layer 1 and one at layer 2');
+  assert.equal(climbingWithin(waits, 2000, 3000), 829);
+});
+
+test('the layer scale keeps its order and its steps apart, with any colour vision', () => {
+  for (const [vision, m] of Object.entries(SIMULATIONS)) {
+    for (const count of [2, 4, 8]) {
+      const ramp = Array.from({ length: count }, (_, i) => seenAs(m, layerRgb(i + 1, count)));
+      ramp.slice(1).forEach((c, i) => {
+        assert.ok(c[0] < ramp[i][0] - 6, `${vision}, ${count} layers: lightness falls from layer ${i + 1} (${ramp[i][0]}, then ${c[0]})`);
+        assert.ok(distance(c, ramp[i]) > 10, `${vision}, ${count} layers: layers ${i + 1} and ${i + 2} told apart`);
+      });
+    }
+    const rim = seenAs(m, hex(COLOURS.layerRim));
+    const lightest = seenAs(m, layerRgb(1, 8));
+    assert.ok(distance(rim, lightest) > 60, `${vision}: the rim stands out from the lightest layer`);
+  }
+  assert.deepEqual(layerRgb(1, 4), LAYER_STOPS[0]);
+  assert.deepEqual(layerRgb(4, 4), LAYER_STOPS[LAYER_STOPS.length - 1]);
+  assert.equal(layerColour(9, 8), layerColour(8, 8), 'clamped');
+});
+
+test('at a node, a layered drone climbing or descending is not hovering', () => {
+  const f = decodeFlight(climbing);
+  const up = positionAt(f, 914.5, nodes);
+  assert.deepEqual([up.node, up.hovering, up.vertical], [0, false, 1]);
+  const down = positionAt(f, 246401.5, nodes);
+  assert.deepEqual([down.node, down.hovering, down.vertical], [2, false, -1]);
+  const waits = decodeFlight({ ...climbing, s: [0, 0, 5658, 1, 123658, 123658], z: [0, 1, 1000, 1, 2829, 2, 3829, 2, 5658, 3, 123658, 3] });
+  assert.deepEqual([positionAt(waits, 500, nodes).hovering, positionAt(waits, 3000, nodes).hovering], [true, true], 'waiting at layers 1 and 2');
+  assert.equal(positionAt(waits, 2000, nodes).hovering, false);
+  assert.equal(positionAt(decodeFlight(twoLegs), 502, nodes).vertical, 0, 'flat: never vertical');
 });
