@@ -1,5 +1,7 @@
 //! A layered day (SPEC §13: four layers, one heading sector each) in the page `muse simulate`
-//! writes, driven in headless Chromium against its `plans.jsonl`: shown one layer alone, the
+//! writes, driven in headless Chromium against its `plans.jsonl`: it opens offline without
+//! errors, drawn from above (the flat stations only), and every layer shown draws exactly the
+//! flights in the air (a climb does not end a leg); shown one layer alone, the
 //! page draws exactly the flights at that layer (or crossing to or from it) by their stays; a
 //! zone whose band covers the lower layers closes corridors there and none above; and the
 //! selected flight's side view gives its altitude over time as its stays do, and a click on it
@@ -88,6 +90,11 @@ fn one_layer_alone_draws_its_flights_and_the_side_view_gives_each_altitude() {
     let alts = altitudes(&out.join("run"));
     let page = browser.new_page().expect("a new page");
     open_offline(&page, &view, "");
+    assert_eq!(
+        eval_i64(&page, "museView.scene.nodes.length"),
+        77,
+        "the flat stations only"
+    );
     let sample = plans
         .iter()
         .find_map(|p| p.takeoff.as_deref())
@@ -108,6 +115,11 @@ fn assert_each_layer_alone(page: &Page<'_>, plans: &[Plan], sample: &str) -> i64
     for hh_mm in ["09:00", "10:30", "12:30", "15:00", "18:00"] {
         let t = local(sample, hh_mm);
         let all = eval_count(page, &format!("museView.setTime({t})"));
+        let airborne = plans.iter().filter(|p| p.airborne_at(t)).count();
+        assert_eq!(
+            all as usize, airborne,
+            "{hh_mm}: every layer, every flight in the air"
+        );
         for k in 1..=4_u32 {
             let expected: BTreeSet<&str> = plans
                 .iter()

@@ -12,7 +12,7 @@ use std::time::Duration;
 use crate::support::cdp::{Page, browser_or_skip};
 use crate::support::viewer::{
     Plan, assert_no_console_errors, clock, eval_count, eval_i64, local, open_offline, screenshots,
-    simulate, simulate_with,
+    simulate,
 };
 
 /// A drone the page has drawn.
@@ -210,43 +210,6 @@ fn the_simulated_day_plays_offline_and_a_click_shows_a_plan() {
     let (t, _) = busiest.expect("a flight airborne at one of the instants checked");
     assert_click_selects(&page, &plans, t, &screenshots());
     assert_plays(&page, &plans);
-    assert_no_console_errors(&page);
-}
-
-/// A layered day (SPEC §13: four layers, one heading sector each) opens offline without
-/// errors, drawn from above: its nodes are the flat ones, and at several instants it draws
-/// exactly the flights airborne then (a climb does not end a flight's leg).
-#[test]
-fn a_layered_day_opens_and_draws_the_airborne() {
-    let Some(browser) = browser_or_skip("view_layered") else {
-        return;
-    };
-    let out = crate::support::scratch_dir("view_layered");
-    let args = [
-        "--layers",
-        "4",
-        "--heading-rule",
-        "sectors",
-        "--count",
-        "300",
-    ];
-    let (plans, view) = simulate_with(&out, &args);
-    let page = browser.new_page().expect("a new page");
-    open_offline(&page, &view, "");
-    assert_eq!(
-        eval_i64(&page, "museView.scene.nodes.length"),
-        77,
-        "the flat stations only"
-    );
-    let first = plans
-        .iter()
-        .find_map(|p| p.takeoff.as_deref())
-        .expect("at least one planned flight");
-    let mut seen = 0;
-    for hh_mm in ["09:00", "12:30", "15:00", "18:00"] {
-        seen += assert_draws_the_airborne(&page, &plans, local(first, hh_mm), hh_mm);
-    }
-    assert!(seen > 0, "a flight airborne at one of the instants checked");
     assert_no_console_errors(&page);
 }
 
