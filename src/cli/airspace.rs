@@ -6,7 +6,9 @@ use std::process::ExitCode;
 
 use anyhow::Context as _;
 use clap::Subcommand;
+use muse_airspace::builder::{BuildError, BuildOptions, build_airspace};
 use muse_airspace::closures::closed_elements;
+use muse_airspace::plane::Plane;
 use muse_airspace::stats::airspace_stats;
 use muse_model::{
     Airspace, EdgeId, EdgeKind, HeadingRule, Layers, Metres, Millis, NodeId, Period, Speed, Zone,
@@ -19,14 +21,34 @@ use super::output;
 /// The airspace subcommands.
 #[derive(Debug, Subcommand)]
 pub enum AirspaceCommand {
-    /// Regenerate the embedded Singapore files from the source data in `data/`.
+    /// Build an airspace from a pads file (`--pads`: any place, SPEC §15), or regenerate the
+    /// embedded Singapore files from the source data in `data/`.
     Build {
-        /// Output folder: its two files are replaced, each atomically; its other files are
-        /// left alone.
-        #[arg(long, value_name = "DIR", default_value = "scenarios/singapore-77")]
-        out: PathBuf,
-        /// Do not write: compare with the files in the output folder and fail if they differ.
-        #[arg(long)]
+        /// Pads file: a CSV with the columns `id,lon,lat` (and optionally `name`), or GeoJSON
+        /// points; the airspace is written to `--out`.
+        #[arg(long, value_name = "FILE")]
+        pads: Option<PathBuf>,
+        /// The plane the triangulation is worked out in (with `--pads`): `utm` (the UTM zone
+        /// of the pads' centroid, the default), `EPSG:3414` (SVY21, as the built-in Singapore
+        /// scenarios), a WGS84 UTM zone `EPSG:326zz` or `EPSG:327zz`, or `stereographic`.
+        #[arg(long, value_name = "CRS", requires = "pads")]
+        crs: Option<String>,
+        /// Exclusion polygons, GeoJSON (with `--pads`; repeatable): no corridor meets them,
+        /// and a pad inside one is an error.
+        #[arg(long, value_name = "FILE", requires = "pads")]
+        exclude: Vec<PathBuf>,
+        /// Drop corridors longer than this (with `--pads`), metres, from 1 to 1000000.
+        #[arg(long, value_name = "M", requires = "pads", allow_negative_numbers = true, value_parser = super::ranges::max_corridor_m)]
+        max_corridor_m: Option<f64>,
+        /// Output: with `--pads`, the airspace GeoJSON file (`-`: standard output; an existing
+        /// file is replaced atomically, never an input); without, the folder of the Singapore
+        /// files (default `scenarios/singapore-77`), whose two files are replaced, each
+        /// atomically, its other files left alone.
+        #[arg(long, value_name = "PATH")]
+        out: Option<PathBuf>,
+        /// Do not write: compare with the files in the output folder and fail if they differ
+        /// (the Singapore files only).
+        #[arg(long, conflicts_with = "pads")]
         check: bool,
     },
     /// Print graph statistics and, for each zone, its heights and what it closes (with
@@ -67,7 +89,25 @@ pub enum AirspaceCommand {
 /// Runs an airspace subcommand.
 pub fn run(cmd: AirspaceCommand) -> anyhow::Result<ExitCode> {
     match cmd {
-        AirspaceCommand::Build { out, check } => build(&out, check),
+        AirspaceCommand::Build {
+            pads: Some(pads),
+            crs,
+            exclude,
+            max_corridor_m,
+            out,
+            check: _,
+        } => build_from_pads(
+            &pads,
+            crs.as_deref(),
+            &exclude,
+            max_corridor_m,
+            out.as_deref(),
+        ),
+        AirspaceCommand::Build { out, check, .. } => build(
+            out.as_deref()
+                .unwrap_or_else(|| Path::new("scenarios/singapore-77")),
+            check,
+        ),
         AirspaceCommand::Info {
             world,
             layers,
@@ -124,6 +164,67 @@ fn build(out: &Path, check: bool) -> anyhow::Result<ExitCode> {
         target.write(text)?;
         println!("wrote {target} ({} bytes)", text.len());
     }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `muse airspace build --pads`: the airspace of any set of pads (SPEC §15).
+fn build_from_pads(
+    pads: &Path,
+    crs: Option<&str>,
+    exclude: &[PathBuf],
+    max_corridor_m: Option<f64>,
+    out: Option<&Path>,
+) -> anyhow::Result<ExitCode> {
+    let Some(out) = out else {
+        anyhow::bail!(
+            "--pads needs --out FILE: the airspace GeoJSON to write (`-`: standard output)"
+        );
+    };
+    let plane = match crs {
+        Some(text) => Plane::parse(text).map_err(|e| anyhow::anyhow!("--crs: {e}"))?,
+        None => Plane::Utm,
+    };
+    let inputs = output::Inputs::new()
+        .add("--pads", pads)
+        .add_all("--exclude", exclude);
+    let target = output::file("--out", out, &inputs)?;
+    let nodes = muse_formats::pads::read_pads_file(pads)?;
+    let mut exclusions = Vec::new();
+    // Where each polygon came from: its file and its place there.
+    let mut origin: Vec<(&Path, usize)> = Vec::new();
+    for path in exclude {
+        let polygons = muse_formats::exclusions::read_exclusions_file(path)?;
+        origin.extend((0..polygons.len()).map(|k| (path.as_path(), k)));
+        exclusions.extend(polygons);
+    }
+    let opts = BuildOptions {
+        plane,
+        max_edge_length_m: max_corridor_m,
+        exclusions,
+        ..BuildOptions::default()
+    };
+    let airspace = match build_airspace(nodes, &opts) {
+        Ok(a) => a,
+        Err(BuildError::Excluded { id, polygon }) => {
+            let (file, k) = origin[polygon];
+            anyhow::bail!(
+                "{}: pad `{id}` lies in polygon {k} (counted from 0) of the exclusions {}",
+                pads.display(),
+                file.display()
+            );
+        }
+        Err(e) => {
+            return Err(e).with_context(|| format!("building the airspace of {}", pads.display()));
+        }
+    };
+    let text = muse_formats::airspace_geojson::write_airspace(&airspace);
+    target.write(&text)?;
+    eprintln!(
+        "built {} pads into {} corridors in {plane} ({} bytes to {target})",
+        airspace.node_count(),
+        airspace.edge_count(),
+        text.len(),
+    );
     Ok(ExitCode::SUCCESS)
 }
 

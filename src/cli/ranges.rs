@@ -83,6 +83,8 @@ ranges! {
     nodes: usize = 2, muse_scenario::synthetic::MAX_NODES, "a whole number of nodes";
     /// `--spacing-m` of a synthetic airspace.
     spacing_m: f64 = muse_scenario::synthetic::MIN_SPACING_M, 100_000.0, "a number of metres";
+    /// `muse airspace build --max-corridor-m`: up to 1,000 km.
+    max_corridor_m: f64 = 1.0, 1_000_000.0, "a number of metres";
     /// `--station-share` of a synthetic airspace.
     station_share: f64 = 0.001, 1.0, "a share";
     /// `muse sweep --reps`.

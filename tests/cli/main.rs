@@ -3,7 +3,7 @@
 //! (`swaps`), sweeps sharded and merged (`sweep_shards`), the deployment scripts
 //! (`deploy_scripts`), bad inputs refused (`bad_inputs`), outputs that never clobber
 //! (`outputs`), batch planning (`optimize`), parameters read from the summary beside the plans (`params_travel`), layered
-//! airspace's outputs and their verification (`layers`) and every example of docs/reference.md
+//! airspace's outputs and their verification (`layers`), airspaces built from pads (`pads`) and every example of docs/reference.md
 //! read by MUSE (`reference_examples`).
 
 /// What this area's tests share (tests/support): `muse serve` on a loopback port, scratch
@@ -22,6 +22,7 @@ mod deploy_scripts;
 mod layers;
 mod optimize;
 mod outputs;
+mod pads;
 mod params_travel;
 mod reference_examples;
 mod run;

@@ -24,6 +24,7 @@
 //! | kind | language | checked by |
 //! |---|---|---|
 //! | `airspace` | geojson | `muse airspace info --airspace FILE` exits 0 |
+//! | `pads` | csv, geojson | `muse airspace build --pads FILE --out A.geojson` exits 0 |
 //! | `zones` | json, geojson | `muse airspace info --zones FILE` exits 0 (the zones resolved on the default airspace) |
 //! | `requests` | csv | `muse plan --requests FILE` exits 0 |
 //! | `plans` | jsonl | `muse verify --plans FILE` exits 0: read, and every rule holds |
@@ -63,6 +64,7 @@ const CLOCK: &str = "2026-01-05T07:00:00+08:00";
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 enum Kind {
     Airspace,
+    Pads,
     Zones,
     Requests,
     Plans,
@@ -89,8 +91,9 @@ enum Kind {
 }
 
 impl Kind {
-    const ALL: [Kind; 24] = [
+    const ALL: [Kind; 25] = [
         Kind::Airspace,
+        Kind::Pads,
         Kind::Zones,
         Kind::Requests,
         Kind::Plans,
@@ -122,6 +125,7 @@ impl Kind {
         const CSV: &[&str] = &["csv"];
         match self {
             Kind::Airspace => ("airspace", &["geojson"]),
+            Kind::Pads => ("pads", &["csv", "geojson"]),
             Kind::Zones => ("zones", &["json", "geojson"]),
             Kind::Requests => ("requests", CSV),
             Kind::Plans => ("plans", &["jsonl"]),
@@ -476,6 +480,16 @@ fn check(scratch: &mut Scratch, example: &Example) -> Result<(), String> {
             &["airspace", "info", "--airspace"],
             "geojson",
         ),
+        Kind::Pads => {
+            let out = scratch.dir.join(format!("pads-{}.geojson", example.line));
+            let out = out.display().to_string();
+            run_on(
+                scratch,
+                example,
+                &["airspace", "build", "--out", &out, "--pads"],
+                "txt",
+            )
+        }
         Kind::Zones => run_on(scratch, example, &["airspace", "info", "--zones"], "json"),
         Kind::Requests => {
             let out = scratch.dir.join(format!("plan-{}", example.line));

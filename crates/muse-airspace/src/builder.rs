@@ -4,13 +4,11 @@
 //! [`build_airspace`] takes the nodes (stations and waypoints) and returns a connected
 //! [`Airspace`] whose edges are chosen as follows:
 //!
-//! 1. **Projection.** Every node is projected with an *oblique stereographic projection* on a
-//!    sphere of mean Earth radius, centred on the nodes' centroid (the normalised mean of
-//!    their unit vectors). The stereographic projection is conformal and maps circles on the
-//!    sphere to circles in the plane, so the planar Delaunay triangulation of the projected
-//!    points is the Delaunay triangulation of the nodes on the sphere: the result does not
-//!    depend on where on Earth the nodes are, nor on a national grid. All nodes must lie
-//!    strictly within 90° of the centroid (one hemisphere).
+//! 1. **Projection** to a local metric plane ([`Plane`], SPEC §15): by default the UTM zone
+//!    of the nodes' centroid (the normalised mean of their unit vectors); `SVY21`
+//!    (EPSG:3414) for Singapore's built-in scenarios; or an oblique stereographic projection
+//!    about the centroid. All nodes must lie strictly within 90° of the centroid (one
+//!    hemisphere).
 //! 2. **Delaunay triangulation** of the projected points with [`spade`] (exact predicates).
 //!    Two nodes at the same position are an error.
 //! 3. **Join collinear nodes** (the paper's step): an edge A–C is dropped when some node B
@@ -23,10 +21,13 @@
 //!    disconnects the graph.
 //! 4. **Maximum edge length** (optional): edges with a geodesic length above
 //!    `max_edge_length_m` are dropped, e.g. to avoid long corridors across the sea along a
-//!    concave coastline. This *can* disconnect the graph.
+//!    concave coastline. **Exclusions** (optional): edges whose straight segment (in
+//!    longitude and latitude) meets an exclusion polygon, its boundary included, are
+//!    dropped; a node inside one, or on its boundary, is an error. Both *can* disconnect the
+//!    graph.
 //! 5. **Connectivity.** The result must be connected; otherwise [`BuildError::Disconnected`].
 //!
-//! Edge lengths are geodesic on WGS84 ([`LonLat::geodesic_distance_m`]) rounded to the
+//! Edge lengths are geodesic on WGS84 ([`muse_model::LonLat::geodesic_distance_m`]) rounded to the
 //! millimetre. Each edge joins a lower-index node `from` to a higher-index node `to`, has id
 //! `"{from id}-{to id}"`, and edges are sorted by `(from, to)` index. Nodes keep the input
 //! order. The whole procedure is deterministic: the same nodes in the same order give the
@@ -34,11 +35,12 @@
 
 use std::collections::BTreeSet;
 
-use muse_model::{Airspace, AirspaceError, Edge, LonLat, Node, NodeId};
+use geo::Intersects as _;
+use geo_types::{Coord, Line, Point, Polygon};
+use muse_model::{Airspace, AirspaceError, Edge, Node, NodeId};
 use spade::{DelaunayTriangulation, HasPosition, Point2, Triangulation};
 
-/// Mean Earth radius (IUGG), metres; the radius of the projection sphere.
-const EARTH_RADIUS_M: f64 = 6_371_008.8;
+use crate::plane::{Plane, PlaneError};
 
 /// Options of [`build_airspace`].
 #[derive(Clone, Debug, PartialEq)]
@@ -50,6 +52,10 @@ pub struct BuildOptions {
     pub collinear_tolerance_deg: f64,
     /// Drop edges longer than this many metres (geodesic). `None` (the default) keeps all.
     pub max_edge_length_m: Option<f64>,
+    /// The plane the triangulation and the angles are worked out in (default: UTM).
+    pub plane: Plane,
+    /// Polygons (WGS84 degrees) no corridor may meet; none by default.
+    pub exclusions: Vec<Polygon<f64>>,
 }
 
 impl BuildOptions {
@@ -70,6 +76,8 @@ impl Default for BuildOptions {
         BuildOptions {
             collinear_tolerance_deg: Self::DEFAULT_COLLINEAR_TOLERANCE_DEG,
             max_edge_length_m: None,
+            plane: Plane::Utm,
+            exclusions: Vec::new(),
         }
     }
 }
@@ -103,15 +111,17 @@ pub enum BuildError {
         /// Id of the later node.
         second: String,
     },
-    /// The nodes do not fit in one hemisphere around their centroid.
-    #[error(
-        "the nodes span more than a hemisphere; node `{id}` is 90° or more from their centroid"
-    )]
-    TooSpread {
-        /// Id of a node too far from the centroid (or of the first node if the centroid is
-        /// undefined).
+    /// A node lies inside an exclusion polygon (or on its boundary).
+    #[error("node `{id}` lies in exclusion polygon {polygon} (counted from 0)")]
+    Excluded {
+        /// The node's id.
         id: String,
+        /// The polygon's index in [`BuildOptions::exclusions`].
+        polygon: usize,
     },
+    /// The nodes cannot be projected to the plane (beyond a hemisphere, or refused).
+    #[error(transparent)]
+    Plane(#[from] PlaneError),
     /// The triangulation library refused a point.
     #[error("triangulation failed: {0}")]
     Triangulation(String),
@@ -187,7 +197,16 @@ pub fn build_airspace(nodes: Vec<Node>, opts: &BuildOptions) -> Result<Airspace,
         }
     }
     check_duplicate_positions(&nodes)?;
-    let projected = project(&nodes)?;
+    for n in &nodes {
+        let p = Point::new(n.pos.lon, n.pos.lat);
+        if let Some(polygon) = opts.exclusions.iter().position(|z| z.intersects(&p)) {
+            return Err(BuildError::Excluded {
+                id: n.id.clone(),
+                polygon,
+            });
+        }
+    }
+    let projected = opts.plane.project(&nodes)?;
 
     // 2. Delaunay triangulation.
     let mut candidates: Vec<(usize, usize)> = delaunay_edges(&projected)?;
@@ -220,6 +239,7 @@ pub fn build_airspace(nodes: Vec<Node>, opts: &BuildOptions) -> Result<Airspace,
         .zip(lengths)
         .zip(keep)
         .filter(|&((_, len), k)| k && opts.max_edge_length_m.is_none_or(|max| len <= max))
+        .filter(|&(((a, b), _), _)| !crosses_exclusion(&nodes[a], &nodes[b], &opts.exclusions))
         .map(|(((a, b), len), _)| (a, b, len))
         .collect();
     kept.sort_by_key(|&(a, b, _)| (a, b));
@@ -257,6 +277,22 @@ fn check_options(opts: &BuildOptions) -> Result<(), BuildError> {
     Ok(())
 }
 
+/// Whether the straight segment from `a` to `b` (in longitude and latitude) meets one of
+/// `exclusions`, boundary included.
+fn crosses_exclusion(a: &Node, b: &Node, exclusions: &[Polygon<f64>]) -> bool {
+    let line = Line::new(
+        Coord {
+            x: a.pos.lon,
+            y: a.pos.lat,
+        },
+        Coord {
+            x: b.pos.lon,
+            y: b.pos.lat,
+        },
+    );
+    exclusions.iter().any(|z| z.intersects(&line))
+}
+
 /// Rounds metres to the millimetre.
 fn round_mm(m: f64) -> f64 {
     (m * 1_000.0).round() / 1_000.0
@@ -281,49 +317,6 @@ fn check_duplicate_positions(nodes: &[Node]) -> Result<(), BuildError> {
         }
     }
     Ok(())
-}
-
-fn unit_vector(p: LonLat) -> [f64; 3] {
-    let (lat, lon) = (p.lat.to_radians(), p.lon.to_radians());
-    [lat.cos() * lon.cos(), lat.cos() * lon.sin(), lat.sin()]
-}
-
-/// Oblique stereographic projection centred on the centroid of the nodes, metres.
-fn project(nodes: &[Node]) -> Result<Vec<Point2<f64>>, BuildError> {
-    let mut sum = [0.0_f64; 3];
-    for n in nodes {
-        let v = unit_vector(n.pos);
-        for k in 0..3 {
-            sum[k] += v[k];
-        }
-    }
-    let norm = (sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]).sqrt();
-    if norm < 1e-9 * nodes.len() as f64 {
-        return Err(BuildError::TooSpread {
-            id: nodes[0].id.clone(),
-        });
-    }
-    let lat0 = (sum[2] / norm).clamp(-1.0, 1.0).asin();
-    let lon0 = sum[1].atan2(sum[0]);
-    let (sin0, cos0) = lat0.sin_cos();
-    nodes
-        .iter()
-        .map(|n| {
-            let (lat, lon) = (n.pos.lat.to_radians(), n.pos.lon.to_radians());
-            let (sin, cos) = lat.sin_cos();
-            let (sin_dl, cos_dl) = (lon - lon0).sin_cos();
-            // Cosine of the angular distance to the centre.
-            let cos_c = sin0 * sin + cos0 * cos * cos_dl;
-            if cos_c <= 1e-9 {
-                return Err(BuildError::TooSpread { id: n.id.clone() });
-            }
-            let k = 2.0 * EARTH_RADIUS_M / (1.0 + cos_c);
-            Ok(Point2::new(
-                k * cos * sin_dl,
-                k * (cos0 * sin - sin0 * cos * cos_dl),
-            ))
-        })
-        .collect()
 }
 
 /// The undirected Delaunay edges as `(lower index, higher index)`, sorted.
@@ -432,10 +425,13 @@ fn check_connected(
         return Ok(());
     }
     let unreached = roots.iter().position(|&r| r != roots[0]).unwrap_or(0);
-    let hint = match opts.max_edge_length_m {
+    let mut hint = match opts.max_edge_length_m {
         Some(max) => format!("; the maximum edge length ({max} m) may be too small"),
         None => String::new(),
     };
+    if !opts.exclusions.is_empty() {
+        hint.push_str("; corridors meeting an exclusion are dropped");
+    }
     Err(BuildError::Disconnected {
         components,
         first: nodes[0].id.clone(),
@@ -644,8 +640,71 @@ mod tests {
         ];
         assert!(matches!(
             build_airspace(spread, &BuildOptions::default()),
-            Err(BuildError::TooSpread { .. })
+            Err(BuildError::Plane(crate::plane::PlaneError::TooSpread(_)))
         ));
+    }
+
+    #[test]
+    fn exclusions_drop_the_corridors_they_meet_and_refuse_pads_inside() {
+        // The square with its centre; a small box across the SW–C spoke only.
+        let d = 0.01;
+        let nodes = || {
+            vec![
+                station("SW", 103.8, 1.3),
+                station("SE", 103.8 + d, 1.3),
+                station("NE", 103.8 + d, 1.3 + d),
+                station("NW", 103.8, 1.3 + d),
+                station("C", 103.8 + d / 2.0, 1.3 + d / 2.0),
+            ]
+        };
+        let square = |x0: f64, y0: f64, w: f64| {
+            Polygon::new(
+                geo_types::LineString::from(vec![
+                    (x0, y0),
+                    (x0 + w, y0),
+                    (x0 + w, y0 + w),
+                    (x0, y0 + w),
+                    (x0, y0),
+                ]),
+                vec![],
+            )
+        };
+        let opts = BuildOptions {
+            exclusions: vec![square(103.802, 1.302, 0.0005)],
+            ..BuildOptions::default()
+        };
+        let a = build_airspace(nodes(), &opts).unwrap();
+        assert_eq!(
+            edge_ids(&a),
+            ["SW-SE", "SW-NW", "SE-NE", "SE-C", "NE-NW", "NE-C", "NW-C"]
+        );
+        let inside = BuildOptions {
+            exclusions: vec![square(103.0, 1.0, 0.1), square(103.804, 1.304, 0.002)],
+            ..BuildOptions::default()
+        };
+        assert_eq!(
+            build_airspace(nodes(), &inside).unwrap_err().to_string(),
+            "node `C` lies in exclusion polygon 1 (counted from 0)"
+        );
+        // A wall across the square cuts it in two.
+        let wall = BuildOptions {
+            exclusions: vec![Polygon::new(
+                geo_types::LineString::from(vec![
+                    (103.79, 1.3029),
+                    (103.82, 1.3029),
+                    (103.82, 1.3031),
+                    (103.79, 1.3031),
+                    (103.79, 1.3029),
+                ]),
+                vec![],
+            )],
+            ..BuildOptions::default()
+        };
+        let e = build_airspace(nodes(), &wall).unwrap_err().to_string();
+        assert!(
+            e.contains("not connected") && e.contains("exclusion"),
+            "{e}"
+        );
     }
 
     #[test]

@@ -2,6 +2,7 @@
 //!
 //! - [`builder`]: stations (and waypoints) → Delaunay triangulation → the paper's
 //!   "join collinear nodes" → optional maximum edge length → a connected [`Airspace`](muse_model::Airspace);
+//! - [`plane`]: the local metric plane an airspace is built in (UTM, SVY21, stereographic);
 //! - [`closures`]: zones + a date range → each node's and edge's closure windows (on a
 //!   layered airspace, of the copies at the layers in each zone's vertical band);
 //! - [`announced`]: those windows by when their zones became known (SPEC §11);
@@ -12,5 +13,6 @@
 pub mod announced;
 pub mod builder;
 pub mod closures;
+pub mod plane;
 pub mod shortest;
 pub mod stats;

@@ -1,4 +1,4 @@
-//! MUSE file formats (SPEC §2, §4, §5, §7).
+//! MUSE file formats (SPEC §2, §4, §5, §7, §15).
 //!
 //! Every reader takes the text of a file together with a name for it (usually its path)
 //! and returns either the parsed value or an [`InputError`] that names the file, the line
@@ -6,6 +6,8 @@
 //!
 //! - [`airspace_geojson`]: the airspace GeoJSON (nodes as `Point`s, edges as `LineString`s);
 //! - [`zones`]: no-fly zones in the ED-318 GeoJSON profile and ED-269 JSON;
+//! - [`pads`]: the pads an airspace is built from (CSV or GeoJSON points, SPEC §15);
+//! - [`exclusions`]: polygons no corridor of an airspace built from pads may meet;
 //! - [`requests`]: the requests CSV;
 //! - [`plans`]: plan output as JSON Lines;
 //! - [`flights`]: planned flights as time-stamped GeoJSON lines (QGIS, kepler.gl);
@@ -16,8 +18,10 @@
 
 pub mod airspace_geojson;
 pub mod error;
+pub mod exclusions;
 pub mod flights;
 pub mod flights_csv;
+pub mod pads;
 pub mod params;
 pub mod plans;
 pub mod requests;

@@ -45,9 +45,9 @@
 //!
 //! # Edges
 //!
-//! [`muse_airspace::builder::build_airspace`] with its default options: the Delaunay
-//! triangulation of the stations (on a stereographic projection centred on them; 214
-//! edges), then the paper's "join collinear nodes" with a tolerance of **15°**: edge A–C is
+//! [`muse_airspace::builder::build_airspace`] with [`singapore_build_options`]: the Delaunay
+//! triangulation of the stations in SVY21 (EPSG:3414, the grid the car parks are published
+//! in; 214 edges, as in the stereographic plane MUSE built in before SPEC §15), then the paper's "join collinear nodes" with a tolerance of **15°**: edge A–C is
 //! dropped when a station B with edges A–B and B–C makes an angle ABC ≥ 165° (the detour is
 //! then at most 0.9 % longer). Edges are considered longest first and dropped only while
 //! A–B and B–C remain, which keeps the graph connected. No maximum edge length. Lengths
@@ -87,8 +87,9 @@
 //! number. If several car parks shared a position, the one with the lowest car-park number
 //! would be kept and the others dropped and listed; in the embedded data none share one
 //! (the closest two, `BJ15` and `BJ16`, are 18 m apart), so **0 are dropped**
-//! ([`SINGAPORE_ALL_DROPPED`], checked by a test). Edges: [`build_airspace`] with the default
-//! options, as above: 3,302 corridors from 18 m to 9.50 km, median 0.33 km. Zone, date and
+//! ([`SINGAPORE_ALL_DROPPED`], checked by a test). Edges: [`build_airspace`] with
+//! [`singapore_build_options`], as above (7 of the corridors differ from the stereographic
+//! plane's, where four car parks are nearly on one circle): 3,302 corridors from 18 m to 9.50 km, median 0.33 km. Zone, date and
 //! offset: those of `singapore-77`; the CBD zone closes no station and 7 corridors. It is
 //! built from the embedded data on first use (about 6 ms in release) and cached, rather
 //! than committed.
@@ -119,7 +120,7 @@ pub use land::{PlanningArea, planning_areas, singapore_land};
 pub use singapore::{
     BuiltFiles, CBD_ZONE_ID, CBD_ZONE_NAME, KMEANS_SEED, SINGAPORE_77, STADIUM_ZONE_ID,
     STATION_COUNT, Scenario, build_singapore_77, build_singapore_77_airspace, cbd_zone,
-    singapore_77, stadium_zone, station_nodes,
+    singapore_77, singapore_build_options, stadium_zone, station_nodes,
 };
 pub use singapore_all::{
     AllStations, DroppedCarPark, SINGAPORE_ALL, SINGAPORE_ALL_DROPPED, all_stations,

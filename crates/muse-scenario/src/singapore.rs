@@ -4,6 +4,7 @@
 use std::sync::LazyLock;
 
 use muse_airspace::builder::{BuildOptions, build_airspace};
+use muse_airspace::plane::Plane;
 use muse_model::time::parse_clock;
 use muse_model::{
     Airspace, DailyWindow, LonLat, Node, NodeKind, Period, UtcOffset, Weekday, Zone, ZoneArea,
@@ -101,10 +102,23 @@ pub fn station_nodes() -> Result<Vec<Node>, ScenarioError> {
         .collect()
 }
 
+/// The Singapore rule (SPEC §8, §15): [`build_airspace`]'s defaults in SVY21 (EPSG:3414),
+/// the grid the car parks' positions are published in. `muse airspace build --pads P --crs
+/// EPSG:3414` builds with the same options.
+pub fn singapore_build_options() -> BuildOptions {
+    BuildOptions {
+        plane: Plane::Epsg(3414),
+        ..BuildOptions::default()
+    }
+}
+
 /// The `singapore-77` airspace built from the source data: [`station_nodes`] joined by
-/// [`build_airspace`] with [`BuildOptions::default`].
+/// [`build_airspace`] with [`singapore_build_options`].
 pub fn build_singapore_77_airspace() -> Result<Airspace, ScenarioError> {
-    Ok(build_airspace(station_nodes()?, &BuildOptions::default())?)
+    Ok(build_airspace(
+        station_nodes()?,
+        &singapore_build_options(),
+    )?)
 }
 
 /// The CBD no-fly zone built from the source data: the URA MP2019 Downtown Core planning

@@ -15,19 +15,20 @@
 //!    dropped ones are listed in [`AllStations::dropped`]; in the embedded data there are
 //!    **none** ([`SINGAPORE_ALL_DROPPED`] = 0, checked by a test): the two closest car parks
 //!    (`BJ15`, `BJ16`) are 18 m apart.
-//! 5. **Edges:** [`build_airspace`] with [`BuildOptions::default`], as for `singapore-77`.
+//! 5. **Edges:** [`build_airspace`] with [`singapore_build_options`] (in SVY21), as for
+//!    `singapore-77`.
 //!
 //! Building takes a few milliseconds, so nothing is committed: [`singapore_all`] builds the
 //! scenario on first use and keeps it for the life of the process.
 
 use std::sync::OnceLock;
 
-use muse_airspace::builder::{BuildOptions, build_airspace};
+use muse_airspace::builder::build_airspace;
 use muse_model::{Airspace, LonLat, Node, NodeKind, UtcOffset};
 
 use crate::ScenarioError;
 use crate::carparks::{CarPark, multi_storey_car_parks};
-use crate::singapore::{Scenario, cbd_zone, round_to_decimals};
+use crate::singapore::{Scenario, cbd_zone, round_to_decimals, singapore_build_options};
 
 /// The scenario's name.
 pub const SINGAPORE_ALL: &str = "singapore-all";
@@ -102,11 +103,11 @@ pub fn all_stations() -> Result<AllStations, ScenarioError> {
 }
 
 /// The `singapore-all` airspace: [`all_stations`] joined by [`build_airspace`] with
-/// [`BuildOptions::default`].
+/// [`singapore_build_options`] (SVY21).
 pub fn build_singapore_all_airspace() -> Result<Airspace, ScenarioError> {
     Ok(build_airspace(
         all_stations()?.nodes,
-        &BuildOptions::default(),
+        &singapore_build_options(),
     )?)
 }
 
@@ -242,7 +243,7 @@ mod tests {
                 },
             ]
         );
-        let air = build_airspace(all.nodes, &BuildOptions::default()).unwrap();
+        let air = build_airspace(all.nodes, &singapore_build_options()).unwrap();
         assert_eq!(air.edge_count(), 3);
     }
 }

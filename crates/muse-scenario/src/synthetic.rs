@@ -18,8 +18,10 @@
 //!   · 4L/n`; about `2 · spacing_m · √n`). Drawn from a [`ChaCha8Rng`] seeded with `seed`,
 //!   `x` then `y`, uniform numbers made from the raw `u64` output as `(x >> 11) · 2⁻⁵³`; a
 //!   point whose rounded position (below) coincides with an earlier one is drawn again.
-//!   Corridors: [`build_airspace`] with [`BuildOptions::default`] (Delaunay, then "join
-//!   collinear nodes" with 15°), exactly as for the Singapore stations. Delaunay corridors
+//!   Corridors: [`build_airspace`] with its default rule (Delaunay, then "join collinear
+//!   nodes" with 15°) in the stereographic plane about the points' centroid
+//!   ([`BuildPlane::Stereographic`], the plane every airspace was built in before SPEC §15, so
+//!   that a synthetic airspace stays what it was). Delaunay corridors
 //!   are longer than the nearest-neighbour distance: their median is about 2.2 ×
 //!   `spacing_m` (3.25 km for 10,000 nodes at 1,500 m), and the hull has a few long ones
 //!   (up to 31 km there) that collinear joining does not remove.
@@ -43,6 +45,7 @@ use std::collections::HashSet;
 use std::fmt;
 
 use muse_airspace::builder::{BuildOptions, build_airspace};
+use muse_airspace::plane::Plane as BuildPlane;
 use muse_model::{Airspace, Edge, LonLat, Node, NodeId, NodeKind};
 use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::{Rng, SeedableRng};
@@ -322,7 +325,13 @@ pub fn synthetic(spec: &SyntheticSpec) -> Result<Airspace, ScenarioError> {
         Some(edges) => {
             Airspace::new(nodes, edges).map_err(muse_airspace::builder::BuildError::from)?
         }
-        None => build_airspace(nodes, &BuildOptions::default())?,
+        None => build_airspace(
+            nodes,
+            &BuildOptions {
+                plane: BuildPlane::Stereographic,
+                ..BuildOptions::default()
+            },
+        )?,
     })
 }
 
