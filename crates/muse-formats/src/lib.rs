@@ -8,6 +8,7 @@
 //! - [`zones`]: no-fly zones in the ED-318 GeoJSON profile and ED-269 JSON;
 //! - [`pads`]: the pads an airspace is built from (CSV or GeoJSON points, SPEC §15);
 //! - [`exclusions`]: polygons no corridor of an airspace built from pads may meet;
+//! - [`customers`]: customers, the points demand is drawn between (SPEC §15);
 //! - [`requests`]: the requests CSV;
 //! - [`plans`]: plan output as JSON Lines;
 //! - [`flights`]: planned flights as time-stamped GeoJSON lines (QGIS, kepler.gl);
@@ -17,6 +18,7 @@
 #![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 pub mod airspace_geojson;
+pub mod customers;
 pub mod error;
 pub mod exclusions;
 pub mod flights;

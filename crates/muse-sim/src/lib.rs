@@ -1,6 +1,7 @@
 //! MUSE simulation: from requests and plans to the numbers a user reads.
 //!
 //! - [`demand`]: seeded, reproducible request generation (SPEC §8);
+//! - [`customers`]: demand from customers: each customer's serving pad (SPEC §15);
 //! - [`day`]: planning a day of requests first come, first served;
 //! - [`replay`](mod@replay): a day as it unfolds: requests at their submission instants, zones
 //!   announced at theirs, and the flights each announcement replans (SPEC §11);
@@ -13,6 +14,7 @@
 //!   reason, air and ground delay statistics, planner time and search effort, parameters.
 #![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
+pub mod customers;
 pub mod day;
 pub mod demand;
 pub mod experiment;
