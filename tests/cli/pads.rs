@@ -324,3 +324,33 @@ fn bad_pads_files_and_options_are_refused_with_no_output() {
     assert!(!o.status.success(), "{}", said(&o));
     assert_eq!(std::fs::read_to_string(&pads).unwrap(), VIENNA);
 }
+
+#[test]
+fn a_pads_file_that_is_not_utf8_names_the_line_of_its_first_bad_byte() {
+    let dir = scratch_dir("pads-latin1");
+    std::fs::create_dir_all(&dir).unwrap();
+    // A file that is not UTF-8: the line of its first bad byte.
+    let latin1 = dir.join("latin1.csv");
+    std::fs::write(
+        &latin1,
+        b"id,lon,lat,name\nA,16.3,48.2,\nB,16.4,48.3,Caf\xe9\nC,16.5,48.25,\n",
+    )
+    .unwrap();
+    let latin1 = latin1.to_str().unwrap();
+    let o = muse(&[
+        "airspace",
+        "build",
+        "--pads",
+        latin1,
+        "--out",
+        dir.join("l.geojson").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", said(&o));
+    assert!(
+        stderr(&o).contains(&format!(
+            "{latin1}: line 3: byte 16 of the line, 0xE9, is not UTF-8"
+        )),
+        "{}",
+        said(&o)
+    );
+}

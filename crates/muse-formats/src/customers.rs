@@ -24,6 +24,7 @@ use muse_model::LonLat;
 use muse_model::request::{ID_RULE, valid_id};
 
 use crate::error::{InputError, Location};
+use crate::table::{Table, number};
 
 /// The fewest customers a demand is drawn from (a request joins two).
 pub const MIN_CUSTOMERS: usize = 2;
@@ -44,46 +45,16 @@ pub struct Customer {
 /// # Errors
 /// The first bad line, or too few customers (see the [module documentation](self)).
 pub fn read_customers(text: &str, file: &str) -> Result<Vec<Customer>, InputError> {
-    let mut reader = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_reader(text.as_bytes());
-    let headers = reader.headers().map_err(|e| {
-        InputError::new(
-            file,
-            Location::Line(1),
-            None,
-            format!("cannot read the header: {e}"),
-        )
-    })?;
-    let column = |name: &str| headers.iter().position(|h| h == name);
-    let mut required = [0_usize; 3];
-    for (slot, name) in required.iter_mut().zip(["id", "lon", "lat"]) {
-        *slot = column(name).ok_or_else(|| {
-            InputError::new(
-                file,
-                Location::Line(1),
-                Some(name),
-                format!(
-                    "the header has no `{name}` column: a customers CSV has the columns id, \
-                     lon, lat and optionally weight"
-                ),
-            )
-        })?;
-    }
-    let weight_col = column("weight");
+    let mut table = Table::new(text, file)?;
+    let required = table.required(
+        ["id", "lon", "lat"],
+        "a customers CSV has the columns id, lon, lat and optionally weight",
+    )?;
+    let weight_col = table.column("weight");
     let mut seen: HashMap<String, usize> = HashMap::new();
     let mut out = Vec::new();
-    for record in reader.records() {
-        let record = record.map_err(|e| {
-            let line = e.position().map_or(0, |p| p.line() as usize);
-            InputError::new(
-                file,
-                Location::Line(line),
-                None,
-                format!("malformed CSV record: {e}"),
-            )
-        })?;
-        let line = record.position().map_or(0, |p| p.line() as usize);
+    for row in table.rows() {
+        let (record, line) = row?;
         let c = customer(&record, required, weight_col)
             .map_err(|(field, m)| InputError::new(file, Location::Line(line), Some(field), m))?;
         if let Some(first) = seen.insert(c.id.clone(), line) {
@@ -130,19 +101,7 @@ fn customer(
         ));
     }
     let number = |i: usize, field: &'static str, lo: f64, hi: f64| {
-        let text = get(i);
-        let v = text
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| {
-                let why = if text.is_empty() {
-                    "missing".to_owned()
-                } else {
-                    format!("`{text}` is not a number")
-                };
-                (field, why)
-            })?;
+        let v = number(get(i)).map_err(|m| (field, m))?;
         if (lo..=hi).contains(&v) {
             Ok(v)
         } else {
@@ -176,10 +135,7 @@ fn customer(
 /// # Errors
 /// An unreadable file, or as [`read_customers`].
 pub fn read_customers_file(path: &Path) -> Result<Vec<Customer>, InputError> {
-    let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| InputError::new(&file, Location::Whole, None, format!("cannot read: {e}")))?;
-    read_customers(&text, &file)
+    read_customers(&crate::read_to_string(path)?, &path.display().to_string())
 }
 
 #[cfg(test)]

@@ -77,10 +77,7 @@ pub fn read_exclusions(text: &str, file: &str) -> Result<Vec<Polygon<f64>>, Inpu
 /// # Errors
 /// An unreadable file, or as [`read_exclusions`].
 pub fn read_exclusions_file(path: &Path) -> Result<Vec<Polygon<f64>>, InputError> {
-    let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| InputError::new(&file, Location::Whole, None, format!("cannot read: {e}")))?;
-    read_exclusions(&text, &file)
+    read_exclusions(&crate::read_to_string(path)?, &path.display().to_string())
 }
 
 /// A polygon from its GeoJSON rings.

@@ -28,6 +28,7 @@ pub mod params;
 pub mod plans;
 pub mod requests;
 pub mod stays_csv;
+mod table;
 pub mod zones;
 
 pub use error::{InputError, Location};

@@ -26,6 +26,7 @@ use muse_model::{LonLat, Node, NodeKind};
 use serde_json::Value;
 
 use crate::error::{InputError, Location};
+use crate::table::{Table, number};
 
 /// The fewest pads an airspace is built from (a triangle).
 pub const MIN_PADS: usize = 3;
@@ -79,77 +80,29 @@ pub fn read_pads(text: &str, file: &str) -> Result<Vec<Node>, InputError> {
 /// # Errors
 /// An unreadable file, or as [`read_pads`].
 pub fn read_pads_file(path: &Path) -> Result<Vec<Node>, InputError> {
-    let file = path.display().to_string();
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| InputError::new(&file, Location::Whole, None, format!("cannot read: {e}")))?;
-    read_pads(&text, &file)
+    read_pads(&crate::read_to_string(path)?, &path.display().to_string())
 }
 
 fn csv_pads(text: &str, file: &str) -> Result<Vec<Pad>, InputError> {
-    let mut reader = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_reader(text.as_bytes());
-    let headers = reader.headers().map_err(|e| {
-        InputError::new(
-            file,
-            Location::Line(1),
-            None,
-            format!("cannot read the header: {e}"),
-        )
-    })?;
-    let column = |name: &str| headers.iter().position(|h| h == name);
-    let mut required = [0_usize; 3];
-    for (slot, name) in required.iter_mut().zip(["id", "lon", "lat"]) {
-        *slot = column(name).ok_or_else(|| {
-            InputError::new(
-                file,
-                Location::Line(1),
-                Some(name),
-                format!(
-                    "the header has no `{name}` column: a pads CSV has the columns id, lon, lat \
-                     and optionally name"
-                ),
-            )
-        })?;
-    }
-    let name_col = column("name");
+    let mut table = Table::new(text, file)?;
+    let [id, lon, lat] = table.required(
+        ["id", "lon", "lat"],
+        "a pads CSV has the columns id, lon, lat and optionally name",
+    )?;
+    let name = table.column("name");
     let mut out = Vec::new();
-    for record in reader.records() {
-        let record = record.map_err(|e| {
-            let line = e.position().map_or(0, |p| p.line() as usize);
-            InputError::new(
-                file,
-                Location::Line(line),
-                None,
-                format!("malformed CSV record: {e}"),
-            )
-        })?;
-        let line = record.position().map_or(0, |p| p.line() as usize);
+    for row in table.rows() {
+        let (record, line) = row?;
         let at = Location::Line(line);
         let get = |i: usize| record.get(i).unwrap_or("");
-        let number = |i: usize, field: &str| -> Result<f64, InputError> {
-            let text = get(i);
-            text.parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| {
-                    InputError::new(
-                        file,
-                        at.clone(),
-                        Some(field),
-                        if text.is_empty() {
-                            "missing".to_owned()
-                        } else {
-                            format!("`{text}` is not a number")
-                        },
-                    )
-                })
+        let coordinate = |i: usize, field: &str| {
+            number(get(i)).map_err(|m| InputError::new(file, at.clone(), Some(field), m))
         };
         out.push(Pad {
-            id: get(required[0]).to_owned(),
-            name: name_col.map_or("", get).to_owned(),
-            lon: number(required[1], "lon")?,
-            lat: number(required[2], "lat")?,
+            id: get(id).to_owned(),
+            name: name.map_or("", get).to_owned(),
+            lon: coordinate(lon, "lon")?,
+            lat: coordinate(lat, "lat")?,
             at,
         });
     }
