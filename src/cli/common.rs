@@ -384,7 +384,6 @@ pub fn render_world_map(
     width_px: u32,
     edge_load: Option<(Vec<f64>, String)>,
 ) -> anyhow::Result<String> {
-    use muse_model::zone_area_polygons;
     use muse_render::{MapInput, MapOptions, ZoneLayer, render_map};
     let land = world_land(world);
     let mut zones = Vec::new();
@@ -394,11 +393,7 @@ pub fn render_world_map(
                 .with_context(|| format!("zone `{}`", zone.id))?;
         zones.push(ZoneLayer {
             label: zone.name.clone(),
-            polygons: zone
-                .area
-                .as_ref()
-                .map(zone_area_polygons)
-                .unwrap_or_default(),
+            polygons: zone.polygons(),
             closed_nodes,
             closed_edges,
         });

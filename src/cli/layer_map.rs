@@ -5,7 +5,6 @@
 //! drawn.
 
 use anyhow::Context as _;
-use muse_model::zone_area_polygons;
 use muse_model::{Airspace, Edge, EdgeId, EdgeKind};
 use muse_render::{MapInput, MapOptions, MapPanel, ZoneLayer, render_map_panels};
 use muse_verify::Flight;
@@ -88,11 +87,7 @@ pub fn render_layer_map(world: &World, flights: &[Flight<'_>]) -> anyhow::Result
             .zip(&closures)
             .map(|(zone, (nodes, edges))| ZoneLayer {
                 label: zone.name.clone(),
-                polygons: zone
-                    .area
-                    .as_ref()
-                    .map(zone_area_polygons)
-                    .unwrap_or_default(),
+                polygons: zone.polygons(),
                 closed_nodes: nodes
                     .iter()
                     .filter(|&&n| a.node_layer(n) == k)

@@ -36,6 +36,20 @@ fn cell(s: &str) -> String {
     }
 }
 
+/// `muse airspace build --pads PADS --out OUT` with the options `extra`.
+fn build(pads: &str, out: &Path, extra: &[&str]) -> std::process::Output {
+    let mut args = vec![
+        "airspace",
+        "build",
+        "--pads",
+        pads,
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    muse(&args)
+}
+
 #[test]
 fn all_singapore_car_parks_in_svy21_are_the_built_in_singapore_all() {
     let dir = scratch_dir("pads-singapore-all");
@@ -55,16 +69,7 @@ fn all_singapore_car_parks_in_svy21_are_the_built_in_singapore_all() {
     }
     let pads = write(&dir, "car-parks.csv", &csv);
     let built = dir.join("built.geojson");
-    let o = muse(&[
-        "airspace",
-        "build",
-        "--pads",
-        &pads,
-        "--crs",
-        "EPSG:3414",
-        "--out",
-        built.to_str().unwrap(),
-    ]);
+    let o = build(&pads, &built, &["--crs", "EPSG:3414"]);
     assert!(o.status.success(), "{}", said(&o));
     assert!(
         stderr(&o).contains("built 1115 pads into 3302 corridors in EPSG:3414"),
@@ -91,14 +96,7 @@ fn all_singapore_car_parks_in_svy21_are_the_built_in_singapore_all() {
     );
     // The default plane, the UTM zone of Singapore (48 N), gives the same corridors here.
     let utm = dir.join("utm.geojson");
-    let o = muse(&[
-        "airspace",
-        "build",
-        "--pads",
-        &pads,
-        "--out",
-        utm.to_str().unwrap(),
-    ]);
+    let o = build(&pads, &utm, &[]);
     assert!(o.status.success(), "{}", said(&o));
     assert!(std::fs::read(&utm).unwrap() == a, "UTM 48N and SVY21 agree");
 }
@@ -108,9 +106,9 @@ fn a_few_pads_near_vienna_build_plan_and_verify() {
     let dir = scratch_dir("pads-vienna");
     std::fs::create_dir_all(&dir).unwrap();
     let pads = write(&dir, "pads.csv", VIENNA);
-    let air = dir.join("air.geojson");
-    let air = air.to_str().unwrap();
-    let o = muse(&["airspace", "build", "--pads", &pads, "--out", air]);
+    let air_path = dir.join("air.geojson");
+    let air = air_path.to_str().unwrap();
+    let o = build(&pads, &air_path, &[]);
     assert!(o.status.success(), "{}", said(&o));
     assert!(
         stderr(&o).contains("built 7 pads into 13 corridors in utm"),
@@ -119,14 +117,7 @@ fn a_few_pads_near_vienna_build_plan_and_verify() {
     );
     // The same pads, the same file, byte for byte; GeoJSON points give it too.
     let again = dir.join("again.geojson");
-    let o = muse(&[
-        "airspace",
-        "build",
-        "--pads",
-        &pads,
-        "--out",
-        again.to_str().unwrap(),
-    ]);
+    let o = build(&pads, &again, &[]);
     assert!(o.status.success(), "{}", said(&o));
     assert_eq!(std::fs::read(air).unwrap(), std::fs::read(&again).unwrap());
     let mut points = String::from(r#"{"type": "FeatureCollection", "features": ["#);
@@ -146,14 +137,7 @@ fn a_few_pads_near_vienna_build_plan_and_verify() {
     points.push_str("]}");
     let geo = write(&dir, "pads.geojson", &points);
     let from_points = dir.join("points.geojson");
-    let o = muse(&[
-        "airspace",
-        "build",
-        "--pads",
-        &geo,
-        "--out",
-        from_points.to_str().unwrap(),
-    ]);
+    let o = build(&geo, &from_points, &[]);
     assert!(o.status.success(), "{}", said(&o));
     assert_eq!(
         std::fs::read(air).unwrap(),
@@ -185,21 +169,11 @@ fn exclusions_and_a_maximum_length_drop_corridors() {
     let dir = scratch_dir("pads-exclusions");
     std::fs::create_dir_all(&dir).unwrap();
     let pads = write(&dir, "pads.csv", VIENNA);
-    let build = |extra: &[&str], name: &str| {
-        let out = dir.join(name);
-        let mut args = vec![
-            "airspace",
-            "build",
-            "--pads",
-            &pads,
-            "--out",
-            out.to_str().unwrap(),
-        ];
-        args.extend_from_slice(extra);
-        let o = muse(&args);
-        (o, out)
-    };
-    let (o, _) = build(&["--max-corridor-m", "3000"], "short.geojson");
+    let o = build(
+        &pads,
+        &dir.join("short.geojson"),
+        &["--max-corridor-m", "3000"],
+    );
     assert!(o.status.success(), "{}", said(&o));
     let corridors = |o: &std::process::Output| {
         let s = stderr(o);
@@ -214,22 +188,19 @@ fn exclusions_and_a_maximum_length_drop_corridors() {
         "lake.geojson",
         r#"{"type": "Polygon", "coordinates": [[[16.378, 48.211], [16.382, 48.211], [16.382, 48.212], [16.378, 48.212], [16.378, 48.211]]]}"#,
     );
-    let (o, out) = build(&["--exclude", &lake], "lake.geojson.out");
+    let out = dir.join("lake.geojson.out");
+    let o = build(&pads, &out, &["--exclude", &lake]);
     assert!(o.status.success(), "{}", said(&o));
     assert_eq!(corridors(&o), 12, "{}", said(&o));
     assert!(!std::fs::read_to_string(out).unwrap().contains("\"V1-V2\""));
     // A pad inside an exclusion.
-    let (o, out) = build(
-        &[
-            "--exclude",
-            &write(
-                &dir,
-                "v3.geojson",
-                r#"{"type": "Polygon", "coordinates": [[[16.40, 48.19], [16.42, 48.19], [16.42, 48.21], [16.40, 48.21], [16.40, 48.19]]]}"#,
-            ),
-        ],
-        "v3.out",
+    let v3 = write(
+        &dir,
+        "v3.geojson",
+        r#"{"type": "Polygon", "coordinates": [[[16.40, 48.19], [16.42, 48.19], [16.42, 48.21], [16.40, 48.21], [16.40, 48.19]]]}"#,
     );
+    let out = dir.join("v3.out");
+    let o = build(&pads, &out, &["--exclude", &v3]);
     assert_eq!(o.status.code(), Some(2), "{}", said(&o));
     assert!(
         stderr(&o)
@@ -274,14 +245,7 @@ fn bad_pads_files_and_options_are_refused_with_no_output() {
     for (i, (text, want)) in cases.iter().enumerate() {
         let pads = write(&dir, &format!("bad{i}.csv"), text);
         let out = dir.join(format!("out{i}.geojson"));
-        let o = muse(&[
-            "airspace",
-            "build",
-            "--pads",
-            &pads,
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let o = build(&pads, &out, &[]);
         assert_eq!(o.status.code(), Some(2), "{}", said(&o));
         assert!(
             stderr(&o).contains(&format!("{pads}: {want}")),
@@ -292,7 +256,6 @@ fn bad_pads_files_and_options_are_refused_with_no_output() {
     }
     let pads = write(&dir, "ok.csv", VIENNA);
     let out = dir.join("ok.geojson");
-    let out = out.to_str().unwrap();
     for (args, want) in [
         (vec!["--crs", "EPSG:4326"], "--crs: unknown CRS `EPSG:4326`"),
         (
@@ -301,9 +264,7 @@ fn bad_pads_files_and_options_are_refused_with_no_output() {
         ),
         (vec!["--check"], "cannot be used with"),
     ] {
-        let mut all = vec!["airspace", "build", "--pads", &pads, "--out", out];
-        all.extend(args);
-        let o = muse(&all);
+        let o = build(&pads, &out, &args);
         assert!(!o.status.success(), "{}", said(&o));
         assert!(stderr(&o).contains(want), "{want}:\n{}", said(&o));
     }
@@ -320,7 +281,7 @@ fn bad_pads_files_and_options_are_refused_with_no_output() {
         said(&o)
     );
     // The pads file itself is never overwritten.
-    let o = muse(&["airspace", "build", "--pads", &pads, "--out", &pads]);
+    let o = build(&pads, Path::new(&pads), &[]);
     assert!(!o.status.success(), "{}", said(&o));
     assert_eq!(std::fs::read_to_string(&pads).unwrap(), VIENNA);
 }
@@ -337,14 +298,7 @@ fn a_pads_file_that_is_not_utf8_names_the_line_of_its_first_bad_byte() {
     )
     .unwrap();
     let latin1 = latin1.to_str().unwrap();
-    let o = muse(&[
-        "airspace",
-        "build",
-        "--pads",
-        latin1,
-        "--out",
-        dir.join("l.geojson").to_str().unwrap(),
-    ]);
+    let o = build(latin1, &dir.join("l.geojson"), &[]);
     assert_eq!(o.status.code(), Some(2), "{}", said(&o));
     assert!(
         stderr(&o).contains(&format!(

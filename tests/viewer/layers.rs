@@ -180,7 +180,6 @@ fn assert_the_low_zone_closes_the_lower_layers(page: &Page<'_>, sample: &str) {
         page,
         &format!("museView.setTime({})", local(sample, "10:30")),
     );
-    let mut closed_low = 0;
     for k in 1..=4_u32 {
         eval_count(page, &format!("museView.setLayer({k})"));
         let closed = page
@@ -210,13 +209,11 @@ fn assert_the_low_zone_closes_the_lower_layers(page: &Page<'_>, sample: &str) {
                 closed.len(),
                 "layer {k}: only corridors flown there"
             );
-            closed_low += closed.len();
         } else {
             assert!(closed.is_empty(), "layer {k} is above the zone: {closed:?}");
         }
     }
     eval_count(page, "museView.setLayer(null)");
-    assert!(closed_low > 0);
 }
 
 /// The side view of a flight in the air at `t` that climbs above layer 1: its altitude as its

@@ -16,15 +16,12 @@
 
 use std::fmt;
 
-use muse_model::{LonLat, Node, SVY21_PROJ};
+use muse_model::{LonLat, Node, SVY21_PROJ, WGS84_PROJ};
 use proj4rs::proj::Proj;
 use spade::Point2;
 
 /// Mean Earth radius (IUGG), metres; the radius of the stereographic projection's sphere.
 const EARTH_RADIUS_M: f64 = 6_371_008.8;
-
-/// The longitude–latitude system positions are given in.
-const WGS84_PROJ: &str = "+proj=longlat +ellps=WGS84 +datum=WGS84 +no_defs";
 
 /// A local metric plane.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

@@ -29,6 +29,7 @@ use muse_model::time::{TimeError, parse_clock};
 use muse_model::{Airspace, Instant, NodeId, Request, UtcOffset};
 
 use crate::error::{InputError, Location};
+use crate::table::Table;
 
 /// The date and offset that give meaning to bare local clock times.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -133,32 +134,13 @@ pub fn read_requests(
     airspace: &Airspace,
     day: LocalDay,
 ) -> Result<Vec<Request>, InputError> {
-    let mut reader = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_reader(text.as_bytes());
-    let headers = reader.headers().map_err(|e| {
-        InputError::new(
-            file,
-            Location::Line(1),
-            None,
-            format!("cannot read the header: {e}"),
-        )
-    })?;
-    let header = Header::parse(headers, file)?;
+    let mut table = Table::new(text, file)?;
+    let header = Header::parse(table.headers(), file)?;
     let col = header.required;
     let mut seen: HashMap<String, usize> = HashMap::new();
     let mut out = Vec::new();
-    for record in reader.records() {
-        let record = record.map_err(|e| {
-            let line = e.position().map_or(0, |p| p.line() as usize);
-            InputError::new(
-                file,
-                Location::Line(line),
-                None,
-                format!("malformed CSV record: {e}"),
-            )
-        })?;
-        let line = record.position().map_or(0, |p| p.line() as usize);
+    for row in table.rows() {
+        let (record, line) = row?;
         let err = |field: &str, msg: String| {
             InputError::new(file, Location::Line(line), Some(field), msg)
         };

@@ -1,5 +1,5 @@
-//! What the CSV readers of points (pads, customers) share: the header's columns, each record
-//! with its line, and number cells, with errors naming the file, line and field.
+//! What the CSV readers (requests, pads, customers) share: the header, each record with its
+//! line, and number cells, with errors naming the file, line and field.
 
 use csv::StringRecord;
 
@@ -34,6 +34,11 @@ impl<'a> Table<'a> {
             headers,
             file,
         })
+    }
+
+    /// The header's names.
+    pub(crate) fn headers(&self) -> &StringRecord {
+        &self.headers
     }
 
     /// The column named `name`, if the header has one.

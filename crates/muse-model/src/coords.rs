@@ -42,7 +42,8 @@ pub enum CoordError {
 pub const SVY21_PROJ: &str = "+proj=tmerc +lat_0=1.36666666666666667 +lon_0=103.833333333333333 \
      +k=1 +x_0=28001.642 +y_0=38744.572 +ellps=WGS84 +units=m +no_defs +type=crs";
 
-const WGS84_PROJ: &str = "+proj=longlat +ellps=WGS84 +datum=WGS84 +no_defs";
+/// The proj string of WGS84 longitude and latitude (EPSG:4326).
+pub const WGS84_PROJ: &str = "+proj=longlat +ellps=WGS84 +datum=WGS84 +no_defs";
 
 struct Projections {
     svy21: Proj,

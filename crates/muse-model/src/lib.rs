@@ -31,7 +31,7 @@ pub mod units;
 pub mod zone;
 
 pub use airspace::{Adjacent, Airspace, AirspaceError, Edge, EdgeKind, Node, NodeKind};
-pub use coords::{LonLat, SVY21_PROJ, Svy21};
+pub use coords::{LonLat, SVY21_PROJ, Svy21, WGS84_PROJ};
 pub use ids::{EdgeId, NodeId};
 pub use layers::{HeadingRule, Layers, LayersError};
 pub use params::{BatterySwap, EdgeRule, FlightParams};

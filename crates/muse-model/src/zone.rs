@@ -334,6 +334,15 @@ pub struct Zone {
 }
 
 impl Zone {
+    /// Its area as polygons ([`zone_area_polygons`]); none for a zone given as node and
+    /// corridor ids alone.
+    pub fn polygons(&self) -> Vec<Polygon<f64>> {
+        self.area
+            .as_ref()
+            .map(zone_area_polygons)
+            .unwrap_or_default()
+    }
+
     /// Whether the zone has no time limits.
     pub fn is_permanent(&self) -> bool {
         self.periods.is_empty()

@@ -338,14 +338,7 @@ fn scene_zone(a: &Airspace, z: &Zone, t0: i64, end: i64) -> Result<SceneZone, Vi
     Ok(SceneZone {
         id: z.id.clone(),
         name: z.name.clone(),
-        area: z
-            .area
-            .as_ref()
-            .map(muse_model::zone_area_polygons)
-            .unwrap_or_default()
-            .iter()
-            .map(polygon_rings)
-            .collect(),
+        area: z.polygons().iter().map(polygon_rings).collect(),
         windows: windows
             .iter()
             .map(|w| [w.start.0 - t0, w.end.0 - t0])

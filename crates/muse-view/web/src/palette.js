@@ -58,11 +58,7 @@ export const COLOURS = {
 /** The colour of layer `k` of `count` (1 up), as `[r, g, b]`: the layer scale's ends for the
  * lowest and the highest, evenly between for the others. */
 export function layerRgb(k, count) {
-  const u = count > 1 ? (Math.min(count, Math.max(1, k)) - 1) / (count - 1) : 0;
-  const x = u * (LAYER_STOPS.length - 1);
-  const i = Math.min(LAYER_STOPS.length - 2, Math.floor(x));
-  const f = x - i;
-  return LAYER_STOPS[i].map((v, c) => Math.round(v + (LAYER_STOPS[i + 1][c] - v) * f));
+  return rampRgb(LAYER_STOPS, count > 1 ? (Math.min(count, Math.max(1, k)) - 1) / (count - 1) : 0);
 }
 
 /** [`layerRgb`] as a CSS colour. */
@@ -71,12 +67,17 @@ export function layerColour(k, count) {
   return `rgb(${r},${g},${b})`;
 }
 
+/** The colour at `u` in [0, 1] along `stops` (linear between them), as `[r, g, b]`. */
+function rampRgb(stops, u) {
+  const x = Math.min(1, Math.max(0, Number.isFinite(u) ? u : 0)) * (stops.length - 1);
+  const i = Math.min(stops.length - 2, Math.floor(x));
+  const f = x - i;
+  return stops[i].map((v, k) => Math.round(v + (stops[i + 1][k] - v) * f));
+}
+
 /** The load scale's colour at `u` in [0, 1] (0: one flight, 1: the busiest), as `[r, g, b]`. */
 export function loadRgb(u) {
-  const x = Math.min(1, Math.max(0, Number.isFinite(u) ? u : 0)) * (LOAD_STOPS.length - 1);
-  const i = Math.min(LOAD_STOPS.length - 2, Math.floor(x));
-  const f = x - i;
-  return LOAD_STOPS[i].map((v, k) => Math.round(v + (LOAD_STOPS[i + 1][k] - v) * f));
+  return rampRgb(LOAD_STOPS, u);
 }
 
 /** [`loadRgb`] as a CSS colour. */

@@ -3,7 +3,7 @@
 
 use muse_model::Layers;
 
-use super::lever::{Base, Lever, LeverError, MAX_LIST, Setting};
+use super::lever::{Base, Lever, LeverError, Setting, list};
 use crate::experiment::sweep::variant::Variant;
 
 /// One variant per number of layers.
@@ -34,26 +34,16 @@ impl Lever for LayerCounts {
         current: &Variant,
         value: &str,
     ) -> Result<Vec<(String, Variant)>, LeverError> {
-        let bad = || {
-            LeverError(format!(
-                "--layer-counts `{value}`: expected at most {MAX_LIST} comma-separated whole \
-                 numbers of layers, each from 1 to {}",
-                Layers::MAX_COUNT
-            ))
-        };
-        let counts = value
-            .split(',')
-            .map(|t| {
-                t.trim()
-                    .parse::<u32>()
+        let counts = list(
+            "--layer-counts",
+            value,
+            &format!("whole numbers of layers, each from 1 to {}", Layers::MAX_COUNT),
+            |t| {
+                t.parse::<u32>()
                     .ok()
                     .filter(|n| (1..=Layers::MAX_COUNT).contains(n))
-                    .ok_or_else(bad)
-            })
-            .collect::<Result<Vec<u32>, _>>()?;
-        if counts.len() > MAX_LIST {
-            return Err(bad());
-        }
+            },
+        )?;
         Ok(counts
             .into_iter()
             .map(|count| {

@@ -85,10 +85,32 @@ pub fn durations(
     scale: f64,
     max: f64,
 ) -> Result<Vec<Millis>, LeverError> {
+    list(
+        option,
+        text,
+        &format!("{unit}, each from 0 to {max}"),
+        |x| {
+            let v: f64 = x.parse().ok()?;
+            if !(0.0..=max).contains(&v) {
+                return None;
+            }
+            Millis::from_secs_f64(v * scale).ok()
+        },
+    )
+}
+
+/// The values of a comma-separated list option: at most [`MAX_LIST`] of them, each read by
+/// `parse` (trimmed; `None` refuses it); else an error saying `option `text`: expected at
+/// most 100 comma-separated {expected}`.
+pub fn list<T>(
+    option: &str,
+    text: &str,
+    expected: &str,
+    parse: impl Fn(&str) -> Option<T>,
+) -> Result<Vec<T>, LeverError> {
     let bad = || {
         LeverError(format!(
-            "{option} `{text}`: expected at most {MAX_LIST} comma-separated {unit}, each from \
-             0 to {max}"
+            "{option} `{text}`: expected at most {MAX_LIST} comma-separated {expected}"
         ))
     };
     let parts: Vec<&str> = text.split(',').collect();
@@ -97,13 +119,7 @@ pub fn durations(
     }
     parts
         .into_iter()
-        .map(|x| {
-            let v: f64 = x.trim().parse().map_err(|_| bad())?;
-            if !(0.0..=max).contains(&v) {
-                return Err(bad());
-            }
-            Millis::from_secs_f64(v * scale).map_err(|_| bad())
-        })
+        .map(|x| parse(x.trim()).ok_or_else(bad))
         .collect()
 }
 
