@@ -16,6 +16,7 @@ mod ranges;
 mod recorded;
 mod serve;
 mod simulate;
+mod siting;
 mod study;
 mod sweep;
 mod verify;
@@ -58,6 +59,9 @@ enum Command {
     Serve(serve::ServeArgs),
     /// Simulate a day: generate demand, plan it, verify it, write files and a summary.
     Simulate(simulate::SimulateArgs),
+    /// Where to add pads: lazy greedy by exact simulation of seeded days on the rebuilt
+    /// airspace, against maximum coverage and k-means for the same number of pads.
+    Siting(siting::SitingArgs),
     /// The paper's experiment: request counts × repetitions × scenario variants, with plots;
     /// `--vary announce-lead`: how much warning before a temporary zone keeps its cost low.
     Sweep(Box<sweep::SweepArgs>),
@@ -85,6 +89,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Bench(args) => bench::run(&args, &own("bench")),
         Command::BenchCase(args) => bench::run_case(&args),
         Command::Demand(args) => demand::run(&args),
+        Command::Siting(args) => siting::run(&args),
         Command::Load(args) => load::run(&args),
         Command::Plan(args) => plan::run(&args),
         Command::Serve(args) => serve::run(&args),

@@ -64,6 +64,11 @@ pub const RUN_FILES: &[&str] = &[
     "bench_time_per_request.svg",
     "bench_expanded.svg",
     "bench_peak_memory.svg",
+    // siting
+    "siting.csv",
+    "curve.csv",
+    "curve.svg",
+    "airspace.geojson",
 ];
 
 /// Whether `name` is a file a muse run writes into its folder, or the temporary name an

@@ -85,6 +85,12 @@ ranges! {
     spacing_m: f64 = muse_scenario::synthetic::MIN_SPACING_M, 100_000.0, "a number of metres";
     /// `muse airspace build --max-corridor-m`: up to 1,000 km.
     max_corridor_m: f64 = 1.0, 1_000_000.0, "a number of metres";
+    /// `muse siting --add`.
+    add_pads: usize = 1, 1_000, "a whole number of pads";
+    /// `muse siting --days`.
+    siting_days: usize = 1, 1_000, "a whole number of days";
+    /// `--last-mile-m`: up to 100 km.
+    last_mile_m: f64 = 0.0, 100_000.0, "a number of metres";
     /// `--station-share` of a synthetic airspace.
     station_share: f64 = 0.001, 1.0, "a share";
     /// `muse sweep --reps`.

@@ -26,5 +26,6 @@ mod pads;
 mod params_travel;
 mod reference_examples;
 mod run;
+mod siting;
 mod swaps;
 mod sweep_shards;

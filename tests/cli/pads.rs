@@ -11,7 +11,7 @@ use crate::run::{muse, said, stderr};
 use crate::support::scratch_dir;
 
 /// Seven made-up test positions near Vienna (not real pads).
-const VIENNA: &str = "id,lon,lat,name
+pub(crate) const VIENNA: &str = "id,lon,lat,name
 V1,16.3700,48.2080,test point 1
 V2,16.3900,48.2150,test point 2
 V3,16.4100,48.2000,test point 3
@@ -21,7 +21,7 @@ V6,16.4000,48.2250,test point 6
 V7,16.3450,48.2150,test point 7
 ";
 
-fn write(dir: &Path, name: &str, text: &str) -> String {
+pub(crate) fn write(dir: &Path, name: &str, text: &str) -> String {
     let path = dir.join(name);
     std::fs::write(&path, text).unwrap();
     path.display().to_string()

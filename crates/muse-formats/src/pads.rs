@@ -58,12 +58,33 @@ struct Pad {
 /// # Errors
 /// The first bad line or feature, or too few pads (see the [module documentation](self)).
 pub fn read_pads(text: &str, file: &str) -> Result<Vec<Node>, InputError> {
+    read_at_least(text, file, MIN_PADS, "an airspace needs")
+}
+
+/// Reads a file of candidate pads (`muse siting --candidates`): as [`read_pads`], but one pad
+/// is enough.
+///
+/// # Errors
+/// The first bad line or feature, or no pad at all.
+pub fn read_candidate_pads(text: &str, file: &str) -> Result<Vec<Node>, InputError> {
+    read_at_least(text, file, 1, "siting needs")
+}
+
+/// Reads a candidate pads file.
+///
+/// # Errors
+/// An unreadable file, or as [`read_candidate_pads`].
+pub fn read_candidate_pads_file(path: &Path) -> Result<Vec<Node>, InputError> {
+    read_candidate_pads(&crate::read_to_string(path)?, &path.display().to_string())
+}
+
+fn read_at_least(text: &str, file: &str, min: usize, needs: &str) -> Result<Vec<Node>, InputError> {
     let pads = if text.trim_start().starts_with('{') {
         geojson_pads(text, file)?
     } else {
         csv_pads(text, file)?
     };
-    check(&pads, file)?;
+    check(&pads, file, min, needs)?;
     Ok(pads
         .into_iter()
         .map(|p| Node {
@@ -158,7 +179,7 @@ fn geojson_pads(text: &str, file: &str) -> Result<Vec<Pad>, InputError> {
 }
 
 /// The rules every pad must keep, whatever the file's form.
-fn check(pads: &[Pad], file: &str) -> Result<(), InputError> {
+fn check(pads: &[Pad], file: &str, min: usize, needs: &str) -> Result<(), InputError> {
     let mut ids: HashMap<&str, &Location> = HashMap::with_capacity(pads.len());
     let mut positions: HashMap<(u64, u64), &Pad> = HashMap::with_capacity(pads.len());
     for p in pads {
@@ -202,13 +223,13 @@ fn check(pads: &[Pad], file: &str) -> Result<(), InputError> {
             ));
         }
     }
-    if pads.len() < MIN_PADS {
+    if pads.len() < min {
         return Err(InputError::new(
             file,
             Location::Whole,
             None,
             format!(
-                "{} pad{}: an airspace needs at least {MIN_PADS}",
+                "{} pad{}: {needs} at least {min}",
                 pads.len(),
                 if pads.len() == 1 { "" } else { "s" }
             ),

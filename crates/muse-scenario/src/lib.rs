@@ -109,6 +109,7 @@
 //! [`STADIUM_ZONE_GEOJSON`]; nothing regenerates it.
 #![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
+pub mod candidates;
 pub mod carparks;
 pub mod land;
 pub mod singapore;

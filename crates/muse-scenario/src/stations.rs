@@ -77,18 +77,53 @@ fn nearest(p: [f64; 2], centres: &[[f64; 2]]) -> usize {
 /// assert_eq!(km.inertia, 1.0);
 /// ```
 pub fn kmeans(points: &[[f64; 2]], k: usize, seed: u64) -> KMeans {
+    kmeans_weighted(points, &vec![1.0; points.len()], k, seed)
+}
+
+/// [`kmeans`] of points that weigh differently (each weight finite and above 0): a point's
+/// chance of becoming a k-means++ centre is its weight times its squared distance, and each
+/// centre moves to the weighted mean of its points. With every weight 1 this is exactly
+/// [`kmeans`] (the same arithmetic, bit for bit). `k` must be between 1 and the number of
+/// distinct points.
+///
+/// ```
+/// use muse_scenario::stations::kmeans_weighted;
+/// // One cluster: the centre is pulled towards the heavy point.
+/// let km = kmeans_weighted(&[[0.0, 0.0], [4.0, 0.0]], &[3.0, 1.0], 1, 1);
+/// assert_eq!(km.centres, [[1.0, 0.0]]);
+/// ```
+pub fn kmeans_weighted(points: &[[f64; 2]], weights: &[f64], k: usize, seed: u64) -> KMeans {
     assert!(
         k >= 1 && k <= points.len(),
         "k = {k} must be in 1..={}",
         points.len()
     );
+    assert_eq!(weights.len(), points.len(), "one weight per point");
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let n = points.len();
 
-    // k-means++ initialisation.
-    let first = ((uniform(&mut rng) * n as f64) as usize).min(n - 1);
+    // k-means++ initialisation. The first centre is uniform over the points when they weigh
+    // the same, else drawn by weight.
+    let first = if weights.iter().all(|w| w.total_cmp(&1.0).is_eq()) {
+        ((uniform(&mut rng) * n as f64) as usize).min(n - 1)
+    } else {
+        let total: f64 = weights.iter().sum();
+        let target = uniform(&mut rng) * total;
+        let mut acc = 0.0;
+        weights
+            .iter()
+            .position(|&w| {
+                acc += w;
+                acc > target
+            })
+            .unwrap_or(n - 1)
+    };
     let mut centres = vec![points[first]];
-    let mut d2: Vec<f64> = points.iter().map(|&p| dist2(p, points[first])).collect();
+    let mut d2: Vec<f64> = points
+        .iter()
+        .zip(weights)
+        .map(|(&p, &w)| w * dist2(p, points[first]))
+        .collect();
     while centres.len() < k {
         let total: f64 = d2.iter().sum();
         let target = uniform(&mut rng) * total;
@@ -107,8 +142,8 @@ pub fn kmeans(points: &[[f64; 2]], k: usize, seed: u64) -> KMeans {
             .expect("k is at most the number of distinct points");
         let c = points[pick];
         centres.push(c);
-        for (w, &p) in d2.iter_mut().zip(points) {
-            *w = w.min(dist2(p, c));
+        for ((d, &p), &w) in d2.iter_mut().zip(points).zip(weights) {
+            *d = d.min(w * dist2(p, c));
         }
     }
 
@@ -118,15 +153,15 @@ pub fn kmeans(points: &[[f64; 2]], k: usize, seed: u64) -> KMeans {
     while iterations < MAX_LLOYD_ITERATIONS {
         iterations += 1;
         let mut sums = vec![[0.0_f64; 2]; k];
-        let mut counts = vec![0_usize; k];
-        for (&p, &a) in points.iter().zip(&assignment) {
-            sums[a][0] += p[0];
-            sums[a][1] += p[1];
-            counts[a] += 1;
+        let mut mass = vec![0.0_f64; k];
+        for ((&p, &a), &w) in points.iter().zip(&assignment).zip(weights) {
+            sums[a][0] += w * p[0];
+            sums[a][1] += w * p[1];
+            mass[a] += w;
         }
-        for ((c, s), &m) in centres.iter_mut().zip(&sums).zip(&counts) {
-            if m > 0 {
-                *c = [s[0] / m as f64, s[1] / m as f64];
+        for ((c, s), &m) in centres.iter_mut().zip(&sums).zip(&mass) {
+            if m > 0.0 {
+                *c = [s[0] / m, s[1] / m];
             }
         }
         let next: Vec<usize> = points.iter().map(|&p| nearest(p, &centres)).collect();
@@ -138,7 +173,8 @@ pub fn kmeans(points: &[[f64; 2]], k: usize, seed: u64) -> KMeans {
     let inertia = points
         .iter()
         .zip(&assignment)
-        .map(|(&p, &a)| dist2(p, centres[a]))
+        .zip(weights)
+        .map(|((&p, &a), &w)| w * dist2(p, centres[a]))
         .sum();
     KMeans {
         centres,

@@ -131,7 +131,6 @@ impl DayRun {
 /// first submission (a request booked ahead is planned from then on; without bookings ahead
 /// this is the first departure) to a day after the last possible landing.
 pub fn closure_range(requests: &[Request], params: &FlightParams) -> (Instant, Instant) {
-    let day = Millis::from_secs(86_400);
     let first = requests
         .iter()
         .map(|r| r.submitted.min(r.departure))
@@ -142,6 +141,14 @@ pub fn closure_range(requests: &[Request], params: &FlightParams) -> (Instant, I
         .map(|r| r.departure)
         .max()
         .unwrap_or_default();
+    closure_window(first, last, params)
+}
+
+/// The range of instants whose zone closures can matter to requests submitted from `first`
+/// on and departing up to `last`: from a day before `first` to a day after the last possible
+/// landing ([`closure_range`] of such requests).
+pub fn closure_window(first: Instant, last: Instant, params: &FlightParams) -> (Instant, Instant) {
+    let day = Millis::from_secs(86_400);
     (first - day, last + params.trip_span() + day)
 }
 

@@ -5,8 +5,14 @@
 //! stations sorted by latitude, only those whose latitude is within the last mile of the
 //! customer's (a degree of latitude is at least 110,574 m long anywhere on WGS84) are
 //! measured. Ties go to the station first in the airspace's order.
+//!
+//! [`trips`] draws the requests between customers, by weight, and turns them into the
+//! requests of one airspace: those both of whose customers have a pad in reach, on different
+//! pads; the others are [`Unserved`](trips::Unserved).
 
 use muse_model::{Airspace, LonLat, NodeId};
+
+pub mod trips;
 
 /// The shortest length of a degree of latitude on WGS84 (at the equator), metres, a little
 /// rounded down.
@@ -41,30 +47,53 @@ pub fn serving_pads(
     customers: &[LonLat],
     last_mile_m: f64,
 ) -> Vec<Option<ServingPad>> {
-    let mut stations: Vec<(f64, NodeId)> = airspace
-        .stations()
-        .map(|n| (airspace.node(n).pos.lat, n))
-        .collect();
-    stations.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    // A little more than the last mile in degrees of latitude: never misses a station.
+    let stations: Vec<NodeId> = airspace.stations().collect();
+    let positions: Vec<LonLat> = stations.iter().map(|&n| airspace.node(n).pos).collect();
+    pads_in_reach(&positions, customers, last_mile_m)
+        .into_iter()
+        .map(|reach| {
+            reach.first().map(|&(i, distance_m)| ServingPad {
+                pad: stations[i],
+                distance_m,
+            })
+        })
+        .collect()
+}
+
+/// For each of `customers`, every pad of `pads` within `last_mile_m` metres (boundary
+/// included) as `(index into pads, distance in metres)`, nearest first (ties: the lower
+/// index). The nearest is the customer's serving pad among these pads; siting keeps the whole
+/// list to find a customer's pad among any subset of them.
+///
+/// ```
+/// use muse_model::LonLat;
+/// use muse_sim::customers::pads_in_reach;
+/// let pads = [LonLat::new(103.80, 1.30), LonLat::new(103.81, 1.30)];
+/// let reach = pads_in_reach(&pads, &[LonLat::new(103.807, 1.30)], 1_000.0);
+/// let order: Vec<usize> = reach[0].iter().map(|&(i, _)| i).collect();
+/// assert_eq!(order, [1, 0]); // 334 m and 779 m away
+/// ```
+pub fn pads_in_reach(
+    pads: &[LonLat],
+    customers: &[LonLat],
+    last_mile_m: f64,
+) -> Vec<Vec<(usize, f64)>> {
+    let mut by_lat: Vec<(f64, usize)> = pads.iter().enumerate().map(|(i, p)| (p.lat, i)).collect();
+    by_lat.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    // A little more than the last mile in degrees of latitude: never misses a pad.
     let reach = last_mile_m / MIN_DEGREE_OF_LATITUDE_M * 1.000_001 + 1e-9;
     customers
         .iter()
         .map(|&c| {
-            let lo = stations.partition_point(|s| s.0 < c.lat - reach);
-            let hi = stations.partition_point(|s| s.0 <= c.lat + reach);
-            stations[lo..hi]
+            let lo = by_lat.partition_point(|s| s.0 < c.lat - reach);
+            let hi = by_lat.partition_point(|s| s.0 <= c.lat + reach);
+            let mut near: Vec<(usize, f64)> = by_lat[lo..hi]
                 .iter()
-                .map(|&(_, n)| ServingPad {
-                    pad: n,
-                    distance_m: c.geodesic_distance_m(airspace.node(n).pos),
-                })
-                .filter(|s| s.distance_m <= last_mile_m)
-                .min_by(|a, b| {
-                    a.distance_m
-                        .total_cmp(&b.distance_m)
-                        .then(a.pad.cmp(&b.pad))
-                })
+                .map(|&(_, i)| (i, c.geodesic_distance_m(pads[i])))
+                .filter(|&(_, d)| d <= last_mile_m)
+                .collect();
+            near.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+            near
         })
         .collect()
 }

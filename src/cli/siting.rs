@@ -1,0 +1,333 @@
+//! `muse siting`: where to add pads (SPEC §15) — lazy greedy by exact simulation, against
+//! greedy maximum coverage and k-means of demand for the same number of pads.
+
+mod report;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant as WallClock;
+
+use anyhow::Context as _;
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use muse_airspace::builder::BuildOptions;
+use muse_airspace::plane::Plane;
+use muse_model::time::parse_clock;
+use muse_model::{Instant, Millis, Zone};
+use muse_sim::customers::trips::TripSpec;
+use muse_sim::demand::BookingLead;
+use muse_siting::baselines::{kmeans_sites, max_coverage};
+use muse_siting::greedy::{BATCH, lazy_greedy};
+use muse_siting::{Evaluation, Siting, SitingInput};
+
+use super::common::FlightArgs;
+use super::output;
+use super::ranges;
+
+/// Arguments of `muse siting`.
+#[derive(Debug, Args)]
+pub struct SitingArgs {
+    /// How many pads to add, from 1 to 1000 (at most the number of candidates).
+    #[arg(long, default_value_t = 10, allow_negative_numbers = true, value_parser = ranges::add_pads)]
+    add: usize,
+    /// The pads already there: a pads file (CSV `id,lon,lat[,name]` or GeoJSON points).
+    /// Default: Singapore's 77 stations (`singapore-77`).
+    #[arg(long, value_name = "FILE", requires_all = ["candidates", "customers"])]
+    pads: Option<PathBuf>,
+    /// The pads that may be added, a pads file. Default: the 1,038 other HDB multi-storey
+    /// car parks (with the default pads only).
+    #[arg(long, value_name = "FILE", requires = "pads")]
+    candidates: Option<PathBuf>,
+    /// Customers CSV (`id,lon,lat[,weight]`), where deliveries start and end. Default: all
+    /// 2,257 HDB car parks as a residential proxy, each of weight 1 (with the default pads
+    /// only).
+    #[arg(long, value_name = "FILE", requires = "pads")]
+    customers: Option<PathBuf>,
+    /// The plane airspaces are built in (with `--pads`): `utm` (default), `EPSG:3414`, a
+    /// WGS84 UTM zone `EPSG:326zz`/`EPSG:327zz`, or `stereographic`. The default pads use
+    /// SVY21 (EPSG:3414), as the built-in scenarios.
+    #[arg(long, value_name = "CRS", requires = "pads")]
+    crs: Option<String>,
+    /// No-fly zone file (ED-318 GeoJSON or ED-269 JSON; zones known from the start); repeat
+    /// for several, or `none`. Default: the CBD zone with the default pads, none with
+    /// `--pads`.
+    #[arg(long, value_name = "FILE|none")]
+    zones: Vec<PathBuf>,
+    /// Requests drawn per day, from 1 to 10000000.
+    #[arg(long, default_value_t = 5_000, allow_negative_numbers = true, value_parser = ranges::requests)]
+    count: usize,
+    /// Seeded days every pad set is judged on, from 1 to 1000: seeds `--seed` onwards.
+    #[arg(long, default_value_t = 5, allow_negative_numbers = true, value_parser = ranges::siting_days)]
+    days: usize,
+    /// The first day's seed, a whole number from 0 to 18446744073709551615.
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = ranges::seed)]
+    seed: u64,
+    /// Start of the departure window, local time (`+08:00`, on the scenario's date).
+    #[arg(long, default_value = "08:00", value_name = "HH:MM")]
+    from: String,
+    /// End of the departure window (exclusive), local time.
+    #[arg(long, default_value = "20:00", value_name = "HH:MM")]
+    to: String,
+    /// The last mile: a customer is served by its nearest pad within this distance, metres
+    /// (straight line), from 0 to 100000.
+    #[arg(long, default_value_t = 1_000.0, value_name = "M", allow_negative_numbers = true, value_parser = ranges::last_mile_m)]
+    last_mile_m: f64,
+    /// Seed of the k-means baseline's k-means++ draw, a whole number from 0 to
+    /// 18446744073709551615.
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = ranges::seed)]
+    kmeans_seed: u64,
+    #[command(flatten)]
+    flight: FlightArgs,
+    /// Output folder: `siting.csv` (the greedy's picks), `curve.csv` and `curve.svg`
+    /// (delivered requests against pads added, for each method), `airspace.geojson` (the
+    /// airspace with the greedy's pads). Existing files there are replaced.
+    #[arg(long, value_name = "DIR", default_value = "siting")]
+    out: PathBuf,
+}
+
+/// The problem and where it came from, for messages.
+struct Loaded {
+    input: SitingInput,
+    source: String,
+}
+
+impl SitingArgs {
+    /// The zones: `none`, the files given, or the default.
+    fn zones(&self, default: Vec<Zone>) -> anyhow::Result<Vec<Zone>> {
+        let none = self.zones.iter().any(|z| z.as_os_str() == "none");
+        if none && self.zones.len() > 1 {
+            anyhow::bail!("`--zones none` cannot be combined with zone files");
+        }
+        if none {
+            return Ok(Vec::new());
+        }
+        if self.zones.is_empty() {
+            return Ok(default);
+        }
+        let mut all = Vec::new();
+        for path in &self.zones {
+            all.extend(
+                muse_formats::zones::read_zones_file(path)
+                    .with_context(|| format!("reading zones from {}", path.display()))?,
+            );
+        }
+        Ok(all)
+    }
+
+    /// The seeded days.
+    fn days(&self, scenario: &muse_scenario::Scenario) -> anyhow::Result<Vec<TripSpec>> {
+        let clock = |name: &str, v: &str| -> anyhow::Result<Millis> {
+            parse_clock(v).with_context(|| format!("--{name} `{v}` is not a local time HH:MM[:SS]"))
+        };
+        let start = Instant::at_local(scenario.date, clock("from", &self.from)?, scenario.offset);
+        let end = Instant::at_local(scenario.date, clock("to", &self.to)?, scenario.offset);
+        if end <= start {
+            anyhow::bail!("--to {} must be after --from {}", self.to, self.from);
+        }
+        (0..self.days as u64)
+            .map(|d| {
+                let seed = self.seed.checked_add(d).with_context(|| {
+                    format!(
+                        "--seed {} + {} days passes the largest seed",
+                        self.seed, self.days
+                    )
+                })?;
+                Ok(TripSpec {
+                    count: self.count,
+                    start,
+                    end,
+                    seed,
+                    booking_lead: BookingLead::NONE,
+                })
+            })
+            .collect()
+    }
+
+    /// Reads or builds the problem.
+    fn load(&self) -> anyhow::Result<Loaded> {
+        let scenario = muse_scenario::by_name(muse_scenario::SINGAPORE_77)?;
+        let days = self.days(scenario)?;
+        let params = self.flight.params()?;
+        let Some(pads) = &self.pads else {
+            return Ok(Loaded {
+                input: SitingInput {
+                    existing: muse_scenario::station_nodes()?,
+                    candidates: muse_scenario::candidates::candidate_pads()?,
+                    customers: muse_scenario::candidates::residential_customers()?,
+                    last_mile_m: self.last_mile_m,
+                    days,
+                    params,
+                    zones: self.zones(scenario.zones.clone())?,
+                    build: muse_scenario::singapore_build_options(),
+                },
+                source: "Singapore: the 77 stations, 1,038 candidate car parks, 2,257 HDB car \
+                         parks as customers"
+                    .to_owned(),
+            });
+        };
+        let (Some(candidates), Some(customers)) = (&self.candidates, &self.customers) else {
+            anyhow::bail!("--pads needs --candidates FILE and --customers FILE");
+        };
+        let plane = match &self.crs {
+            Some(text) => Plane::parse(text).map_err(|e| anyhow::anyhow!("--crs: {e}"))?,
+            None => Plane::Utm,
+        };
+        let input = SitingInput {
+            existing: muse_formats::pads::read_pads_file(pads)?,
+            candidates: muse_formats::pads::read_candidate_pads_file(candidates)?,
+            customers: muse_formats::customers::read_customers_file(customers)?,
+            last_mile_m: self.last_mile_m,
+            days,
+            params,
+            zones: self.zones(Vec::new())?,
+            build: BuildOptions {
+                plane,
+                ..BuildOptions::default()
+            },
+        };
+        Ok(Loaded {
+            source: format!(
+                "pads {}, candidates {}, customers {}",
+                pads.display(),
+                candidates.display(),
+                customers.display()
+            ),
+            input,
+        })
+    }
+}
+
+/// A bar of evaluations, shown once the work has run a second.
+struct Evaluations {
+    started: WallClock,
+    shown: Option<ProgressBar>,
+    total: u64,
+}
+
+impl Evaluations {
+    fn update(&mut self, done: usize, picks: usize, k: usize) {
+        let done = done as u64;
+        if done > self.total {
+            self.total = done + BATCH as u64;
+        }
+        if self.shown.is_none() && self.started.elapsed().as_secs_f64() > 1.0 {
+            let bar = ProgressBar::new(self.total);
+            bar.set_style(
+                ProgressStyle::with_template(
+                    "{msg} [{bar:40}] {pos}/{len} evaluations ({elapsed}, ETA {eta})",
+                )
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> "),
+            );
+            self.shown = Some(bar);
+        }
+        if let Some(bar) = &self.shown {
+            bar.set_length(self.total);
+            bar.set_position(done);
+            bar.set_message(format!("siting: pick {}/{k}", (picks + 1).min(k)));
+        }
+    }
+
+    fn finish(&self) {
+        if let Some(bar) = &self.shown {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+/// One method's curve: delivered requests with 0, 1, …, k pads added.
+pub struct Curve {
+    /// The method's name.
+    pub method: &'static str,
+    /// For each k from 1: the candidates added, and the evaluation of the set.
+    pub steps: Vec<(Vec<usize>, Evaluation)>,
+}
+
+/// Runs `muse siting`.
+pub fn run(args: &SitingArgs) -> anyhow::Result<ExitCode> {
+    let inputs = output::Inputs::new()
+        .add_all("--pads", args.pads.as_slice())
+        .add_all("--candidates", args.candidates.as_slice())
+        .add_all("--customers", args.customers.as_slice())
+        .add_all("--zones", &args.zones);
+    let files = report::Files::new(&args.out, &inputs)?;
+    let loaded = args.load()?;
+    let prepared = WallClock::now();
+    let siting = Siting::prepare(loaded.input)?;
+    let prepare_s = prepared.elapsed().as_secs_f64();
+    let k = args.add;
+    let count = siting.candidates().len();
+    if k > count {
+        anyhow::bail!("--add {k}: there are only {count} candidate pads");
+    }
+    eprintln!(
+        "MUSE siting — {}; {} days of {} requests, last mile {} m",
+        loaded.source, args.days, args.count, args.last_mile_m
+    );
+    let mut bar = Evaluations {
+        started: WallClock::now(),
+        shown: None,
+        total: (count + (k - 1) * BATCH) as u64,
+    };
+    let started = WallClock::now();
+    let run = lazy_greedy(&siting, k, |p| bar.update(p.evaluations, p.picks, k))?;
+    let greedy_s = started.elapsed().as_secs_f64();
+    bar.finish();
+    let baselines = WallClock::now();
+    let greedy = Curve {
+        method: "greedy-simulation",
+        steps: run
+            .picks
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (run.added()[..=i].to_vec(), p.after.clone()))
+            .collect(),
+    };
+    let coverage_picks = max_coverage(&siting, k);
+    let coverage = curve(
+        &siting,
+        "max-coverage",
+        (1..=k).map(|j| coverage_picks[..j].to_vec()),
+    )?;
+    let kmeans = curve(
+        &siting,
+        "k-means",
+        (1..=k)
+            .map(|j| kmeans_sites(&siting, j, args.kmeans_seed))
+            .collect::<Result<Vec<_>, _>>()?,
+    )?;
+    let baselines_s = baselines.elapsed().as_secs_f64();
+    let curves = [greedy, coverage, kmeans];
+    report::print_picks(&siting, &run);
+    report::print_curves(&run.base, &curves);
+    eprintln!(
+        "  speed         {} evaluations in {greedy_s:.1} s ({:.1} per second, {} days each; \
+         {BATCH} at a time after the first round), baselines {:.1} s, preparing {prepare_s:.2} s",
+        run.evaluations,
+        run.evaluations as f64 / greedy_s.max(1e-9),
+        siting.day_count(),
+        baselines_s
+    );
+    let written = files.describe();
+    files.write(&siting, &run, &curves, args.add)?;
+    eprintln!("  wrote         {written}");
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Evaluates the sets of a baseline, one per k (in parallel).
+fn curve(
+    siting: &Siting,
+    method: &'static str,
+    sets: impl IntoIterator<Item = Vec<usize>>,
+) -> anyhow::Result<Curve> {
+    use rayon::prelude::*;
+    let sets: Vec<Vec<usize>> = sets.into_iter().collect();
+    let evaluated: Vec<Evaluation> = sets
+        .par_iter()
+        .map(|s| siting.evaluate(s))
+        .collect::<Result<_, _>>()?;
+    Ok(Curve {
+        method,
+        steps: sets.into_iter().zip(evaluated).collect(),
+    })
+}
