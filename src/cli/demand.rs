@@ -4,9 +4,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Args;
-use muse_formats::requests::write_requests;
+use muse_formats::requests::{DemandRow, write_demand, write_requests};
 use muse_model::time::{TimeError, parse_clock};
-use muse_model::{Instant, Millis};
+use muse_model::{Instant, Millis, NodeId};
+use muse_sim::customers::serving_pads;
+use muse_sim::customers::trips::{TripSpec, draw_trips, request_for};
 use muse_sim::demand::{BookingLead, DemandSpec, OdRule, generate};
 
 use super::common::{RangeArgs, World, WorldArgs};
@@ -37,7 +39,7 @@ pub struct DemandArgs {
     /// End of the departure window (exclusive), local time.
     #[arg(long, default_value = "20:00", value_name = "HH:MM")]
     pub to: String,
-    /// Origin–destination rule.
+    /// Origin–destination rule (generated station pairs; not with `muse demand --customers`).
     #[arg(long, value_enum, default_value_t = OdArg::Uniform)]
     pub od: OdArg,
     /// Book each request ahead of its departure by a lead uniform in [A, B] minutes (whole
@@ -173,6 +175,16 @@ pub struct DemandCmd {
     world: WorldArgs,
     #[command(flatten)]
     range: RangeArgs,
+    /// Demand from customers (docs/reference.md#demand-from-customers): a CSV
+    /// `id,lon,lat[,weight]`; each request joins two customers drawn by weight, from the
+    /// nearest pad within `--last-mile-m` of the sender to that of the receiver. The file
+    /// keeps the customer ids; a request with a customer out of reach, or both on one pad, is
+    /// unserved.
+    #[arg(long, value_name = "FILE", conflicts_with = "od")]
+    customers: Option<PathBuf>,
+    /// With `--customers`: the last mile, metres (straight line), from 0 to 100000.
+    #[arg(long, value_name = "M", default_value_t = 1_000.0, requires = "customers", allow_negative_numbers = true, value_parser = ranges::last_mile_m)]
+    last_mile_m: f64,
     /// Output CSV (`-`: standard output).
     #[arg(long, value_name = "FILE", default_value = "requests.csv")]
     out: PathBuf,
@@ -180,13 +192,17 @@ pub struct DemandCmd {
 
 /// Runs `muse demand`.
 pub fn run(args: &DemandCmd) -> anyhow::Result<ExitCode> {
-    let out = output::file(
-        "--out",
-        &args.out,
-        &output::Inputs::new().world(&args.world),
-    )?;
+    let inputs = output::Inputs::new().world(&args.world);
+    let inputs = match &args.customers {
+        Some(path) => inputs.add("--customers", path),
+        None => inputs,
+    };
+    let out = output::file("--out", &args.out, &inputs)?;
     let world = args.world.load()?;
     let spec = args.demand.spec(&world, args.range)?;
+    if let Some(path) = &args.customers {
+        return from_customers(args, path, &world, &spec, &out);
+    }
     let requests = generate(&world.airspace, &spec)?;
     out.write(&write_requests(&requests, &world.airspace, world.offset))?;
     let booked = args
@@ -199,6 +215,76 @@ pub fn run(args: &DemandCmd) -> anyhow::Result<ExitCode> {
             "wrote {} requests (seed {}{booked}) to {out}",
             requests.len(),
             spec.seed,
+        ),
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `muse demand --customers`: trips between customers, each mapped to its customers' pads.
+fn from_customers(
+    args: &DemandCmd,
+    path: &std::path::Path,
+    world: &World,
+    spec: &DemandSpec,
+    out: &output::FileOut,
+) -> anyhow::Result<ExitCode> {
+    let customers = muse_formats::customers::read_customers_file(path)?;
+    let weights: Vec<f64> = customers.iter().map(|c| c.weight).collect();
+    let trips = draw_trips(
+        &weights,
+        &TripSpec {
+            count: spec.count,
+            start: spec.start,
+            end: spec.end,
+            seed: spec.seed,
+            booking_lead: spec.booking_lead,
+        },
+    )?;
+    let positions: Vec<_> = customers.iter().map(|c| c.pos).collect();
+    let pads: Vec<Option<NodeId>> = serving_pads(&world.airspace, &positions, args.last_mile_m)
+        .into_iter()
+        .map(|s| s.map(|s| s.pad))
+        .collect();
+    let mut why: std::collections::BTreeMap<&str, usize> = std::collections::BTreeMap::new();
+    let rows: Vec<DemandRow> = trips
+        .iter()
+        .map(|t| {
+            if let Err(u) = request_for(t, &pads) {
+                *why.entry(u.describe()).or_default() += 1;
+            }
+            DemandRow {
+                id: t.id.clone(),
+                origin: pads[t.from],
+                destination: pads[t.to],
+                departure: t.departure,
+                submitted: t.submitted,
+                customers: [customers[t.from].id.clone(), customers[t.to].id.clone()],
+            }
+        })
+        .collect();
+    out.write(&write_demand(&rows, &world.airspace, world.offset))?;
+    let unserved: usize = why.values().sum();
+    let causes: Vec<String> = why.iter().map(|(k, v)| format!("{v} {k}")).collect();
+    let causes = if causes.is_empty() {
+        String::new()
+    } else {
+        format!(": {}", causes.join(", "))
+    };
+    let served = customers
+        .iter()
+        .zip(&pads)
+        .filter(|(_, p)| p.is_some())
+        .count();
+    output::say(
+        out.is_stdout(),
+        format_args!(
+            "wrote {} requests (seed {}) between {} customers ({served} with a pad within {} m) \
+             to {out}; {} to fly, {unserved} unserved{causes}",
+            rows.len(),
+            spec.seed,
+            customers.len(),
+            args.last_mile_m,
+            rows.len() - unserved,
         ),
     );
     Ok(ExitCode::SUCCESS)

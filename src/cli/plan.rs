@@ -7,7 +7,7 @@ use anyhow::Context as _;
 use clap::Args;
 use muse_formats::flights_csv::write_flights_csv;
 use muse_formats::plans::{PlanRecord, write_plan_line};
-use muse_formats::requests::{LocalDay, read_requests_file};
+use muse_formats::requests::{LocalDay, UnservedRequest, read_demand_file};
 use muse_formats::stays_csv::write_stays_csv;
 use muse_model::{Instant, Millis};
 use muse_sim::day::DayRun;
@@ -23,7 +23,9 @@ use super::output::write_atomically;
 /// Arguments of `muse plan`.
 #[derive(Debug, Args)]
 pub struct PlanArgs {
-    /// Requests CSV (`id,origin,destination,departure[,submitted]`).
+    /// Requests CSV (`id,origin,destination,departure[,submitted]`, and
+    /// `origin_customer,destination_customer` for demand from customers, whose unserved
+    /// requests are counted apart).
     #[arg(long, value_name = "FILE")]
     requests: PathBuf,
     #[command(flatten)]
@@ -58,8 +60,8 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
             .add("--requests", &args.requests)
             .world(&args.world),
     )?;
-    let requests = read_requests_file(&args.requests, &world.airspace, day)?;
-    let run = args.optimize.plan(&world, params, requests)?;
+    let demand = read_demand_file(&args.requests, &world.airspace, day)?;
+    let run = args.optimize.plan(&world, params, demand.requests)?;
     let provenance = Provenance {
         airspace: world.airspace_source.clone(),
         zones: world.zones.iter().map(|z| z.id.clone()).collect(),
@@ -67,7 +69,16 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
         seed: None,
     };
     let tables = !args.no_csv;
-    let (summary, _) = write_outputs(&world, &run, &params, provenance, None, tables, out.path())?;
+    let (summary, _) = write_outputs(
+        &world,
+        &run,
+        demand.rows.is_some().then_some(demand.unserved.as_slice()),
+        &params,
+        provenance,
+        None,
+        tables,
+        out.path(),
+    )?;
     out.commit()?;
     if let Some(r) = &summary.replanning {
         println!("{}", replanning_line(r));
@@ -75,8 +86,11 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     for line in summary.optimizer.iter().flat_map(report_lines) {
         println!("{}", line.trim_start());
     }
+    let unserved = summary
+        .unserved
+        .map_or(String::new(), |n| format!(", {n} unserved"));
     println!(
-        "planned {} of {} requests ({:.1}%) in {:.1} ms ({:.1} µs and {:.1} expanded labels per request); wrote {}",
+        "planned {} of {} requests ({:.1}%{unserved}) in {:.1} ms ({:.1} µs and {:.1} expanded labels per request); wrote {}",
         summary.planned,
         summary.requests,
         100.0 * summary.success_rate,
@@ -90,11 +104,15 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
 
 /// Writes `plans.jsonl` and `summary.json` (and, with `tables`, `flights.csv` and
 /// `stays.csv`) for a planned day into `out`; returns the summary and the records written.
+/// The `unserved` requests of demand from customers (SPEC §15; `None` for other demand) follow the planned day's
+/// lines, rejected with reason `unserved`, and are counted apart in the summary.
 /// `booking_lead` is the lead of generated demand, recorded in the summary's parameters
 /// (`None` for requests read from a file).
+#[allow(clippy::too_many_arguments)]
 pub fn write_outputs(
     world: &World,
     run: &DayRun,
+    unserved: Option<&[UnservedRequest]>,
     params: &muse_model::FlightParams,
     provenance: Provenance,
     booking_lead: Option<BookingLead>,
@@ -121,6 +139,20 @@ pub fn write_outputs(
         write_plan_line(&mut text, a, world.offset, &record);
         records.push(record);
     }
+    let pad = |n: Option<muse_model::NodeId>| n.map_or_else(String::new, |n| a.node(n).id.clone());
+    for u in unserved.unwrap_or_default() {
+        let record = PlanRecord::first(
+            u.id.clone(),
+            pad(u.origin),
+            pad(u.destination),
+            u.departure,
+            Err(muse_model::RejectReason::Unserved),
+            None,
+            0,
+        );
+        write_plan_line(&mut text, a, world.offset, &record);
+        records.push(record);
+    }
     let items = run
         .requests
         .iter()
@@ -135,6 +167,9 @@ pub fn write_outputs(
         .with_world(world.record.clone());
     if let Some(lead) = booking_lead {
         summary = summary.with_booking_lead(lead);
+    }
+    if let Some(unserved) = unserved {
+        summary = summary.with_unserved(unserved.len());
     }
     if !run.zones.announced.is_empty() {
         summary = summary.with_replanning(ReplanSummary::of(run, world.offset));

@@ -8,7 +8,7 @@ use anyhow::Context as _;
 use clap::Args;
 use muse_formats::flights::{FlightFeature, write_flights};
 use muse_formats::plans::PlanRecord;
-use muse_formats::requests::{LocalDay, read_requests_file, write_requests};
+use muse_formats::requests::{Demand, LocalDay, read_demand_file, write_demand, write_requests};
 use muse_model::Request;
 use muse_sim::day::DayRun;
 use muse_sim::demand::generate;
@@ -65,13 +65,13 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         None => inputs,
     };
     let out = output::folder("--out", &args.out, &inputs)?;
-    let (requests, source, seed, booking_lead) = if let Some(path) = &args.requests {
+    let (demand, source, seed, booking_lead) = if let Some(path) = &args.requests {
         let day = LocalDay {
             date: world.date,
             offset: world.offset,
         };
         (
-            read_requests_file(path, &world.airspace, day)?,
+            read_demand_file(path, &world.airspace, day)?,
             path.display().to_string(),
             None,
             None,
@@ -91,9 +91,13 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
             "generated: {} requests, {}–{}, {od} pairs, seed {}{booked}",
             spec.count, args.demand.from, args.demand.to, spec.seed
         );
-        (reqs, source, Some(spec.seed), Some(spec.booking_lead))
+        let demand = Demand {
+            requests: reqs,
+            ..Demand::default()
+        };
+        (demand, source, Some(spec.seed), Some(spec.booking_lead))
     };
-    let run = args.optimize.plan(&world, params, requests)?;
+    let run = args.optimize.plan(&world, params, demand.requests)?;
 
     let flights: Vec<Flight<'_>> = run
         .requests
@@ -110,17 +114,23 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         requests: source.clone(),
         seed,
     };
-    let mut sorted_by_id: Vec<&Request> = run.requests.iter().collect();
-    sorted_by_id.sort_by(|a, b| a.id.cmp(&b.id));
-    let owned: Vec<Request> = sorted_by_id.into_iter().cloned().collect();
-    write_atomically(
-        &out.path().join("requests.csv"),
-        &write_requests(&owned, &world.airspace, world.offset),
-    )?;
+    // The requests as read (demand from customers: every row, customer ids kept), by id.
+    let from_customers = demand.rows.is_some();
+    let requests_csv = if let Some(mut rows) = demand.rows {
+        rows.sort_by(|a, b| a.id.cmp(&b.id));
+        write_demand(&rows, &world.airspace, world.offset)
+    } else {
+        let mut sorted_by_id: Vec<&Request> = run.requests.iter().collect();
+        sorted_by_id.sort_by(|a, b| a.id.cmp(&b.id));
+        let owned: Vec<Request> = sorted_by_id.into_iter().cloned().collect();
+        write_requests(&owned, &world.airspace, world.offset)
+    };
+    write_atomically(&out.path().join("requests.csv"), &requests_csv)?;
     let tables = !args.no_csv;
     let (summary, records) = write_outputs(
         &world,
         &run,
+        from_customers.then_some(demand.unserved.as_slice()),
         &params,
         provenance,
         booking_lead,
@@ -217,6 +227,23 @@ fn edge_load(world: &World, flights: &[Flight<'_>]) -> Vec<f64> {
 }
 
 /// The short human summary printed at the end.
+/// The `rejected` line, and the `unserved` one for demand from customers.
+fn rejections(s: &Summary) -> String {
+    let reasons: Vec<String> = s
+        .rejected_by_reason
+        .iter()
+        .map(|(k, v)| format!("{k} {v}"))
+        .collect();
+    let mut o = format!("  rejected      {} ({})\n", s.rejected, reasons.join(", "));
+    if let Some(n) = s.unserved {
+        let _ = writeln!(
+            o,
+            "  unserved      {n} (no pad within the last mile of a customer, or both on one pad)"
+        );
+    }
+    o
+}
+
 fn report(
     world: &World,
     s: &Summary,
@@ -245,12 +272,7 @@ fn report(
         s.requests,
         100.0 * s.success_rate
     );
-    let reasons: Vec<String> = s
-        .rejected_by_reason
-        .iter()
-        .map(|(k, v)| format!("{k} {v}"))
-        .collect();
-    let _ = writeln!(o, "  rejected      {} ({})", s.rejected, reasons.join(", "));
+    o.push_str(&rejections(s));
     for line in s.optimizer.iter().flat_map(report_lines) {
         let _ = writeln!(o, "{line}");
     }

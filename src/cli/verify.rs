@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use clap::{ArgMatches, Args};
 use muse_airspace::announced::KnownZones;
 use muse_formats::plans::{PlanEntry, PlanItem, read_plan_entries_file};
-use muse_model::Millis;
+use muse_model::{Millis, RejectReason};
 use muse_verify::recorded::Recorded;
 use muse_verify::verify_known_in;
 
@@ -144,6 +144,21 @@ fn lines_read(entries: &[PlanEntry]) -> String {
                     (
                         "cancelled by their operator",
                         entries.iter().filter(of).filter(|e| by_operator(e)).count(),
+                    ),
+                ]
+            } else if status == "rejected" {
+                let unserved = |e: &&PlanEntry| {
+                    e.record()
+                        .is_some_and(|r| r.result == Err(RejectReason::Unserved))
+                };
+                vec![
+                    (
+                        "rejected",
+                        entries.iter().filter(of).filter(|e| !unserved(e)).count(),
+                    ),
+                    (
+                        "unserved",
+                        entries.iter().filter(of).filter(unserved).count(),
                     ),
                 ]
             } else {

@@ -18,6 +18,7 @@ mod support {
 mod airspace_info;
 mod bad_inputs;
 mod commands;
+mod customers;
 mod deploy_scripts;
 mod layers;
 mod optimize;

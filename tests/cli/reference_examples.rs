@@ -88,12 +88,14 @@ enum Kind {
     ZoneAnnounced,
     ZoneWithdrawn,
     Closures,
+    Customers,
 }
 
 impl Kind {
-    const ALL: [Kind; 25] = [
+    const ALL: [Kind; 26] = [
         Kind::Airspace,
         Kind::Pads,
+        Kind::Customers,
         Kind::Zones,
         Kind::Requests,
         Kind::Plans,
@@ -126,6 +128,7 @@ impl Kind {
         match self {
             Kind::Airspace => ("airspace", &["geojson"]),
             Kind::Pads => ("pads", &["csv", "geojson"]),
+            Kind::Customers => ("customers", CSV),
             Kind::Zones => ("zones", &["json", "geojson"]),
             Kind::Requests => ("requests", CSV),
             Kind::Plans => ("plans", &["jsonl"]),
@@ -490,6 +493,9 @@ fn check(scratch: &mut Scratch, example: &Example) -> Result<(), String> {
                 "txt",
             )
         }
+        Kind::Customers => muse_formats::customers::read_customers(&example.text, &example.at())
+            .map(|_| ())
+            .map_err(|e| e.to_string()),
         Kind::Zones => run_on(scratch, example, &["airspace", "info", "--zones"], "json"),
         Kind::Requests => {
             let out = scratch.dir.join(format!("plan-{}", example.line));

@@ -11,7 +11,7 @@ use crate::run::{muse, said, stderr};
 use crate::support::scratch_dir;
 
 /// Customers on a 7 × 7 grid over the Vienna test points (made up, not real).
-fn customers() -> String {
+pub(crate) fn customers() -> String {
     let mut csv = String::from("id,lon,lat,weight\n");
     for i in 0..7 {
         for j in 0..7 {

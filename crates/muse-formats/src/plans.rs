@@ -60,9 +60,11 @@ pub use read::{read_plan_entries, read_plan_entries_file, read_plans, read_plans
 pub struct PlanRecord {
     /// Request id.
     pub request: String,
-    /// Origin station id.
+    /// Origin station id; empty only for an unserved request (SPEC §15) whose sender has no
+    /// pad in reach (written `null`).
     pub origin: String,
-    /// Destination station id.
+    /// Destination station id; empty only for an unserved request whose receiver has no pad
+    /// in reach.
     pub destination: String,
     /// Requested departure.
     pub requested_departure: Instant,
@@ -180,10 +182,12 @@ pub struct PlanLine {
     /// Rejection (or cancellation: `zone_announced`, `cancelled_by_operator`) reason; `null`
     /// when planned.
     pub reason: Option<String>,
-    /// Origin station id.
-    pub origin: String,
-    /// Destination station id.
-    pub destination: String,
+    /// Origin station id; `null` only for an unserved request whose sender has no pad in
+    /// reach (reason `unserved`, SPEC §15).
+    pub origin: Option<String>,
+    /// Destination station id; `null` only for an unserved request whose receiver has no pad
+    /// in reach.
+    pub destination: Option<String>,
     /// Requested departure, RFC 3339.
     pub requested_departure: String,
     /// Take-off, RFC 3339.
@@ -408,8 +412,8 @@ pub fn plan_line(airspace: &Airspace, offset: UtcOffset, record: &PlanRecord) ->
         request: record.request.clone(),
         status: record.status().to_owned(),
         reason,
-        origin: record.origin.clone(),
-        destination: record.destination.clone(),
+        origin: (!record.origin.is_empty()).then(|| record.origin.clone()),
+        destination: (!record.destination.is_empty()).then(|| record.destination.clone()),
         requested_departure: record.requested_departure.to_rfc3339(offset),
         takeoff: plan.or(committed).map(|p| p.takeoff().to_rfc3339(offset)),
         landing: plan.map(|p| p.landing().to_rfc3339(offset)),

@@ -18,6 +18,13 @@
 //! [`write_requests`] writes the four required columns, and the `submitted` column only when
 //! some request was submitted before its departure, so files without bookings ahead are
 //! written exactly as before the column existed.
+//!
+//! **Demand from customers** (SPEC §15, `muse demand --customers`) adds the columns
+//! `origin_customer` and `destination_customer` (both or neither): the ids of the customers a
+//! request joins. With them a request may be **unserved**: an empty `origin` or `destination`
+//! (no pad within the last mile of that customer), or the same pad for both (both customers
+//! on one pad). [`read_demand`] returns such requests apart ([`Demand::unserved`]);
+//! [`read_requests`] refuses them. [`write_demand`] writes such files.
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -46,14 +53,19 @@ const COLUMNS: [&str; 4] = ["id", "origin", "destination", "departure"];
 /// The optional column: when the request reaches the planner.
 const SUBMITTED: &str = "submitted";
 
+/// The optional columns of demand from customers, both or neither.
+const CUSTOMERS: [&str; 2] = ["origin_customer", "destination_customer"];
+
 /// What the header must be, for messages.
-const HEADER: &str = "id,origin,destination,departure, optionally followed by submitted";
+const HEADER: &str = "id,origin,destination,departure, optionally followed by submitted, and \
+                      by origin_customer,destination_customer";
 
 /// The position of every column in a header: the required ones in [`COLUMNS`] order, then
-/// `submitted` if present.
+/// `submitted` and the customers' if present.
 struct Header {
     required: [usize; 4],
     submitted: Option<usize>,
+    customers: Option<[usize; 2]>,
 }
 
 impl Header {
@@ -65,10 +77,13 @@ impl Header {
         };
         let mut required = [None; 4];
         let mut submitted = None;
+        let mut customers = [None; 2];
         for (i, name) in headers.iter().enumerate() {
             let slot = match COLUMNS.iter().position(|c| *c == name) {
                 Some(k) => &mut required[k],
                 None if name == SUBMITTED => &mut submitted,
+                None if name == CUSTOMERS[0] => &mut customers[0],
+                None if name == CUSTOMERS[1] => &mut customers[1],
                 None if name.is_empty() => {
                     return Err(at_header(
                         None,
@@ -105,14 +120,60 @@ impl Header {
                 )
             })?;
         }
+        let customers = match customers {
+            [Some(o), Some(d)] => Some([o, d]),
+            [None, None] => None,
+            [o, _] => {
+                let (given, missing) = if o.is_some() {
+                    (CUSTOMERS[0], CUSTOMERS[1])
+                } else {
+                    (CUSTOMERS[1], CUSTOMERS[0])
+                };
+                return Err(at_header(
+                    Some(missing),
+                    format!("missing column: `{given}` is given, and the two come together"),
+                ));
+            }
+        };
         Ok(Header {
             required: cols,
             submitted,
+            customers,
         })
     }
 }
 
+/// Requests read from a file of demand from customers: those to plan, and those unserved.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Demand {
+    /// The requests to plan, in file order.
+    pub requests: Vec<Request>,
+    /// The unserved requests (SPEC §15), in file order: never planned.
+    pub unserved: Vec<UnservedRequest>,
+    /// With the customer columns: every row, served or not, in file order (what
+    /// [`write_demand`] writes back).
+    pub rows: Option<Vec<DemandRow>>,
+}
+
+/// A request of demand from customers that no drone can fly (SPEC §15, reason `unserved`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnservedRequest {
+    /// Request id.
+    pub id: String,
+    /// The sender's pad, if one is in reach.
+    pub origin: Option<NodeId>,
+    /// The receiver's pad, if one is in reach (the same as `origin` when both customers share
+    /// a pad).
+    pub destination: Option<NodeId>,
+    /// Requested departure.
+    pub departure: Instant,
+    /// When it was submitted.
+    pub submitted: Instant,
+}
+
 /// Reads requests from CSV text, in file order; `file` names the source in error messages.
+/// A file of demand from customers may hold unserved requests: they are refused here (see
+/// [`read_demand`]).
 ///
 /// ```
 /// use muse_formats::requests::{read_requests, LocalDay};
@@ -134,84 +195,187 @@ pub fn read_requests(
     airspace: &Airspace,
     day: LocalDay,
 ) -> Result<Vec<Request>, InputError> {
+    Ok(read(text, file, airspace, day, false)?.requests)
+}
+
+/// Reads requests as [`read_requests`] does, and a file of demand from customers's unserved
+/// requests apart.
+///
+/// ```
+/// use muse_formats::requests::{read_demand, LocalDay};
+/// # let air = muse_formats::airspace_geojson::read_airspace(r#"{"type": "FeatureCollection", "features": [
+/// #  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.8, 1.3]}, "properties": {"id": "A", "kind": "station"}},
+/// #  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.81, 1.3]}, "properties": {"id": "B", "kind": "station"}}]}"#, "a").unwrap();
+/// let day = LocalDay { date: jiff::civil::date(2026, 1, 5), offset: muse_model::UtcOffset::SINGAPORE };
+/// let csv = "id,origin,destination,departure,origin_customer,destination_customer\n\
+///            r1,A,B,08:15,c1,c2\n\
+///            r2,,B,08:20,c7,c2\n\
+///            r3,A,A,08:25,c1,c3\n";
+/// let demand = read_demand(csv, "r.csv", &air, day).unwrap();
+/// assert_eq!(demand.requests.len(), 1);
+/// let unserved: Vec<&str> = demand.unserved.iter().map(|u| u.id.as_str()).collect();
+/// assert_eq!(unserved, ["r2", "r3"]);
+/// ```
+pub fn read_demand(
+    text: &str,
+    file: &str,
+    airspace: &Airspace,
+    day: LocalDay,
+) -> Result<Demand, InputError> {
+    read(text, file, airspace, day, true)
+}
+
+/// Reads a file of requests, unserved ones apart when `allow_unserved`, else refused.
+fn read(
+    text: &str,
+    file: &str,
+    airspace: &Airspace,
+    day: LocalDay,
+    allow_unserved: bool,
+) -> Result<Demand, InputError> {
     let mut table = Table::new(text, file)?;
     let header = Header::parse(table.headers(), file)?;
-    let col = header.required;
     let mut seen: HashMap<String, usize> = HashMap::new();
-    let mut out = Vec::new();
+    let mut out = Demand::default();
+    let mut rows = Vec::new();
     for row in table.rows() {
         let (record, line) = row?;
         let err = |field: &str, msg: String| {
             InputError::new(file, Location::Line(line), Some(field), msg)
         };
-        let get = |i: usize| record.get(col[i]).unwrap_or("");
-        let id = get(0);
-        if id.is_empty() {
-            return Err(err("id", "missing".into()));
-        }
-        if !valid_id(id) {
+        let r = read_row(&record, &header, airspace, day).map_err(|(f, m)| err(f, m))?;
+        if let Some(prev) = seen.insert(r.id.clone(), line) {
             return Err(err(
                 "id",
-                format!("{id:?} is not a valid id: an id is {ID_RULE} (the service's rule too)"),
+                format!("duplicate request id `{}` (first on line {prev})", r.id),
             ));
         }
-        if let Some(prev) = seen.insert(id.to_owned(), line) {
-            return Err(err(
-                "id",
-                format!("duplicate request id `{id}` (first on line {prev})"),
-            ));
-        }
-        let station = |i: usize| -> Result<NodeId, InputError> {
-            let name = get(i);
-            if name.is_empty() {
-                return Err(err(COLUMNS[i], "missing".into()));
+        match (r.origin, r.destination) {
+            (Some(origin), Some(destination)) if origin != destination => {
+                out.requests.push(Request {
+                    id: r.id.clone(),
+                    origin,
+                    destination,
+                    departure: r.departure,
+                    submitted: r.submitted,
+                });
             }
-            let n = airspace
-                .node_id(name)
-                .ok_or_else(|| err(COLUMNS[i], format!("unknown node id `{name}`")))?;
-            if !airspace.is_station(n) {
+            (origin, _) if !allow_unserved => {
                 return Err(err(
-                    COLUMNS[i],
-                    format!("`{name}` is a waypoint, not a station"),
+                    if origin.is_none() {
+                        "origin"
+                    } else {
+                        "destination"
+                    },
+                    "an unserved request (demand from customers: no pad in reach, or both \
+                     customers on one pad); `muse plan` and `muse simulate` count such \
+                     requests apart"
+                        .into(),
                 ));
             }
-            Ok(n)
-        };
-        let origin = station(1)?;
-        let destination = station(2)?;
-        if origin == destination {
-            return Err(err(
-                "destination",
-                format!("origin and destination are both `{}`", get(1)),
-            ));
+            (origin, destination) => out.unserved.push(UnservedRequest {
+                id: r.id.clone(),
+                origin,
+                destination,
+                departure: r.departure,
+                submitted: r.submitted,
+            }),
         }
-        let departure = parse_time(get(3), day).map_err(|m| err("departure", m))?;
-        let submitted = match header.submitted.and_then(|i| record.get(i)) {
-            None | Some("") => departure,
-            Some(text) => {
-                let submitted = parse_time(text, day).map_err(|m| err(SUBMITTED, m))?;
-                if submitted > departure {
-                    return Err(err(
-                        SUBMITTED,
-                        format!(
-                            "`{text}` is later than the departure `{}`; a request is submitted \
-                             at or before its departure",
-                            get(3)
-                        ),
-                    ));
-                }
-                submitted
-            }
-        };
-        out.push(Request {
-            id: id.to_owned(),
-            origin,
-            destination,
-            departure,
-            submitted,
-        });
+        rows.push(r);
     }
+    out.rows = header.customers.map(|_| rows);
     Ok(out)
+}
+
+/// One row's cells, checked (duplicate ids aside); else the field to blame and why. Without
+/// the customer columns the pads must be given and differ, and the customers are empty.
+fn read_row(
+    record: &csv::StringRecord,
+    header: &Header,
+    airspace: &Airspace,
+    day: LocalDay,
+) -> Result<DemandRow, (&'static str, String)> {
+    let col = header.required;
+    let get = |i: usize| record.get(col[i]).unwrap_or("");
+    let id = get(0);
+    if id.is_empty() {
+        return Err(("id", "missing".into()));
+    }
+    if !valid_id(id) {
+        return Err((
+            "id",
+            format!("{id:?} is not a valid id: an id is {ID_RULE} (the service's rule too)"),
+        ));
+    }
+    let mut customers = [String::new(), String::new()];
+    if let Some(cols) = header.customers {
+        for ((c, name), slot) in cols.iter().zip(CUSTOMERS).zip(&mut customers) {
+            let cell = record.get(*c).unwrap_or("");
+            if cell.is_empty() {
+                return Err((name, "missing".into()));
+            }
+            if !valid_id(cell) {
+                return Err((
+                    name,
+                    format!("{cell:?} is not a valid customer id: an id is {ID_RULE}"),
+                ));
+            }
+            cell.clone_into(slot);
+        }
+    }
+    // With customers, an empty pad cell is a customer with no pad in reach.
+    let may_lack_pad = header.customers.is_some();
+    let station = |i: usize| -> Result<Option<NodeId>, (&'static str, String)> {
+        let name = get(i);
+        if name.is_empty() {
+            return if may_lack_pad {
+                Ok(None)
+            } else {
+                Err((COLUMNS[i], "missing".into()))
+            };
+        }
+        let n = airspace
+            .node_id(name)
+            .ok_or_else(|| (COLUMNS[i], format!("unknown node id `{name}`")))?;
+        if !airspace.is_station(n) {
+            return Err((COLUMNS[i], format!("`{name}` is a waypoint, not a station")));
+        }
+        Ok(Some(n))
+    };
+    let origin = station(1)?;
+    let destination = station(2)?;
+    if origin == destination && !may_lack_pad {
+        return Err((
+            "destination",
+            format!("origin and destination are both `{}`", get(1)),
+        ));
+    }
+    let departure = parse_time(get(3), day).map_err(|m| ("departure", m))?;
+    let submitted = match header.submitted.and_then(|i| record.get(i)) {
+        None | Some("") => departure,
+        Some(text) => {
+            let submitted = parse_time(text, day).map_err(|m| (SUBMITTED, m))?;
+            if submitted > departure {
+                return Err((
+                    SUBMITTED,
+                    format!(
+                        "`{text}` is later than the departure `{}`; a request is submitted at \
+                         or before its departure",
+                        get(3)
+                    ),
+                ));
+            }
+            submitted
+        }
+    };
+    Ok(DemandRow {
+        id: id.to_owned(),
+        origin,
+        destination,
+        departure,
+        submitted,
+        customers,
+    })
 }
 
 /// Reads a requests CSV file.
@@ -221,6 +385,20 @@ pub fn read_requests_file(
     day: LocalDay,
 ) -> Result<Vec<Request>, InputError> {
     read_requests(
+        &crate::read_to_string(path)?,
+        &path.display().to_string(),
+        airspace,
+        day,
+    )
+}
+
+/// Reads a requests CSV file, a file of demand from customers's unserved requests apart.
+pub fn read_demand_file(
+    path: &Path,
+    airspace: &Airspace,
+    day: LocalDay,
+) -> Result<Demand, InputError> {
+    read_demand(
         &crate::read_to_string(path)?,
         &path.display().to_string(),
         airspace,
@@ -265,6 +443,73 @@ pub fn write_requests(requests: &[Request], airspace: &Airspace, offset: UtcOffs
             let _ = write!(out, ",{}", r.submitted.to_rfc3339(offset));
         }
         out.push('\n');
+    }
+    out
+}
+
+/// One row of a file of demand from customers: a request between two customers, with each
+/// customer's pad if one is in reach ([`write_demand`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct DemandRow {
+    /// Request id.
+    pub id: String,
+    /// The sender's pad, if any.
+    pub origin: Option<NodeId>,
+    /// The receiver's pad, if any.
+    pub destination: Option<NodeId>,
+    /// Requested departure.
+    pub departure: Instant,
+    /// When it is submitted.
+    pub submitted: Instant,
+    /// The sender's and the receiver's customer ids.
+    pub customers: [String; 2],
+}
+
+/// Writes a file of demand from customers: as [`write_requests`], followed by the columns
+/// `origin_customer,destination_customer`; a pad cell is empty when no pad is in reach.
+///
+/// ```
+/// use muse_formats::requests::{write_demand, DemandRow};
+/// use muse_model::{Instant, NodeId, UtcOffset};
+/// # let air = muse_formats::airspace_geojson::read_airspace(r#"{"type": "FeatureCollection", "features": [
+/// #  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.8, 1.3]}, "properties": {"id": "A", "kind": "station"}},
+/// #  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.81, 1.3]}, "properties": {"id": "B", "kind": "station"}}]}"#, "a").unwrap();
+/// let row = DemandRow {
+///     id: "r1".into(), origin: None, destination: Some(NodeId(1)), departure: Instant(0),
+///     submitted: Instant(0), customers: ["c7".into(), "c2".into()],
+/// };
+/// assert_eq!(
+///     write_demand(&[row], &air, UtcOffset::SINGAPORE),
+///     "id,origin,destination,departure,origin_customer,destination_customer\n\
+///      r1,,B,1970-01-01T08:00:00.000+08:00,c7,c2\n"
+/// );
+/// ```
+pub fn write_demand(rows: &[DemandRow], airspace: &Airspace, offset: UtcOffset) -> String {
+    let with_submitted = rows.iter().any(|r| r.submitted != r.departure);
+    let mut out = COLUMNS.join(",");
+    if with_submitted {
+        let _ = write!(out, ",{SUBMITTED}");
+    }
+    let _ = writeln!(out, ",{}", CUSTOMERS.join(","));
+    let pad = |n: Option<NodeId>| n.map_or_else(String::new, |n| csv_field(&airspace.node(n).id));
+    for r in rows {
+        let _ = write!(
+            out,
+            "{},{},{},{}",
+            csv_field(&r.id),
+            pad(r.origin),
+            pad(r.destination),
+            r.departure.to_rfc3339(offset)
+        );
+        if with_submitted {
+            let _ = write!(out, ",{}", r.submitted.to_rfc3339(offset));
+        }
+        let _ = writeln!(
+            out,
+            ",{},{}",
+            csv_field(&r.customers[0]),
+            csv_field(&r.customers[1])
+        );
     }
     out
 }
@@ -438,7 +683,7 @@ mod tests {
     fn header_errors_name_the_column() {
         let header = |h: &str| read(&format!("{h}\nr1,A,B,08:00,x\n")).unwrap_err();
         let must = "the header must be id,origin,destination,departure, optionally followed by \
-                    submitted";
+                    submitted, and by origin_customer,destination_customer";
         assert_eq!(
             header("id,origin,destination,departure,note"),
             format!("r.csv: line 1: field `note`: unknown column; {must}")
@@ -563,7 +808,96 @@ mod tests {
         let missing = read_requests("id,origin,departure\n", "r.csv", &air(), DAY).unwrap_err();
         assert_eq!(
             missing.to_string(),
-            "r.csv: line 1: field `destination`: missing column (the header must be id,origin,destination,departure, optionally followed by submitted)"
+            "r.csv: line 1: field `destination`: missing column (the header must be id,origin,destination,departure, optionally followed by submitted, and by origin_customer,destination_customer)"
         );
+    }
+
+    #[test]
+    fn customer_columns_carry_unserved_requests_apart() {
+        let text = "id,origin,destination,departure,destination_customer,origin_customer\n\
+                    r1,A,B,08:00,c2,c1\n\
+                    r2,,B,08:01,c2,c9\n\
+                    r3,A,,08:02,c8,c1\n\
+                    r4,B,B,08:03,c3,c4\n";
+        let demand = read_demand(text, "d.csv", &air(), DAY).unwrap();
+        assert_eq!(demand.requests.len(), 1);
+        let pads: Vec<_> = demand
+            .unserved
+            .iter()
+            .map(|u| (u.id.as_str(), u.origin, u.destination))
+            .collect();
+        assert_eq!(
+            pads,
+            [
+                ("r2", None, Some(NodeId(1))),
+                ("r3", Some(NodeId(0)), None),
+                ("r4", Some(NodeId(1)), Some(NodeId(1)))
+            ]
+        );
+        // Plain reading refuses them, naming the line and the pad.
+        assert_eq!(
+            read_requests(text, "d.csv", &air(), DAY)
+                .unwrap_err()
+                .to_string(),
+            "d.csv: line 3: field `origin`: an unserved request (demand from customers: no pad \
+             in reach, or both customers on one pad); `muse plan` and `muse simulate` count \
+             such requests apart"
+        );
+        let e = |t: &str| {
+            read_demand(t, "d.csv", &air(), DAY)
+                .unwrap_err()
+                .to_string()
+        };
+        assert_eq!(
+            e("id,origin,destination,departure,origin_customer\nr1,A,B,08:00,c1\n"),
+            "d.csv: line 1: field `destination_customer`: missing column: `origin_customer` \
+             is given, and the two come together"
+        );
+        assert_eq!(
+            e(
+                "id,origin,destination,departure,origin_customer,destination_customer\n\
+               r1,A,B,08:00,c1,\n"
+            ),
+            "d.csv: line 2: field `destination_customer`: missing"
+        );
+        assert!(
+            e(
+                "id,origin,destination,departure,origin_customer,destination_customer\n\
+               r1,A,B,08:00,c 1,c2\n"
+            )
+            .starts_with("d.csv: line 2: field `origin_customer`: \"c 1\" is not a valid")
+        );
+        // Without the customer columns an empty pad is still missing.
+        assert_eq!(
+            e("id,origin,destination,departure\nr1,,B,08:00\n"),
+            "d.csv: line 2: field `origin`: missing"
+        );
+    }
+
+    #[test]
+    fn demand_files_read_back() {
+        let rows = [
+            DemandRow {
+                id: "r1".into(),
+                origin: Some(NodeId(0)),
+                destination: Some(NodeId(1)),
+                departure: Instant(3_600_000),
+                submitted: Instant(3_000_000),
+                customers: ["c1".into(), "c2".into()],
+            },
+            DemandRow {
+                id: "r2".into(),
+                origin: None,
+                destination: Some(NodeId(0)),
+                departure: Instant(3_700_000),
+                submitted: Instant(3_700_000),
+                customers: ["c3".into(), "c1".into()],
+            },
+        ];
+        let text = write_demand(&rows, &air(), UtcOffset::SINGAPORE);
+        let demand = read_demand(&text, "d.csv", &air(), DAY).unwrap();
+        assert_eq!(demand.requests[0].submitted, Instant(3_000_000));
+        assert_eq!(demand.unserved[0].destination, Some(NodeId(0)));
+        assert_eq!(demand.unserved[0].departure, Instant(3_700_000));
     }
 }

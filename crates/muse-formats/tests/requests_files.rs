@@ -90,7 +90,7 @@ fn bad_headers_name_file_line_one_and_the_column() {
     assert_eq!(
         e.message,
         "unknown column; the header must be id,origin,destination,departure, optionally \
-         followed by submitted"
+         followed by submitted, and by origin_customer,destination_customer"
     );
     let e = read_requests_file(&fixture("missing_column.csv"), &air, DAY).unwrap_err();
     assert!(e.file.ends_with("missing_column.csv"), "{e}");

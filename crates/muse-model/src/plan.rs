@@ -216,11 +216,24 @@ pub enum RejectReason {
     /// The requested departure is earlier than the service clock's now (SPEC §10; only the
     /// online planner gives it).
     DepartureInPast,
+    /// Demand from customers (SPEC §15): a customer has no pad within the last mile, or both
+    /// share one, so the request was never planned; counted apart from the planner's reasons.
+    Unserved,
 }
 
 impl RejectReason {
     /// All reasons, in report order.
-    pub const ALL: [RejectReason; 4] = [
+    pub const ALL: [RejectReason; 5] = [
+        RejectReason::OutOfRange,
+        RejectReason::Unreachable,
+        RejectReason::NoFeasiblePlan,
+        RejectReason::DepartureInPast,
+        RejectReason::Unserved,
+    ];
+
+    /// The reasons the planning service gives (SPEC §10): the planner's and
+    /// `departure_in_past`.
+    pub const SERVICE: [RejectReason; 4] = [
         RejectReason::OutOfRange,
         RejectReason::Unreachable,
         RejectReason::NoFeasiblePlan,
@@ -242,6 +255,7 @@ impl RejectReason {
             RejectReason::Unreachable => "unreachable",
             RejectReason::NoFeasiblePlan => "no_feasible_plan",
             RejectReason::DepartureInPast => "departure_in_past",
+            RejectReason::Unserved => "unserved",
         }
     }
 

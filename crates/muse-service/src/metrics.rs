@@ -80,7 +80,7 @@ pub enum PlanOutcome {
 #[derive(Debug)]
 pub struct Metrics {
     planned: AtomicU64,
-    rejected: [AtomicU64; RejectReason::ALL.len()],
+    rejected: [AtomicU64; RejectReason::SERVICE.len()],
     repeated: AtomicU64,
     conflict: AtomicU64,
     invalid: AtomicU64,
@@ -144,7 +144,7 @@ impl Metrics {
         match outcome {
             PlanOutcome::Planned => inc(&self.planned),
             PlanOutcome::Rejected(r) => {
-                let i = RejectReason::ALL
+                let i = RejectReason::SERVICE
                     .iter()
                     .position(|&x| x == r)
                     .unwrap_or_default();
@@ -230,7 +230,7 @@ impl Metrics {
             "muse_flight_requests_total{{outcome=\"planned\"}} {}",
             get(&self.planned)
         );
-        for (r, c) in RejectReason::ALL.iter().zip(&self.rejected) {
+        for (r, c) in RejectReason::SERVICE.iter().zip(&self.rejected) {
             let _ = writeln!(
                 out,
                 "muse_flight_requests_total{{outcome=\"rejected\",reason=\"{}\"}} {}",

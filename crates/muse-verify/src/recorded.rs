@@ -31,7 +31,9 @@ use crate::Flight;
 #[derive(Clone, Debug, Default)]
 pub struct Recorded {
     records: Vec<PlanRecord>,
-    requests: Vec<Request>,
+    /// Each record's request; `None` for an unserved request (SPEC §15), which flies nothing
+    /// and may lack a pad.
+    requests: Vec<Option<Request>>,
 }
 
 /// A record whose origin or destination the airspace does not have.
@@ -56,6 +58,9 @@ impl Recorded {
         let requests = records
             .iter()
             .map(|r| {
+                if r.result == Err(muse_model::RejectReason::Unserved) {
+                    return Ok(None);
+                }
                 let node = |field: &'static str, id: &str| {
                     airspace.node_id(id).ok_or_else(|| UnknownStation {
                         request: r.request.clone(),
@@ -63,13 +68,13 @@ impl Recorded {
                         id: id.to_owned(),
                     })
                 };
-                Ok(Request {
+                Ok(Some(Request {
                     id: r.request.clone(),
                     origin: node("origin", &r.origin)?,
                     destination: node("destination", &r.destination)?,
                     departure: r.requested_departure,
                     submitted: r.requested_departure,
-                })
+                }))
             })
             .collect::<Result<_, _>>()?;
         Ok(Recorded { records, requests })
@@ -82,7 +87,12 @@ impl Recorded {
             .iter()
             .zip(&self.requests)
             .filter_map(|(r, q)| {
-                Flight::last(&r.request, q, r.result.as_ref().ok(), r.fate.as_ref())
+                Flight::last(
+                    &r.request,
+                    q.as_ref()?,
+                    r.result.as_ref().ok(),
+                    r.fate.as_ref(),
+                )
             })
             .collect()
     }
@@ -125,6 +135,21 @@ mod tests {
         let ids: Vec<&str> = recorded.flights().iter().map(|f| f.id).collect();
         assert_eq!(ids, ["p"]);
         assert_eq!(recorded.records().len(), 3);
+    }
+
+    #[test]
+    fn an_unserved_request_may_lack_a_pad_and_flies_nothing() {
+        let air = Airspace::line(&[1_000.0]);
+        let records = vec![
+            record("u", "", Err(RejectReason::Unserved)),
+            record("p", "A", Ok(Plan::default())),
+        ];
+        let recorded = Recorded::new(records, &air).unwrap();
+        let ids: Vec<&str> = recorded.flights().iter().map(|f| f.id).collect();
+        assert_eq!(ids, ["p"]);
+        // Any other record still needs its stations.
+        let bad = vec![record("r", "", Err(RejectReason::OutOfRange))];
+        assert!(Recorded::new(bad, &air).is_err());
     }
 
     #[test]

@@ -192,10 +192,10 @@ pub struct SceneFlight {
 pub struct SceneUnflown(
     /// The request id.
     pub String,
-    /// Origin node index.
-    pub u32,
-    /// Destination node index.
-    pub u32,
+    /// Origin node index (`null`: an unserved request whose sender has no pad in reach).
+    pub Option<u32>,
+    /// Destination node index (`null`: an unserved request whose receiver has none).
+    pub Option<u32>,
     /// Requested departure, ms from `t0`.
     pub i64,
     /// Its reason: an index into [`Scene::reasons`].
@@ -453,11 +453,15 @@ fn unflown(
     let mut reasons: Vec<SceneReason> = Vec::new();
     let mut out = Vec::new();
     let mut push = |id: &str, od: (&str, &str), dep: Instant, why: SceneReason| {
+        // An empty id: an unserved request's customer with no pad in reach.
         let node = |n: &str| {
+            if n.is_empty() {
+                return Ok(None);
+            }
             input
                 .airspace
                 .node_id(n)
-                .map(|n| n.0)
+                .map(|n| Some(n.0))
                 .ok_or_else(|| ViewError::Flight {
                     flight: id.to_owned(),
                     message: format!("station `{n}` is not in the airspace"),

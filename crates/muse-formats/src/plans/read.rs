@@ -164,9 +164,20 @@ impl LineReader<'_> {
 
     /// What a line holds: a request's answer, or a flight its operator cancelled.
     pub(super) fn item(&self, line: &PlanLine) -> Result<PlanItem, InputError> {
+        let unserved = line.reason.as_deref() == Some(RejectReason::Unserved.as_str());
         for (field, id) in [("origin", &line.origin), ("destination", &line.destination)] {
-            if self.airspace.flat().node_id(id).is_none() {
-                return Err(self.err(Some(field), format!("unknown node id `{id}`")));
+            match id {
+                Some(id) if self.airspace.flat().node_id(id).is_none() => {
+                    return Err(self.err(Some(field), format!("unknown node id `{id}`")));
+                }
+                None if !unserved => {
+                    return Err(self.err(
+                        Some(field),
+                        "missing: only an unserved request (reason `unserved`) may lack a pad"
+                            .into(),
+                    ));
+                }
+                _ => {}
             }
         }
         let status = line.status.as_str();
@@ -239,8 +250,8 @@ impl LineReader<'_> {
         };
         Ok(OperatorCancellation {
             request: line.request.clone(),
-            origin: line.origin.clone(),
-            destination: line.destination.clone(),
+            origin: line.origin.clone().unwrap_or_default(),
+            destination: line.destination.clone().unwrap_or_default(),
             requested_departure: self.time("requested_departure", &line.requested_departure)?,
             free_flow: self.free_flow(line)?,
             original,
@@ -256,8 +267,8 @@ impl LineReader<'_> {
     pub(super) fn record(&self, line: &PlanLine) -> Result<PlanRecord, InputError> {
         let mut record = PlanRecord::first(
             line.request.clone(),
-            line.origin.clone(),
-            line.destination.clone(),
+            line.origin.clone().unwrap_or_default(),
+            line.destination.clone().unwrap_or_default(),
             self.time("requested_departure", &line.requested_departure)?,
             Err(RejectReason::NoFeasiblePlan),
             self.free_flow(line)?,

@@ -76,6 +76,11 @@ pub struct Summary {
     pub rejected: usize,
     /// Rejected, by reason (every reason listed, zero included).
     pub rejected_by_reason: BTreeMap<&'static str, usize>,
+    /// Demand from customers (SPEC §15): requests never planned because a customer has no
+    /// pad in reach or both share one, counted apart from the planner's rejections (in
+    /// `requests`, not in `rejected`); absent for other demand.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unserved: Option<usize>,
     /// `planned / requests` (1 for an empty run).
     pub success_rate: f64,
     /// Air delay (airborne − free-flow) of planned requests, seconds.
@@ -171,6 +176,7 @@ impl Summary {
             planned,
             rejected: requests - planned,
             rejected_by_reason,
+            unserved: None,
             success_rate: if requests == 0 {
                 1.0
             } else {
@@ -211,6 +217,28 @@ impl Summary {
     #[must_use]
     pub fn with_booking_lead(mut self, lead: BookingLead) -> Summary {
         self.parameters.booking_lead_min = Some(lead.into());
+        self
+    }
+
+    /// Counts `n` unserved requests of demand from customers apart (SPEC §15): they join the
+    /// requests, not the rejections, and the success rate is over all requests.
+    ///
+    /// ```
+    /// use muse_model::FlightParams;
+    /// use muse_sim::metrics::{Provenance, Summary};
+    /// let s = Summary::compute([], &FlightParams::default(), Default::default(), Provenance::default());
+    /// let s = s.with_unserved(4);
+    /// assert_eq!((s.requests, s.rejected, s.unserved, s.success_rate), (4, 0, Some(4), 0.0));
+    /// ```
+    #[must_use]
+    pub fn with_unserved(mut self, n: usize) -> Summary {
+        self.requests += n;
+        self.unserved = Some(n);
+        self.success_rate = if self.requests == 0 {
+            1.0
+        } else {
+            self.planned as f64 / self.requests as f64
+        };
         self
     }
 

@@ -370,6 +370,7 @@ const REASONS = {
   departure_in_past: "its departure was earlier than the service's clock",
   zone_announced: 'a no-fly zone announced before its take-off left it no plan',
   cancelled_by_operator: 'its operator cancelled it before take-off',
+  unserved: 'a customer has no pad within the last mile, or both customers share one',
 };
 
 /** Why request `u` (see `addUnflown`) did not fly, in words. */

@@ -62,6 +62,11 @@ function rowsHtml(rows) {
   return `<dl>${rows.map(([k, v]) => `<dt>${esc(k)}</dt><dd>${esc(v)}</dd>`).join('')}</dl>`;
 }
 
+/** A pad's id, or what stands for none (an unserved request's customer with no pad in reach). */
+function padName(n) {
+  return n === null || n === undefined ? 'no pad in reach' : scene.nodes[n].id;
+}
+
 function showDetails() {
   const box = $('details');
   const id = state.selected;
@@ -71,7 +76,7 @@ function showDetails() {
   if (u && !f) {
     box.innerHTML = `<div class="flight-id">${esc(u.id)}</div>
       <p class="reason"><b>${esc(u.status)}</b>: ${esc(reasonText(scene, u))} (<code>${esc(u.reason)}</code>).</p>
-      ${rowsHtml([['route', `${scene.nodes[u.o].id} → ${scene.nodes[u.d].id}`], ['requested', c(u.dep)]])}`;
+      ${rowsHtml([['route', `${padName(u.o)} → ${padName(u.d)}`], ['requested', c(u.dep)]])}`;
     return;
   }
   if (!f) {

@@ -84,8 +84,13 @@ pub fn measure(
             Ok(_) => result.planned += 1,
             Err(RejectReason::OutOfRange) => result.out_of_range += 1,
             Err(RejectReason::Unreachable) => result.unreachable += 1,
-            // A day planned in advance has no clock, so it never answers `departure_in_past`.
-            Err(RejectReason::NoFeasiblePlan | RejectReason::DepartureInPast) => {
+            // A day planned in advance has no clock, so it never answers `departure_in_past`;
+            // the planner never sees an `unserved` request.
+            Err(
+                RejectReason::NoFeasiblePlan
+                | RejectReason::DepartureInPast
+                | RejectReason::Unserved,
+            ) => {
                 result.no_feasible_plan += 1;
             }
         }

@@ -150,8 +150,13 @@ impl RunRecord {
                 }
                 Err(RejectReason::OutOfRange) => rec.out_of_range += 1,
                 Err(RejectReason::Unreachable) => rec.unreachable += 1,
-                // A day planned in advance has no clock, so it never answers `departure_in_past`.
-                Err(RejectReason::NoFeasiblePlan | RejectReason::DepartureInPast) => {
+                // A day planned in advance has no clock, so it never answers
+                // `departure_in_past`; the planner never sees an `unserved` request.
+                Err(
+                    RejectReason::NoFeasiblePlan
+                    | RejectReason::DepartureInPast
+                    | RejectReason::Unserved,
+                ) => {
                     rec.no_feasible_plan += 1;
                 }
             }
