@@ -179,8 +179,9 @@ pub struct DemandCmd {
     /// `id,lon,lat[,weight]`; each request joins two customers drawn by weight, from the
     /// nearest pad within `--last-mile-m` of the sender to that of the receiver. The file
     /// keeps the customer ids; a request with a customer out of reach, or both on one pad, is
-    /// unserved.
-    #[arg(long, value_name = "FILE", conflicts_with = "od")]
+    /// unserved. `singapore-hdb`: the embedded list of all 2,257 HDB car parks, each of
+    /// weight 1, as a proxy for where Singapore's residents live.
+    #[arg(long, value_name = "FILE|singapore-hdb", conflicts_with = "od")]
     customers: Option<PathBuf>,
     /// With `--customers`: the last mile, metres (straight line), from 0 to 100000.
     #[arg(long, value_name = "M", default_value_t = 1_000.0, requires = "customers", allow_negative_numbers = true, value_parser = ranges::last_mile_m)]
@@ -194,8 +195,8 @@ pub struct DemandCmd {
 pub fn run(args: &DemandCmd) -> anyhow::Result<ExitCode> {
     let inputs = output::Inputs::new().world(&args.world);
     let inputs = match &args.customers {
-        Some(path) => inputs.add("--customers", path),
-        None => inputs,
+        Some(path) if path.as_os_str() != SINGAPORE_HDB => inputs.add("--customers", path),
+        _ => inputs,
     };
     let out = output::file("--out", &args.out, &inputs)?;
     let world = args.world.load()?;
@@ -220,6 +221,9 @@ pub fn run(args: &DemandCmd) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// The name of the embedded customers: every HDB car park.
+const SINGAPORE_HDB: &str = "singapore-hdb";
+
 /// `muse demand --customers`: trips between customers, each mapped to its customers' pads.
 fn from_customers(
     args: &DemandCmd,
@@ -228,7 +232,11 @@ fn from_customers(
     spec: &DemandSpec,
     out: &output::FileOut,
 ) -> anyhow::Result<ExitCode> {
-    let customers = muse_formats::customers::read_customers_file(path)?;
+    let customers = if path.as_os_str() == SINGAPORE_HDB {
+        muse_scenario::candidates::residential_customers()?
+    } else {
+        muse_formats::customers::read_customers_file(path)?
+    };
     let weights: Vec<f64> = customers.iter().map(|c| c.weight).collect();
     let trips = draw_trips(
         &weights,

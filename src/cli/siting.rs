@@ -2,6 +2,7 @@
 //! greedy maximum coverage and k-means of demand for the same number of pads.
 
 mod report;
+mod shards;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -16,8 +17,9 @@ use muse_model::time::parse_clock;
 use muse_model::{Instant, Millis, Zone};
 use muse_sim::customers::trips::TripSpec;
 use muse_sim::demand::BookingLead;
+use muse_sim::experiment::Shard;
 use muse_siting::baselines::{kmeans_sites, max_coverage};
-use muse_siting::greedy::{BATCH, lazy_greedy};
+use muse_siting::greedy::{BATCH, first_round, lazy_greedy_from};
 use muse_siting::{Evaluation, Siting, SitingInput};
 
 use super::common::FlightArgs;
@@ -78,11 +80,26 @@ pub struct SitingArgs {
     kmeans_seed: u64,
     #[command(flatten)]
     flight: FlightArgs,
+    /// Evaluate only shard K of N of the greedy's first round (candidates `c` with
+    /// `c mod N = K`, counted from 0) and write it to `--out` as `shard.json`, for a cluster:
+    /// then `--from-shards` with every shard's folder finishes the greedy.
+    #[arg(long, value_name = "K/N", conflicts_with = "from_shards", value_parser = parse_shard)]
+    shard: Option<Shard>,
+    /// Finish the greedy from the first round of these shards (`--shard` folders, every shard
+    /// once, made with the same options and input files).
+    #[arg(long, value_name = "DIR", num_args = 1..)]
+    from_shards: Vec<PathBuf>,
     /// Output folder: `siting.csv` (the greedy's picks), `curve.csv` and `curve.svg`
     /// (delivered requests against pads added, for each method), `airspace.geojson` (the
-    /// airspace with the greedy's pads). Existing files there are replaced.
+    /// airspace with the greedy's pads); with `--shard`, `shard.json` alone. The folder is
+    /// replaced whole.
     #[arg(long, value_name = "DIR", default_value = "siting")]
     out: PathBuf,
+}
+
+/// `--shard K/N` for clap.
+fn parse_shard(text: &str) -> Result<Shard, String> {
+    Shard::parse(text).map_err(|e| e.to_string())
 }
 
 /// The problem and where it came from, for messages.
@@ -141,6 +158,42 @@ impl SitingArgs {
                 })
             })
             .collect()
+    }
+
+    /// What a shard's first round depends on: the demand, the flight parameters and the
+    /// input files (by a digest of their bytes), not `--add` or the baselines' seed.
+    fn problem_key(&self) -> anyhow::Result<String> {
+        let file = |p: &Option<PathBuf>| -> anyhow::Result<String> {
+            p.as_deref()
+                .map_or(Ok("default".to_owned()), shards::file_digest)
+        };
+        let zones: Vec<String> = self
+            .zones
+            .iter()
+            .map(|z| {
+                if z.as_os_str() == "none" {
+                    Ok("none".to_owned())
+                } else {
+                    shards::file_digest(z)
+                }
+            })
+            .collect::<anyhow::Result<_>>()?;
+        let flight = serde_json::to_string(&self.flight.record())?;
+        Ok(format!(
+            "pads {} candidates {} customers {} crs {:?} zones [{}]; {} days of {} from seed {}, \
+             {}–{}, last mile {} m; {flight}",
+            file(&self.pads)?,
+            file(&self.candidates)?,
+            file(&self.customers)?,
+            self.crs,
+            zones.join(" "),
+            self.days,
+            self.count,
+            self.seed,
+            self.from,
+            self.to,
+            self.last_mile_m
+        ))
     }
 
     /// Reads or builds the problem.
@@ -249,15 +302,17 @@ pub fn run(args: &SitingArgs) -> anyhow::Result<ExitCode> {
         .add_all("--pads", args.pads.as_slice())
         .add_all("--candidates", args.candidates.as_slice())
         .add_all("--customers", args.customers.as_slice())
-        .add_all("--zones", &args.zones);
+        .add_all("--zones", &args.zones)
+        .add_all("--from-shards", &args.from_shards);
     let files = report::Files::new(&args.out, &inputs)?;
     let loaded = args.load()?;
+    let problem = args.problem_key()?;
     let prepared = WallClock::now();
     let siting = Siting::prepare(loaded.input)?;
     let prepare_s = prepared.elapsed().as_secs_f64();
     let k = args.add;
     let count = siting.candidates().len();
-    if k > count {
+    if k > count && args.shard.is_none() {
         anyhow::bail!("--add {k}: there are only {count} candidate pads");
     }
     eprintln!(
@@ -267,10 +322,18 @@ pub fn run(args: &SitingArgs) -> anyhow::Result<ExitCode> {
     let mut bar = Evaluations {
         started: WallClock::now(),
         shown: None,
-        total: (count + (k - 1) * BATCH) as u64,
+        total: (count + k.saturating_sub(1) * BATCH) as u64,
     };
     let started = WallClock::now();
-    let run = lazy_greedy(&siting, k, |p| bar.update(p.evaluations, p.picks, k))?;
+    if let Some(shard) = args.shard {
+        return run_shard(&siting, shard, &problem, files, &mut bar);
+    }
+    let first = if args.from_shards.is_empty() {
+        None
+    } else {
+        Some(shards::merge(&args.from_shards, &problem, &siting)?)
+    };
+    let run = lazy_greedy_from(&siting, k, first, |p| bar.update(p.evaluations, p.picks, k))?;
     let greedy_s = started.elapsed().as_secs_f64();
     bar.finish();
     let baselines = WallClock::now();
@@ -300,17 +363,54 @@ pub fn run(args: &SitingArgs) -> anyhow::Result<ExitCode> {
     let curves = [greedy, coverage, kmeans];
     report::print_picks(&siting, &run);
     report::print_curves(&run.base, &curves);
+    // Evaluations made here: the shards' first round was made elsewhere.
+    let (here, merged) = if args.from_shards.is_empty() {
+        (run.evaluations, String::new())
+    } else {
+        (
+            run.evaluations - (count + 1),
+            format!(", {} of them from the shards", count + 1),
+        )
+    };
     eprintln!(
-        "  speed         {} evaluations in {greedy_s:.1} s ({:.1} per second, {} days each; \
-         {BATCH} at a time after the first round), baselines {:.1} s, preparing {prepare_s:.2} s",
+        "  speed         {} evaluations{merged}; {here} here in {greedy_s:.1} s ({:.1} per \
+         second, {} days each; {BATCH} at a time after the first round), baselines {:.1} s, \
+         preparing {prepare_s:.2} s",
         run.evaluations,
-        run.evaluations as f64 / greedy_s.max(1e-9),
+        here as f64 / greedy_s.max(1e-9),
         siting.day_count(),
         baselines_s
     );
     let written = files.describe();
     files.write(&siting, &run, &curves, args.add)?;
     eprintln!("  wrote         {written}");
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--shard K/N`: the first round of shard K alone, into `shard.json`.
+fn run_shard(
+    siting: &Siting,
+    shard: Shard,
+    problem: &str,
+    files: report::Files,
+    bar: &mut Evaluations,
+) -> anyhow::Result<ExitCode> {
+    let started = WallClock::now();
+    bar.total = (siting.candidates().len() / shard.of + 2) as u64;
+    let first = first_round(siting, shard, |n| bar.update(n, 0, 1))?;
+    bar.finish();
+    let took = started.elapsed().as_secs_f64();
+    let n = first.evaluations.len() + 1;
+    let shown = files.shown().to_owned();
+    files.write_shard(&shards::shard_json(problem, shard, siting, &first))?;
+    eprintln!(
+        "  shard         {}/{}: {n} evaluations in {took:.1} s ({:.1} per second); wrote \
+         {shown}/{}; finish with --from-shards and every shard's folder",
+        shard.index,
+        shard.of,
+        n as f64 / took.max(1e-9),
+        shards::FILE
+    );
     Ok(ExitCode::SUCCESS)
 }
 

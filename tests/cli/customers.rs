@@ -227,3 +227,27 @@ fn bad_customers_files_and_options_are_refused() {
         assert!(!out.exists());
     }
 }
+
+#[test]
+fn singapore_hdb_car_parks_are_the_built_in_customers() {
+    let o = muse(&[
+        "demand",
+        "--customers",
+        "singapore-hdb",
+        "--count",
+        "50",
+        "--out",
+        "-",
+    ]);
+    assert!(o.status.success(), "{}", said(&o));
+    let text = stdout(&o);
+    assert!(
+        text.starts_with("id,origin,destination,departure,origin_customer,destination_customer\n")
+    );
+    assert_eq!(text.lines().count(), 51);
+    assert!(
+        stderr(&o).contains("between 2257 customers"),
+        "{}",
+        said(&o)
+    );
+}

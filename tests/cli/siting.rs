@@ -81,7 +81,7 @@ fn siting_picks_pads_and_writes_the_curves_of_every_method() {
     assert!(o.status.success(), "{}", said(&o));
     let err = stderr(&o);
     assert!(err.contains("pick   1"), "{err}");
-    assert!(err.contains("evaluations in"), "{err}");
+    assert!(err.contains(" here in "), "{err}");
     let picks = rows(&out.join("siting.csv"));
     assert_eq!(picks.len(), 2);
     let curve = rows(&out.join("curve.csv"));
@@ -193,4 +193,62 @@ fn bad_siting_inputs_are_refused_with_no_output() {
     let o = muse(&["siting", "--pads", &pads, "--out", out.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2), "{}", said(&o));
     assert!(stderr(&o).contains("--candidates"), "{}", said(&o));
+}
+
+#[test]
+fn shards_of_the_first_round_merge_into_the_same_picks() {
+    let dir = scratch_dir("siting-shards");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (pads, candidates, customers) = inputs(&dir);
+    let whole = dir.join("whole");
+    let o = siting(&pads, &candidates, &customers, &whole, &["--add", "2"]);
+    assert!(o.status.success(), "{}", said(&o));
+    let parts: Vec<String> = (0..2)
+        .map(|i| dir.join(format!("part{i}")).display().to_string())
+        .collect();
+    for (i, part) in parts.iter().enumerate() {
+        let shard = format!("{i}/2");
+        let o = siting(
+            &pads,
+            &candidates,
+            &customers,
+            Path::new(part),
+            &["--shard", &shard],
+        );
+        assert!(o.status.success(), "{}", said(&o));
+        assert!(Path::new(part).join("shard.json").exists());
+    }
+    let merged = dir.join("merged");
+    let mut extra = vec!["--add", "2", "--from-shards"];
+    extra.extend(parts.iter().map(String::as_str));
+    let o = siting(&pads, &candidates, &customers, &merged, &extra);
+    assert!(o.status.success(), "{}", said(&o));
+    for file in ["siting.csv", "curve.csv"] {
+        assert_eq!(
+            std::fs::read_to_string(merged.join(file)).unwrap(),
+            std::fs::read_to_string(whole.join(file)).unwrap(),
+            "{file}"
+        );
+    }
+    // A missing shard, or shards of another problem, are refused.
+    let bad = dir.join("bad");
+    let o = siting(
+        &pads,
+        &candidates,
+        &customers,
+        &bad,
+        &["--add", "2", "--from-shards", &parts[0]],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", said(&o));
+    assert!(stderr(&o).contains("shard 1/2 is missing"), "{}", said(&o));
+    let mut extra = vec!["--add", "2", "--last-mile-m", "700", "--from-shards"];
+    extra.extend(parts.iter().map(String::as_str));
+    let o = siting(&pads, &candidates, &customers, &bad, &extra);
+    assert_eq!(o.status.code(), Some(2), "{}", said(&o));
+    assert!(
+        stderr(&o).contains("a shard of another siting problem"),
+        "{}",
+        said(&o)
+    );
+    assert!(!bad.exists());
 }

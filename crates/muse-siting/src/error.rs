@@ -30,6 +30,9 @@ pub enum SitingError {
         /// The pad already there.
         other: String,
     },
+    /// A first round given to the greedy is not whole.
+    #[error("the first round given is not whole: {0}")]
+    FirstRound(String),
     /// No seeded day to plan.
     #[error("siting needs at least one seeded day of demand")]
     NoDays,

@@ -12,6 +12,7 @@
 
 use rayon::prelude::*;
 
+use muse_sim::experiment::Shard;
 use muse_sim::stats::MeanCi;
 
 use crate::{Evaluation, Siting, SitingError};
@@ -70,6 +71,59 @@ pub struct Progress {
 pub fn lazy_greedy(
     siting: &Siting,
     k: usize,
+    progress: impl FnMut(Progress),
+) -> Result<GreedyRun, SitingError> {
+    lazy_greedy_from(siting, k, None, progress)
+}
+
+/// The first round: the existing pads evaluated, and each candidate of `shard` (candidate
+/// `c` when `c mod N = K`) evaluated with them, in parallel; `progress` is called with the
+/// evaluations done. The rounds after it need every candidate's first evaluation: merge the
+/// shards' and give them to [`lazy_greedy_from`].
+///
+/// # Errors
+/// A pad set that gives no airspace.
+pub fn first_round(
+    siting: &Siting,
+    shard: Shard,
+    mut progress: impl FnMut(usize),
+) -> Result<FirstRound, SitingError> {
+    let base = siting.evaluate(&[])?;
+    let mine: Vec<usize> = (0..siting.candidates().len())
+        .filter(|&c| shard.takes(c))
+        .collect();
+    let mut evaluations = Vec::with_capacity(mine.len());
+    for chunk in mine.chunks(FIRST_ROUND_BATCH) {
+        let measured: Vec<Result<Evaluation, SitingError>> =
+            chunk.par_iter().map(|&c| siting.evaluate(&[c])).collect();
+        for (&c, m) in chunk.iter().zip(measured) {
+            evaluations.push((c, m?));
+        }
+        progress(evaluations.len() + 1);
+    }
+    Ok(FirstRound { base, evaluations })
+}
+
+/// The existing pads and candidates evaluated with them alone: the greedy's first round, or
+/// a shard of it ([`first_round`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FirstRound {
+    /// The existing pads alone.
+    pub base: Evaluation,
+    /// `(candidate, the existing pads with it)`.
+    pub evaluations: Vec<(usize, Evaluation)>,
+}
+
+/// [`lazy_greedy`], its first round given (every candidate once, e.g. merged from shards) or
+/// evaluated here (`None`).
+///
+/// # Errors
+/// `k` above the number of candidates; a first round that does not give every candidate
+/// once, or whose days differ in number; a pad set that gives no airspace.
+pub fn lazy_greedy_from(
+    siting: &Siting,
+    k: usize,
+    first: Option<FirstRound>,
     mut progress: impl FnMut(Progress),
 ) -> Result<GreedyRun, SitingError> {
     let count = siting.candidates().len();
@@ -79,16 +133,39 @@ pub fn lazy_greedy(
             available: count,
         });
     }
-    let base = siting.evaluate(&[])?;
-    let mut evaluations = 1;
-    let mut current = base.clone();
-    let mut added: Vec<usize> = Vec::with_capacity(k);
     // Each open candidate's last measured gain and the round it was measured in.
     let mut bound: Vec<Option<(f64, usize)>> = vec![None; count];
+    let mut fresh: Vec<Option<Evaluation>> = vec![None; count];
+    let (base, mut evaluations) = match first {
+        None => (siting.evaluate(&[])?, 1),
+        Some(first) => {
+            let days = siting.day_count();
+            let given = first.evaluations.len();
+            for (c, e) in first.evaluations {
+                if c >= count || fresh[c].is_some() || e.delivered.len() != days {
+                    return Err(SitingError::FirstRound(format!(
+                        "candidate {c} is out of range, given twice, or judged on other days"
+                    )));
+                }
+                bound[c] = Some((e.mean_delivered() - first.base.mean_delivered(), 0));
+                fresh[c] = Some(e);
+            }
+            if given != count || first.base.delivered.len() != days {
+                return Err(SitingError::FirstRound(format!(
+                    "{given} of the {count} candidates are evaluated"
+                )));
+            }
+            (first.base, given + 1)
+        }
+    };
+    let mut current = base.clone();
+    let mut added: Vec<usize> = Vec::with_capacity(k);
     let mut open: Vec<bool> = vec![true; count];
     let mut picks = Vec::with_capacity(k);
     for round in 0..k {
-        let mut fresh: Vec<Option<Evaluation>> = vec![None; count];
+        if round > 0 {
+            fresh = vec![None; count];
+        }
         loop {
             let order = by_bound(&bound, &open);
             let top = order[0];
@@ -190,6 +267,31 @@ mod tests {
         assert_eq!(*last, siting.evaluate(&run.added()).unwrap());
         // Lazy: fewer evaluations than exact greedy's 1 + 5 + 4 + 3.
         assert!(run.evaluations <= 13, "{}", run.evaluations);
+    }
+
+    #[test]
+    fn a_first_round_merged_from_shards_picks_as_one_run_does() {
+        let siting = Siting::prepare(example_input()).unwrap();
+        let whole = lazy_greedy(&siting, 3, |_| {}).unwrap();
+        let shards: Vec<FirstRound> = (0..3)
+            .map(|index| first_round(&siting, Shard { index, of: 3 }, |_| {}).unwrap())
+            .collect();
+        let mut merged = FirstRound {
+            base: shards[0].base.clone(),
+            evaluations: Vec::new(),
+        };
+        for s in shards {
+            assert_eq!(s.base, merged.base);
+            merged.evaluations.extend(s.evaluations);
+        }
+        let again = lazy_greedy_from(&siting, 3, Some(merged.clone()), |_| {}).unwrap();
+        assert_eq!(again, whole);
+        // A first round that misses a candidate is refused.
+        merged.evaluations.pop();
+        assert!(matches!(
+            lazy_greedy_from(&siting, 3, Some(merged), |_| {}),
+            Err(SitingError::FirstRound(_))
+        ));
     }
 
     #[test]

@@ -34,6 +34,17 @@ impl Files {
         )
     }
 
+    /// Writes a shard's `shard.json` alone and puts the folder in place.
+    pub fn write_shard(self, text: &str) -> anyhow::Result<()> {
+        output::write_atomically(&self.folder.path().join(super::shards::FILE), text)?;
+        self.folder.commit()
+    }
+
+    /// The folder as given, for messages.
+    pub fn shown(&self) -> &str {
+        &self.shown
+    }
+
     /// Writes every file and puts the folder in place.
     pub fn write(
         self,
@@ -87,16 +98,29 @@ pub fn print_picks(siting: &Siting, run: &GreedyRun) {
     }
 }
 
-/// Each method's deliveries at a few k.
+/// Each method's deliveries with all its pads, and what the first method (the greedy) delivers
+/// over each other one on the same days (a paired difference).
 pub fn print_curves(base: &Evaluation, curves: &[Curve]) {
+    let last = |c: &Curve| c.steps.last().map_or(base, |(_, e)| e).clone();
+    let first = curves.first().map(last);
     for c in curves {
-        let last = c.steps.last().map_or(base, |(_, e)| e);
+        let end = last(c);
+        let versus = match &first {
+            Some(f) if c.method != curves[0].method => {
+                format!(
+                    "; {} delivers {} more",
+                    curves[0].method,
+                    pm(f.gain_over(&end))
+                )
+            }
+            _ => String::new(),
+        };
         eprintln!(
-            "  {:<18} {} pads: delivered {} per day ({:+.1} over the existing pads)",
+            "  {:<18} {} pads: delivered {} per day ({:+.1} over the existing pads){versus}",
             c.method,
             c.steps.len(),
-            pm(last.delivered_ci()),
-            last.mean_delivered() - base.mean_delivered()
+            pm(end.delivered_ci()),
+            end.mean_delivered() - base.mean_delivered()
         );
     }
 }
