@@ -106,6 +106,8 @@ fn parse_shard(text: &str) -> Result<Shard, String> {
 struct Loaded {
     input: SitingInput,
     source: String,
+    /// Whether it is Singapore's (its land outline and data attribution go on the map).
+    singapore: bool,
 }
 
 impl SitingArgs {
@@ -216,6 +218,7 @@ impl SitingArgs {
                 source: "Singapore: the 77 stations, 1,038 candidate car parks, 2,257 HDB car \
                          parks as customers"
                     .to_owned(),
+                singapore: true,
             });
         };
         let (Some(candidates), Some(customers)) = (&self.candidates, &self.customers) else {
@@ -246,6 +249,7 @@ impl SitingArgs {
                 customers.display()
             ),
             input,
+            singapore: false,
         })
     }
 }
@@ -308,6 +312,7 @@ pub fn run(args: &SitingArgs) -> anyhow::Result<ExitCode> {
     let loaded = args.load()?;
     let problem = args.problem_key()?;
     let prepared = WallClock::now();
+    let singapore = loaded.singapore;
     let siting = Siting::prepare(loaded.input)?;
     let prepare_s = prepared.elapsed().as_secs_f64();
     let k = args.add;
@@ -381,10 +386,59 @@ pub fn run(args: &SitingArgs) -> anyhow::Result<ExitCode> {
         siting.day_count(),
         baselines_s
     );
+    let map = map_svg(&siting, &run.added(), singapore)?;
     let written = files.describe();
-    files.write(&siting, &run, &curves, args.add)?;
+    files.write(&siting, &run, &curves, &map)?;
     eprintln!("  wrote         {written}");
     Ok(ExitCode::SUCCESS)
+}
+
+/// `map.svg`: the airspace with the greedy's pads, marked, on the land (Singapore's) with the
+/// zones.
+fn map_svg(siting: &Siting, added: &[usize], singapore: bool) -> anyhow::Result<String> {
+    use muse_render::{MapInput, MapOptions, ZoneLayer, render_map};
+    let airspace = siting.airspace(added)?;
+    let land = if singapore {
+        muse_scenario::singapore_land().0
+    } else {
+        Vec::new()
+    };
+    let mut zones = Vec::new();
+    for zone in &siting.input().zones {
+        let (closed_nodes, closed_edges) =
+            muse_airspace::closures::closed_elements(&airspace, zone)
+                .with_context(|| format!("zone `{}`", zone.id))?;
+        zones.push(ZoneLayer {
+            label: zone.name.clone(),
+            polygons: zone.polygons(),
+            closed_nodes,
+            closed_edges,
+        });
+    }
+    let existing = siting.input().existing.len();
+    let mut input = MapInput::new(&airspace);
+    input.land = &land;
+    input.zones = zones;
+    input.marked = (0..added.len())
+        .map(|j| muse_model::NodeId((existing + j) as u32))
+        .collect();
+    input.marked_label = format!("Pads added (greedy by simulation, {})", added.len());
+    let opts = MapOptions {
+        width_px: 1_600,
+        title: format!(
+            "MUSE siting: {} pads and {} added by greedy simulation",
+            existing,
+            added.len()
+        ),
+        attribution: if singapore {
+            muse_scenario::ATTRIBUTION.to_owned()
+        } else {
+            String::new()
+        },
+        label_stations: airspace.stations().count() <= super::common::MAX_LABELLED_STATIONS,
+        ..MapOptions::default()
+    };
+    Ok(render_map(&input, &opts)?)
 }
 
 /// `--shard K/N`: the first round of shard K alone, into `shard.json`.

@@ -17,6 +17,8 @@ pub(crate) const INK: RGBColor = RGBColor(0x1B, 0x2A, 0x41);
 pub(crate) const WAYPOINT: RGBColor = RGBColor(0x6E, 0x7B, 0x88);
 /// Zones and closed elements.
 pub(crate) const ZONE: RGBColor = RGBColor(0xD6, 0x27, 0x28);
+/// Marked stations (e.g. pads a siting added): orange.
+pub(crate) const MARKED: RGBColor = RGBColor(0xE8, 0x7A, 0x00);
 /// Secondary text (ticks, attribution).
 pub(crate) const MUTED: RGBColor = RGBColor(0x55, 0x5F, 0x6B);
 /// Paper.

@@ -29,7 +29,7 @@ impl Files {
     /// `DIR/{…}`, for the last line.
     pub fn describe(&self) -> String {
         format!(
-            "{}/{{siting.csv, curve.csv, curve.svg, airspace.geojson}}",
+            "{}/{{siting.csv, curve.csv, curve.svg, map.svg, airspace.geojson}}",
             self.shown
         )
     }
@@ -51,9 +51,11 @@ impl Files {
         siting: &Siting,
         run: &GreedyRun,
         curves: &[Curve],
-        k: usize,
+        map: &str,
     ) -> anyhow::Result<()> {
+        let k = run.picks.len();
         let dir = self.folder.path();
+        output::write_atomically(&dir.join("map.svg"), map)?;
         output::write_atomically(&dir.join("siting.csv"), &picks_csv(siting, run))?;
         output::write_atomically(
             &dir.join("curve.csv"),

@@ -10,7 +10,7 @@ use plotters::element::{
 use plotters::style::{Color, ShapeStyle};
 
 use super::{MapCtx, STATION_R, WAYPOINT_R, load_top};
-use crate::style::{COAST, EDGE, INK, LAND, PAPER, SEA, WAYPOINT, ZONE, ramp};
+use crate::style::{COAST, EDGE, INK, LAND, MARKED, PAPER, SEA, WAYPOINT, ZONE, ramp};
 use crate::{RenderError, drawing_err};
 
 /// With more nodes than this, nodes are drawn smaller so that dense clusters stay readable.
@@ -148,6 +148,13 @@ impl MapCtx<'_, '_, '_> {
                 root.draw(&Circle::new(p, r, colour.filled()))
                     .map_err(drawing_err)?;
             }
+        }
+        for &n in &self.input.marked {
+            let p = self.pos(n);
+            root.draw(&Circle::new(p, STATION_R + 4, PAPER.filled()))
+                .map_err(drawing_err)?;
+            root.draw(&Circle::new(p, STATION_R + 2, MARKED.filled()))
+                .map_err(drawing_err)?;
         }
         let closed_nodes = union_sorted(self.input.zones.iter().map(|z| z.closed_nodes.as_slice()));
         for &n in &closed_nodes {

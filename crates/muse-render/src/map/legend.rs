@@ -9,7 +9,7 @@ use plotters::style::text_anchor::{HPos, VPos};
 use super::{
     MARGIN_LEFT, MARGIN_RIGHT, MapInput, MapOptions, STATION_R, TICK_PX, WAYPOINT_R, load_top,
 };
-use crate::style::{EDGE, INK, MUTED, WAYPOINT, ZONE, ramp, text, text_width};
+use crate::style::{EDGE, INK, MARKED, MUTED, WAYPOINT, ZONE, ramp, text, text_width};
 use crate::ticks::fmt_num;
 use crate::{Area, RenderError, drawing_err};
 
@@ -25,6 +25,7 @@ pub(super) struct Legend {
 
 enum LegendItem {
     Station,
+    Marked(String),
     Waypoint,
     Corridor,
     ClosedCorridor,
@@ -40,7 +41,7 @@ impl LegendItem {
             LegendItem::Corridor => "Corridor",
             LegendItem::ClosedCorridor => "Closed corridor",
             LegendItem::ClosedNode => "Closed node",
-            LegendItem::Zone(s) => s,
+            LegendItem::Marked(s) | LegendItem::Zone(s) => s,
         }
     }
 
@@ -53,6 +54,9 @@ impl Legend {
     pub(super) fn new(input: &MapInput<'_>, opts: &MapOptions, width: f64) -> Legend {
         let a = input.airspace;
         let mut items = vec![LegendItem::Station];
+        if !input.marked.is_empty() {
+            items.push(LegendItem::Marked(input.marked_label.clone()));
+        }
         if a.nodes().iter().any(|n| n.kind == NodeKind::Waypoint) {
             items.push(LegendItem::Waypoint);
         }
@@ -118,6 +122,10 @@ impl Legend {
                 match item {
                     LegendItem::Station => {
                         root.draw(&Circle::new((xi + 14, yi), STATION_R, INK.filled()))
+                            .map_err(drawing_err)?;
+                    }
+                    LegendItem::Marked(_) => {
+                        root.draw(&Circle::new((xi + 14, yi), STATION_R + 2, MARKED.filled()))
                             .map_err(drawing_err)?;
                     }
                     LegendItem::Waypoint => {

@@ -39,16 +39,23 @@ pub struct MapInput<'a> {
     /// day). When present, corridors are coloured and widened by load and a colour legend is
     /// drawn.
     pub edge_load: Option<Vec<f64>>,
+    /// Stations to pick out (drawn larger, in an accent colour, with a legend entry named
+    /// `marked_label`): e.g. the pads a siting added.
+    pub marked: Vec<NodeId>,
+    /// The legend entry of `marked`.
+    pub marked_label: String,
 }
 
 impl<'a> MapInput<'a> {
-    /// A map of `airspace` alone: no land, no zones, no load.
+    /// A map of `airspace` alone: no land, no zones, no load, nothing marked.
     pub fn new(airspace: &'a Airspace) -> Self {
         MapInput {
             airspace,
             land: &[],
             zones: Vec::new(),
             edge_load: None,
+            marked: Vec::new(),
+            marked_label: String::new(),
         }
     }
 }
@@ -237,6 +244,11 @@ fn validate(input: &MapInput<'_>, opts: &MapOptions) -> Result<(), RenderError> 
             )));
         }
     }
+    if let Some(n) = input.marked.iter().find(|n| n.index() >= a.node_count()) {
+        return Err(RenderError::Input(format!(
+            "marked node {n} does not exist"
+        )));
+    }
     if let Some(load) = &input.edge_load {
         if load.len() != a.edge_count() {
             return Err(RenderError::Input(format!(
@@ -337,6 +349,27 @@ mod tests {
     }
 
     #[test]
+    fn marked_stations_stand_out_with_a_legend_entry() {
+        let (airspace, land, _) = sample();
+        let mut input = MapInput::new(&airspace);
+        input.land = &land;
+        let plain = render_map(&input, &MapOptions::default()).unwrap();
+        input.marked = vec![NodeId(1)];
+        input.marked_label = "Pads added".into();
+        let svg = render_map(&input, &MapOptions::default()).unwrap();
+        assert!(!plain.contains("#E87A00"));
+        // The marked dot and its legend dot.
+        assert_eq!(
+            svg.matches("fill=\"#E87A00\"").count(),
+            2,
+            "one dot and one legend dot"
+        );
+        assert!(svg.contains(">\nPads added\n</text>"));
+        input.marked = vec![NodeId(99)];
+        assert!(render_map(&input, &MapOptions::default()).is_err());
+    }
+
+    #[test]
     fn svg_has_labels_zone_and_frame() {
         let (airspace, land, zone) = sample();
         let input = MapInput {
@@ -344,6 +377,8 @@ mod tests {
             land: &land,
             zones: vec![zone],
             edge_load: None,
+            marked: Vec::new(),
+            marked_label: String::new(),
         };
         let svg = render_map(&input, &MapOptions::default()).unwrap();
         assert!(svg.starts_with("<svg"), "{}", &svg[..80]);
@@ -386,6 +421,8 @@ mod tests {
             land: &land,
             zones: vec![zone],
             edge_load: Some(vec![1.0, 2.0, 3.0, 0.0, 7.5]),
+            marked: Vec::new(),
+            marked_label: String::new(),
         };
         let a = render_map(&input, &MapOptions::default()).unwrap();
         let b = render_map(&input.clone(), &MapOptions::default()).unwrap();
@@ -404,6 +441,8 @@ mod tests {
             land: &land,
             zones: vec![],
             edge_load: None,
+            marked: Vec::new(),
+            marked_label: String::new(),
         };
         let plain = render_map(&input, &opts).unwrap();
         assert!(!plain.contains("Flights per corridor"));
@@ -446,6 +485,8 @@ mod tests {
             land: &land,
             zones: vec![zone],
             edge_load: None,
+            marked: Vec::new(),
+            marked_label: String::new(),
         };
         let svg = render_map(&input, &MapOptions::default()).unwrap();
         assert!(svg.contains(">\nClosed node\n</text>"));
@@ -460,6 +501,8 @@ mod tests {
             land: &land,
             zones: vec![],
             edge_load: Some(vec![1.0]),
+            marked: Vec::new(),
+            marked_label: String::new(),
         };
         assert!(matches!(
             render_map(&input, &MapOptions::default()),
