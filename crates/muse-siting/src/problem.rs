@@ -120,6 +120,11 @@ impl Siting {
         self.trips.len()
     }
 
+    /// The instants whose zone closures can matter to any day (what zones are resolved over).
+    pub fn window(&self) -> (Instant, Instant) {
+        self.window
+    }
+
     /// The trips of day `d`, in planning order.
     pub fn trips(&self, d: usize) -> &[Trip] {
         &self.trips[d]
