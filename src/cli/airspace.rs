@@ -37,6 +37,11 @@ pub enum AirspaceCommand {
         /// and a pad inside one is an error.
         #[arg(long, value_name = "FILE", requires = "pads")]
         exclude: Vec<PathBuf>,
+        /// The map's land outline (with `--pads`): Polygon or MultiPolygon GeoJSON, carried in
+        /// the airspace file (features of kind `land`) and drawn on its maps and in the
+        /// viewer; it does not change the corridors.
+        #[arg(long, value_name = "FILE", requires = "pads")]
+        land: Option<PathBuf>,
         /// Drop corridors longer than this (with `--pads`), metres, from 1 to 1000000.
         #[arg(long, value_name = "M", requires = "pads", allow_negative_numbers = true, value_parser = super::ranges::max_corridor_m)]
         max_corridor_m: Option<f64>,
@@ -95,11 +100,13 @@ pub fn run(cmd: AirspaceCommand) -> anyhow::Result<ExitCode> {
             exclude,
             max_corridor_m,
             out,
+            land,
             check: _,
         } => build_from_pads(
             &pads,
             crs.as_deref(),
             &exclude,
+            land.as_deref(),
             max_corridor_m,
             out.as_deref(),
         ),
@@ -172,6 +179,7 @@ fn build_from_pads(
     pads: &Path,
     crs: Option<&str>,
     exclude: &[PathBuf],
+    land: Option<&Path>,
     max_corridor_m: Option<f64>,
     out: Option<&Path>,
 ) -> anyhow::Result<ExitCode> {
@@ -187,6 +195,10 @@ fn build_from_pads(
     let inputs = output::Inputs::new()
         .add("--pads", pads)
         .add_all("--exclude", exclude);
+    let inputs = match land {
+        Some(path) => inputs.add("--land", path),
+        None => inputs,
+    };
     let target = output::file("--out", out, &inputs)?;
     let nodes = muse_formats::pads::read_pads_file(pads)?;
     let mut exclusions = Vec::new();
@@ -217,7 +229,11 @@ fn build_from_pads(
             return Err(e).with_context(|| format!("building the airspace of {}", pads.display()));
         }
     };
-    let text = muse_formats::airspace_geojson::write_airspace(&airspace);
+    let outline = match land {
+        Some(path) => muse_formats::exclusions::read_exclusions_file(path)?,
+        None => Vec::new(),
+    };
+    let text = muse_formats::airspace_geojson::write_airspace_with_land(&airspace, &outline);
     target.write(&text)?;
     eprintln!(
         "built {} pads into {} corridors in {plane} ({} bytes to {target})",

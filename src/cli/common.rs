@@ -95,6 +95,9 @@ pub struct World {
     pub scenario: Option<&'static muse_scenario::Scenario>,
     /// Whether Singapore's land outline applies (drawn on maps, with the data attribution).
     pub land: bool,
+    /// The land outline an airspace file carries (`muse airspace build --land`), drawn on
+    /// maps; empty otherwise.
+    pub land_outline: Vec<geo_types::Polygon<f64>>,
     /// A one-line description for map titles.
     pub title: String,
     /// The scenario's date, for local clock times.
@@ -129,6 +132,10 @@ impl WorldArgs {
         }
         // Date and offset: the scenario's; files and synthetic airspaces use the default's.
         let default = muse_scenario::by_name(muse_scenario::SINGAPORE_77)?;
+        let land_outline = match &self.airspace {
+            Some(path) => muse_formats::land::read_land_file(path)?,
+            None => Vec::new(),
+        };
         let (airspace_source, airspace, scenario, title) = if let Some(path) = &self.airspace {
             (
                 path.display().to_string(),
@@ -185,6 +192,7 @@ impl WorldArgs {
             zones,
             scenario,
             land: scenario.is_some_and(|s| s.land),
+            land_outline,
             title,
             date: day.date,
             offset: day.offset,
@@ -359,12 +367,13 @@ impl FlightArgs {
 /// Stations are labelled on maps with at most this many stations (more would be illegible).
 pub const MAX_LABELLED_STATIONS: usize = 150;
 
-/// Singapore's land outline when the world is one of its scenarios; none otherwise.
+/// Singapore's land outline when the world is one of its scenarios; else the outline its
+/// airspace file carries, if any.
 pub fn world_land(world: &World) -> Vec<geo_types::Polygon<f64>> {
     if world.land {
         muse_scenario::singapore_land().0
     } else {
-        Vec::new()
+        world.land_outline.clone()
     }
 }
 

@@ -132,11 +132,7 @@ fn scene_of(
     summary: Option<serde_json::Value>,
     range: (Instant, Instant),
 ) -> anyhow::Result<muse_view::Scene> {
-    let land = if world.land {
-        muse_scenario::singapore_land().0
-    } else {
-        Vec::new()
-    };
+    let land = super::common::world_land(world);
     let mut input = muse_view::SceneInput::new(&world.airspace, world.offset, range);
     input.title.clone_from(&world.title);
     if world.scenario.is_some() {

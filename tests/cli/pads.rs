@@ -308,3 +308,68 @@ fn a_pads_file_that_is_not_utf8_names_the_line_of_its_first_bad_byte() {
         said(&o)
     );
 }
+
+#[test]
+fn a_land_outline_is_carried_in_the_airspace_file_and_drawn() {
+    let dir = scratch_dir("pads-land");
+    std::fs::create_dir_all(&dir).unwrap();
+    let pads = write(&dir, "vienna.csv", VIENNA);
+    // A made-up outline around the test points.
+    let land = write(
+        &dir,
+        "land.geojson",
+        r#"{"type": "Feature", "properties": {}, "geometry": {"type": "Polygon", "coordinates": [[[16.33, 48.18], [16.43, 48.18], [16.43, 48.24], [16.33, 48.24], [16.33, 48.18]]]}}"#,
+    );
+    let plain = dir.join("plain.geojson");
+    let with_land = dir.join("with-land.geojson");
+    assert!(build(&pads, &plain, &[]).status.success());
+    let o = build(&pads, &with_land, &["--land", &land]);
+    assert!(o.status.success(), "{}", said(&o));
+    let text = std::fs::read_to_string(&with_land).unwrap();
+    assert!(text.contains(r#""properties": {"kind": "land"}"#), "{text}");
+    // The same graph: the plain file is the land file without its last feature.
+    let plain_text = std::fs::read_to_string(&plain).unwrap();
+    assert!(text.starts_with(plain_text.trim_end_matches("\n]}\n")));
+    // Every command reads it; maps draw the land.
+    let map = |air: &Path| {
+        let out = dir.join("map.svg");
+        let o = muse(&[
+            "airspace",
+            "map",
+            "--airspace",
+            air.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", said(&o));
+        std::fs::read_to_string(out).unwrap()
+    };
+    // The coastline colour outlines the land.
+    assert!(map(&with_land).contains("#7E98AD"), "the coastline");
+    assert!(!map(&plain).contains("#7E98AD"));
+    let o = muse(&[
+        "simulate",
+        "--airspace",
+        with_land.to_str().unwrap(),
+        "--count",
+        "50",
+        "--out",
+        dir.join("sim").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", said(&o));
+    // A bad outline is refused with no output.
+    let bad = write(
+        &dir,
+        "bad-land.geojson",
+        r#"{"type": "Point", "coordinates": [16.3, 48.2]}"#,
+    );
+    let out = dir.join("refused.geojson");
+    let o = build(&pads, &out, &["--land", &bad]);
+    assert_eq!(o.status.code(), Some(2), "{}", said(&o));
+    assert!(
+        stderr(&o).contains("bad-land.geojson: feature 0: field `type`"),
+        "{}",
+        said(&o)
+    );
+    assert!(!out.exists());
+}

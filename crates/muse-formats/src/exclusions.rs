@@ -42,34 +42,42 @@ pub fn read_exclusions(text: &str, file: &str) -> Result<Vec<Polygon<f64>>, Inpu
     };
     let mut out = Vec::new();
     for (index, g) in geometries.into_iter().enumerate() {
-        let err = |field: &str, m: String| {
+        let polygons = geometry_polygons(g, "an exclusion").map_err(|(field, m)| {
             InputError::new(file, Location::Feature { index, id: None }, Some(field), m)
-        };
-        let coords = &g["coordinates"];
-        match g["type"].as_str() {
-            Some("Polygon") => out.push(polygon(coords).map_err(|m| err("coordinates", m))?),
-            Some("MultiPolygon") => {
-                for p in coords.as_array().ok_or_else(|| {
-                    err(
-                        "coordinates",
-                        "a MultiPolygon's coordinates are a list of polygons".into(),
-                    )
-                })? {
-                    out.push(polygon(p).map_err(|m| err("coordinates", m))?);
-                }
-            }
-            other => {
-                return Err(err(
-                    "type",
-                    format!(
-                        "{}: an exclusion is a GeoJSON Polygon or MultiPolygon",
-                        other.map_or_else(|| "no geometry type".to_owned(), |t| format!("`{t}`"))
-                    ),
-                ));
-            }
-        }
+        })?;
+        out.extend(polygons);
     }
     Ok(out)
+}
+
+/// The polygons of a GeoJSON `Polygon` or `MultiPolygon` geometry; else the field to blame
+/// and why (`what` names what the geometry is for in the message, e.g. `an exclusion`).
+pub(crate) fn geometry_polygons(
+    g: &Value,
+    what: &str,
+) -> Result<Vec<Polygon<f64>>, (&'static str, String)> {
+    let coords = &g["coordinates"];
+    match g["type"].as_str() {
+        Some("Polygon") => Ok(vec![polygon(coords).map_err(|m| ("coordinates", m))?]),
+        Some("MultiPolygon") => coords
+            .as_array()
+            .ok_or_else(|| {
+                (
+                    "coordinates",
+                    "a MultiPolygon's coordinates are a list of polygons".to_owned(),
+                )
+            })?
+            .iter()
+            .map(|p| polygon(p).map_err(|m| ("coordinates", m)))
+            .collect(),
+        other => Err((
+            "type",
+            format!(
+                "{}: {what} is a GeoJSON Polygon or MultiPolygon",
+                other.map_or_else(|| "no geometry type".to_owned(), |t| format!("`{t}`"))
+            ),
+        )),
+    }
 }
 
 /// Reads an exclusions file.

@@ -8,6 +8,7 @@
 //! - [`zones`]: no-fly zones in the ED-318 GeoJSON profile and ED-269 JSON;
 //! - [`pads`]: the pads an airspace is built from (CSV or GeoJSON points, SPEC §15);
 //! - [`exclusions`]: polygons no corridor of an airspace built from pads may meet;
+//! - [`land`]: the land outline an airspace file may carry, for its maps;
 //! - [`customers`]: customers, the points demand is drawn between (SPEC §15);
 //! - [`requests`]: the requests CSV;
 //! - [`plans`]: plan output as JSON Lines;
@@ -23,6 +24,7 @@ pub mod error;
 pub mod exclusions;
 pub mod flights;
 pub mod flights_csv;
+pub mod land;
 pub mod pads;
 pub mod params;
 pub mod plans;
