@@ -386,6 +386,27 @@ pub fn world_attribution(world: &World) -> String {
     }
 }
 
+/// Each zone as a map draws it on `airspace`: its area, label and the elements it closes.
+pub fn zone_layers(
+    airspace: &Airspace,
+    zones: &[Zone],
+) -> anyhow::Result<Vec<muse_render::ZoneLayer>> {
+    zones
+        .iter()
+        .map(|zone| {
+            let (closed_nodes, closed_edges) =
+                muse_airspace::closures::closed_elements(airspace, zone)
+                    .with_context(|| format!("zone `{}`", zone.id))?;
+            Ok(muse_render::ZoneLayer {
+                label: zone.name.clone(),
+                polygons: zone.polygons(),
+                closed_nodes,
+                closed_edges,
+            })
+        })
+        .collect()
+}
+
 /// Draws a world's airspace, land (for the Singapore scenarios) and zones as an SVG map;
 /// `edge_load` colours corridors by how busy they were.
 pub fn render_world_map(
@@ -393,20 +414,9 @@ pub fn render_world_map(
     width_px: u32,
     edge_load: Option<(Vec<f64>, String)>,
 ) -> anyhow::Result<String> {
-    use muse_render::{MapInput, MapOptions, ZoneLayer, render_map};
+    use muse_render::{MapInput, MapOptions, render_map};
     let land = world_land(world);
-    let mut zones = Vec::new();
-    for zone in &world.zones {
-        let (closed_nodes, closed_edges) =
-            muse_airspace::closures::closed_elements(&world.airspace, zone)
-                .with_context(|| format!("zone `{}`", zone.id))?;
-        zones.push(ZoneLayer {
-            label: zone.name.clone(),
-            polygons: zone.polygons(),
-            closed_nodes,
-            closed_edges,
-        });
-    }
+    let zones = zone_layers(&world.airspace, &world.zones)?;
     let mut input = MapInput::new(&world.airspace);
     input.land = &land;
     input.zones = zones;

@@ -396,25 +396,14 @@ pub fn run(args: &SitingArgs) -> anyhow::Result<ExitCode> {
 /// `map.svg`: the airspace with the greedy's pads, marked, on the land (Singapore's) with the
 /// zones.
 fn map_svg(siting: &Siting, added: &[usize], singapore: bool) -> anyhow::Result<String> {
-    use muse_render::{MapInput, MapOptions, ZoneLayer, render_map};
+    use muse_render::{MapInput, MapOptions, render_map};
     let airspace = siting.airspace(added)?;
     let land = if singapore {
         muse_scenario::singapore_land().0
     } else {
         Vec::new()
     };
-    let mut zones = Vec::new();
-    for zone in &siting.input().zones {
-        let (closed_nodes, closed_edges) =
-            muse_airspace::closures::closed_elements(&airspace, zone)
-                .with_context(|| format!("zone `{}`", zone.id))?;
-        zones.push(ZoneLayer {
-            label: zone.name.clone(),
-            polygons: zone.polygons(),
-            closed_nodes,
-            closed_edges,
-        });
-    }
+    let zones = super::common::zone_layers(&airspace, &siting.input().zones)?;
     let existing = siting.input().existing.len();
     let mut input = MapInput::new(&airspace);
     input.land = &land;
