@@ -6,7 +6,9 @@
 //! - [`kmeans_sites`]: k-means of demand: weighted k-means (k-means++ seeded, Lloyd to
 //!   convergence, [`kmeans_weighted`]) of the customers no existing pad reaches — of all
 //!   customers when fewer than `k` distinct such points remain — in the airspace's plane, each
-//!   centre then taken by the nearest candidate not yet taken (ties: the lower index).
+//!   centre then taken by the nearest candidate not yet taken (ties: the lower index). When
+//!   even all customers stand at fewer than `k` distinct positions, there are that many
+//!   centres, and the centres take their next nearest candidates in turn until `k` are taken.
 //!
 //! Neither looks at traffic; both sets are then judged like any other, by
 //! [`Siting::evaluate`].
@@ -99,23 +101,28 @@ pub fn kmeans_sites(siting: &Siting, k: usize, seed: u64) -> Result<Vec<usize>, 
     let uncovered: Vec<usize> = (0..input.customers.len())
         .filter(|&u| !siting.reach()[u].iter().any(|&(p, _)| p < existing))
         .collect();
-    let mut distinct: Vec<[f64; 2]> = uncovered.iter().map(|&u| customers_xy[u]).collect();
-    distinct.sort_by(|p, q| p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1])));
-    distinct.dedup();
-    let clustered: Vec<usize> = if distinct.len() >= k {
+    let distinct = |set: &[usize]| {
+        let mut d: Vec<[f64; 2]> = set.iter().map(|&u| customers_xy[u]).collect();
+        d.sort_by(|p, q| p[0].total_cmp(&q[0]).then(p[1].total_cmp(&q[1])));
+        d.dedup();
+        d.len()
+    };
+    let everyone: Vec<usize> = (0..input.customers.len()).collect();
+    let clustered = if distinct(&uncovered) >= k {
         uncovered
     } else {
-        (0..input.customers.len()).collect()
+        everyone
     };
     let points: Vec<[f64; 2]> = clustered.iter().map(|&u| customers_xy[u]).collect();
     let weights: Vec<f64> = clustered
         .iter()
         .map(|&u| input.customers[u].weight)
         .collect();
-    let km = kmeans_weighted(&points, &weights, k.min(points.len()), seed);
+    // Fewer distinct positions than k: that many centres, the other pads beside them.
+    let km = kmeans_weighted(&points, &weights, k.min(distinct(&clustered)), seed);
     let mut taken = vec![false; count];
     let mut picks = Vec::with_capacity(k);
-    for c in &km.centres {
+    for c in km.centres.iter().cycle().take(k) {
         let best = (0..count)
             .filter(|&i| !taken[i])
             .map(|i| {
@@ -169,5 +176,22 @@ mod tests {
             assert_eq!(picks, kmeans_sites(&siting, k, 1).unwrap());
         }
         assert!(kmeans_sites(&siting, 6, 1).is_err());
+    }
+
+    #[test]
+    fn customers_at_fewer_positions_than_pads_still_give_k_pads() {
+        let mut input = example_input();
+        let here = input.customers[0].pos;
+        for c in &mut input.customers {
+            c.pos = here;
+        }
+        // Two positions in all.
+        input.customers[1].pos = muse_model::LonLat::new(103.9, 1.4);
+        let siting = Siting::prepare(input).unwrap();
+        let picks = kmeans_sites(&siting, 4, 1).unwrap();
+        let mut sorted = picks.clone();
+        sorted.sort_unstable();
+        sorted.dedup();
+        assert_eq!(sorted.len(), 4);
     }
 }
