@@ -83,8 +83,8 @@ pub struct SitingArgs {
     /// Evaluate only shard K of N of the greedy's first round (candidates `c` with
     /// `c mod N = K`, counted from 0) and write it to `--out` as `shard.json`, for a cluster:
     /// then `--from-shards` with every shard's folder finishes the greedy.
-    #[arg(long, value_name = "K/N", conflicts_with = "from_shards", value_parser = parse_shard)]
-    shard: Option<Shard>,
+    #[arg(long, value_name = "K/N", conflicts_with = "from_shards")]
+    shard: Option<String>,
     /// Finish the greedy from the first round of these shards (`--shard` folders, every shard
     /// once, made with the same options and input files).
     #[arg(long, value_name = "DIR", num_args = 1..)]
@@ -97,10 +97,7 @@ pub struct SitingArgs {
     out: PathBuf,
 }
 
-/// `--shard K/N` for clap.
-fn parse_shard(text: &str) -> Result<Shard, String> {
-    Shard::parse(text).map_err(|e| e.to_string())
-}
+
 
 /// The problem and where it came from, for messages.
 struct Loaded {
@@ -308,6 +305,12 @@ pub fn run(args: &SitingArgs) -> anyhow::Result<ExitCode> {
         .add_all("--customers", args.customers.as_slice())
         .add_all("--zones", &args.zones)
         .add_all("--from-shards", &args.from_shards);
+    let shard = args
+        .shard
+        .as_deref()
+        .map(Shard::parse)
+        .transpose()
+        .map_err(|e| anyhow::anyhow!("--shard: {e}"))?;
     let files = report::Files::new(&args.out, &inputs)?;
     let loaded = args.load()?;
     let problem = args.problem_key()?;
@@ -317,7 +320,7 @@ pub fn run(args: &SitingArgs) -> anyhow::Result<ExitCode> {
     let prepare_s = prepared.elapsed().as_secs_f64();
     let k = args.add;
     let count = siting.candidates().len();
-    if k > count && args.shard.is_none() {
+    if k > count && shard.is_none() {
         anyhow::bail!("--add {k}: there are only {count} candidate pads");
     }
     eprintln!(
@@ -330,7 +333,7 @@ pub fn run(args: &SitingArgs) -> anyhow::Result<ExitCode> {
         total: (count + k.saturating_sub(1) * BATCH) as u64,
     };
     let started = WallClock::now();
-    if let Some(shard) = args.shard {
+    if let Some(shard) = shard {
         return run_shard(&siting, shard, &problem, files, &mut bar);
     }
     let first = if args.from_shards.is_empty() {
