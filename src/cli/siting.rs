@@ -97,8 +97,6 @@ pub struct SitingArgs {
     out: PathBuf,
 }
 
-
-
 /// The problem and where it came from, for messages.
 struct Loaded {
     input: SitingInput,
