@@ -1405,7 +1405,11 @@ async fn requests_arriving_together_are_planned_as_one_batch() {
             o.batch_window = Duration::from_millis(window_ms);
         })
         .await;
-        let (at_a, at_b) = (in_secs(600), in_secs(660));
+        // One instant for both: two readings of the clock would put them a millisecond or
+        // more further apart than the minute the test is about.
+        let now = Clock::system().now();
+        let at = |secs: i64| (now + Millis::from_secs(secs)).to_rfc3339(UtcOffset::SINGAPORE);
+        let (at_a, at_b) = (at(600), at(660));
         let r1 = flight("r1", "A", "C", &at_a);
         let first = service.post(None, &r1);
         let second = async {
