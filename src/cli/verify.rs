@@ -1,5 +1,6 @@
 //! `muse verify`: check a plans file against the rules, independently of the planner.
 
+use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -88,7 +89,8 @@ pub fn run(args: &VerifyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> 
     let zones = KnownZones::resolve(a, &world.zones, from, to)?;
     let violations = verify_known_in(a, &zones, &params, &flights, world.offset);
     let read = lines_read(&entries);
-    if violations.is_empty() {
+    let mut report = String::new();
+    let code = if violations.is_empty() {
         let changed = entries.iter().filter(|e| !e.changes().is_empty()).count();
         let announced = if zones.announced.is_empty() {
             String::new()
@@ -101,26 +103,48 @@ pub fn run(args: &VerifyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> 
         let layers = a.layers().map_or(String::new(), |l| {
             format!("; {} layers, heading rule {}", l.count, l.heading_rule)
         });
-        println!(
+        let _ = writeln!(
+            report,
             "OK: {read}; {} flights checked, every rule holds ({}{layers}; {} zone(s){announced})",
             flights.len(),
             params.edge_rule.name(),
             world.zones.len()
         );
-        return Ok(ExitCode::SUCCESS);
+        ExitCode::SUCCESS
+    } else {
+        let _ = writeln!(
+            report,
+            "FAILED: {} violation(s) among the {} flights checked ({read})",
+            violations.len(),
+            flights.len()
+        );
+        for v in violations.iter().take(args.max_listed) {
+            let _ = writeln!(report, "  {v}");
+        }
+        if violations.len() > args.max_listed {
+            let _ = writeln!(
+                report,
+                "  … and {} more",
+                violations.len() - args.max_listed
+            );
+        }
+        ExitCode::FAILURE
+    };
+    print_report(&report)?;
+    Ok(code)
+}
+
+/// Prints the report on standard output. A reader that stops early (`muse verify … | head`)
+/// closes the pipe: the rest is dropped quietly, and the exit code still says what was found.
+fn print_report(report: &str) -> anyhow::Result<()> {
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(report.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(anyhow::Error::new(e).context("writing the report to standard output"))
+        }
+        _ => Ok(()),
     }
-    println!(
-        "FAILED: {} violation(s) among the {} flights checked ({read})",
-        violations.len(),
-        flights.len()
-    );
-    for v in violations.iter().take(args.max_listed) {
-        println!("  {v}");
-    }
-    if violations.len() > args.max_listed {
-        println!("  … and {} more", violations.len() - args.max_listed);
-    }
-    Ok(ExitCode::FAILURE)
 }
 
 /// `N lines read (P planned, …, Z cancelled by a zone, K cancelled by their operator, R

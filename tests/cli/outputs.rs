@@ -464,3 +464,31 @@ fn a_killed_run_leaves_nothing_that_looks_whole() {
     assert_eq!(names(&dir), ["day"]);
     assert!(dir.join("day/summary.json").is_file());
 }
+
+/// `muse verify … | head`: a reader that goes away before the report is written closes the
+/// pipe; verify stops quietly (no panic) and its exit code still says what it found.
+#[test]
+fn verify_into_a_closed_pipe_stops_quietly_with_its_verdict() {
+    use std::process::{Command, Stdio};
+    let dir = crate::support::scratch_dir("verify-closed-pipe");
+    std::fs::create_dir_all(&dir).unwrap();
+    let sim = dir.join("sim");
+    let o = crate::run::muse(&["simulate", "--count", "300", "--out", sim.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", crate::run::said(&o));
+    // Every flight twice, under another id: each meets its copy, hundreds of violations.
+    let plans = std::fs::read_to_string(sim.join("plans.jsonl")).unwrap();
+    let twice = plans.clone() + &plans.replace("\"request\":\"r", "\"request\":\"copy-r");
+    let doubled = dir.join("doubled.jsonl");
+    std::fs::write(&doubled, twice).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_muse"))
+        .args(["verify", "--plans", doubled.to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // the reader is gone before the report is written
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    assert_eq!(out.status.code(), Some(1), "{err}");
+}
