@@ -16,6 +16,7 @@
 use muse_model::{Airspace, Instant, UtcOffset};
 
 use crate::plans::{PlanRecord, plan_line};
+use crate::table::CsvWriter;
 
 /// The header of `flights.csv`.
 pub const FLIGHTS_COLUMNS: [&str; 22] = [
@@ -64,7 +65,7 @@ pub fn write_flights_csv(
     offset: UtcOffset,
     day_start: Instant,
 ) -> String {
-    let mut out = Table::new(&FLIGHTS_COLUMNS);
+    let mut out = CsvWriter::new(&FLIGHTS_COLUMNS);
     for record in records {
         let line = plan_line(airspace, offset, record);
         let plan = record.final_plan();
@@ -125,41 +126,4 @@ pub fn day_s(t: Instant, day_start: Instant) -> String {
 /// A number of seconds or metres as the plans file writes it (`847.2`, `0.0`).
 pub(crate) fn number(x: f64) -> String {
     serde_json::Value::from(x).to_string()
-}
-
-/// A CSV table being written: RFC 4180 quoting (a cell with a comma, a quote or a line break
-/// is quoted), `\n` line ends.
-pub(crate) struct Table {
-    out: String,
-}
-
-impl Table {
-    /// A table with the header `columns`.
-    pub(crate) fn new(columns: &[&str]) -> Self {
-        let mut out = columns.join(",");
-        out.push('\n');
-        Table { out }
-    }
-
-    /// Appends one row.
-    pub(crate) fn row(&mut self, cells: &[String]) {
-        for (i, cell) in cells.iter().enumerate() {
-            if i > 0 {
-                self.out.push(',');
-            }
-            if cell.contains([',', '"', '\n', '\r']) {
-                self.out.push('"');
-                self.out.push_str(&cell.replace('"', "\"\""));
-                self.out.push('"');
-            } else {
-                self.out.push_str(cell);
-            }
-        }
-        self.out.push('\n');
-    }
-
-    /// The text written.
-    pub(crate) fn finish(self) -> String {
-        self.out
-    }
 }

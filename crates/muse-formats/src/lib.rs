@@ -31,6 +31,8 @@ pub mod plans;
 pub mod requests;
 pub mod stays_csv;
 mod table;
+
+pub use table::CsvWriter;
 pub mod zones;
 
 pub use error::{InputError, Location};

@@ -18,8 +18,9 @@
 use muse_model::plan::Fate;
 use muse_model::{Airspace, Instant, UtcOffset};
 
-use crate::flights_csv::{Table, day_s, number};
+use crate::flights_csv::{day_s, number};
 use crate::plans::PlanRecord;
+use crate::table::CsvWriter;
 
 /// The header of `stays.csv` (in a layered airspace, `layer` follows `node`).
 pub const STAYS_COLUMNS: [&str; 9] = [
@@ -68,7 +69,7 @@ pub fn write_stays_csv(
     if layered {
         columns.insert(4, "layer");
     }
-    let mut out = Table::new(&columns);
+    let mut out = CsvWriter::new(&columns);
     for record in records {
         let plan = match (&record.fate, record.final_plan()) {
             (Some(Fate::Contingency(committed)), _) => committed,

@@ -1,5 +1,6 @@
-//! What the CSV readers (requests, pads, customers) share: the header, each record with its
-//! line, and number cells, with errors naming the file, line and field.
+//! CSV tables: what the readers (requests, pads, customers) share — the header, each record
+//! with its line, and number cells, with errors naming the file, line and field — and the
+//! writer every CSV output uses ([`CsvWriter`]).
 
 use csv::StringRecord;
 
@@ -97,4 +98,47 @@ pub(crate) fn number(text: &str) -> Result<f64, String> {
         .ok()
         .filter(|v| v.is_finite())
         .ok_or_else(|| format!("`{text}` is not a number"))
+}
+
+/// A CSV table being written: RFC 4180 quoting (a cell with a comma, a quote or a line break
+/// is quoted), `\n` line ends. The flights and stays tables are written with it.
+///
+/// ```
+/// let mut t = muse_formats::CsvWriter::new(&["id", "name"]);
+/// t.row(&["P1".into(), "Pad, one".into()]);
+/// assert_eq!(t.finish(), "id,name\nP1,\"Pad, one\"\n");
+/// ```
+pub struct CsvWriter {
+    out: String,
+}
+
+impl CsvWriter {
+    /// A table with the header `columns`.
+    pub fn new(columns: &[&str]) -> Self {
+        let mut out = columns.join(",");
+        out.push('\n');
+        CsvWriter { out }
+    }
+
+    /// Appends one row.
+    pub fn row(&mut self, cells: &[String]) {
+        for (i, cell) in cells.iter().enumerate() {
+            if i > 0 {
+                self.out.push(',');
+            }
+            if cell.contains([',', '"', '\n', '\r']) {
+                self.out.push('"');
+                self.out.push_str(&cell.replace('"', "\"\""));
+                self.out.push('"');
+            } else {
+                self.out.push_str(cell);
+            }
+        }
+        self.out.push('\n');
+    }
+
+    /// The text written.
+    pub fn finish(self) -> String {
+        self.out
+    }
 }

@@ -1,9 +1,9 @@
 //! What `muse siting` prints and writes: the greedy's picks, the curves of every method, the
 //! plot of the curves and the airspace with the greedy's pads.
 
-use std::fmt::Write as _;
 use std::path::Path;
 
+use muse_formats::CsvWriter;
 use muse_render::{PlotOptions, Point, Series, render_line_plot};
 use muse_siting::greedy::GreedyRun;
 use muse_siting::{Evaluation, Siting};
@@ -129,63 +129,69 @@ pub fn print_curves(base: &Evaluation, curves: &[Curve]) {
 
 /// `siting.csv`: the greedy's picks in order.
 fn picks_csv(siting: &Siting, run: &GreedyRun) -> String {
-    let mut out = String::from(
-        "rank,pad,name,lon,lat,gain_mean,gain_ci95,delivered_mean,delivered_ci95,served_mean,\
-         corridors,evaluations\n",
-    );
+    let mut out = CsvWriter::new(&[
+        "rank",
+        "pad",
+        "name",
+        "lon",
+        "lat",
+        "gain_mean",
+        "gain_ci95",
+        "delivered_mean",
+        "delivered_ci95",
+        "served_mean",
+        "corridors",
+        "evaluations",
+    ]);
     for (i, p) in run.picks.iter().enumerate() {
         let pad = &siting.candidates()[p.candidate];
         let d = p.after.delivered_ci();
-        let _ = writeln!(
-            out,
-            "{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{:.3},{},{}",
-            i + 1,
-            pad.id,
-            csv_cell(&pad.name),
-            pad.pos.lon,
-            pad.pos.lat,
-            p.gain.mean,
-            p.gain.half_width,
-            d.mean,
-            d.half_width,
-            p.after.served_ci().mean,
-            p.after.corridors,
-            p.evaluations
-        );
+        out.row(&[
+            (i + 1).to_string(),
+            pad.id.clone(),
+            pad.name.clone(),
+            pad.pos.lon.to_string(),
+            pad.pos.lat.to_string(),
+            format!("{:.3}", p.gain.mean),
+            format!("{:.3}", p.gain.half_width),
+            format!("{:.3}", d.mean),
+            format!("{:.3}", d.half_width),
+            format!("{:.3}", p.after.served_ci().mean),
+            p.after.corridors.to_string(),
+            p.evaluations.to_string(),
+        ]);
     }
-    out
-}
-
-/// A CSV cell, quoted when it holds a comma, a quote or a line break.
-fn csv_cell(text: &str) -> String {
-    if text.contains([',', '"', '\n', '\r']) {
-        format!("\"{}\"", text.replace('"', "\"\""))
-    } else {
-        text.to_owned()
-    }
+    out.finish()
 }
 
 /// `curve.csv`: every method's set at each k, with its deliveries.
 fn curves_csv(siting: &Siting, base: &Evaluation, curves: &[Curve]) -> String {
-    let mut out = String::from(
-        "method,k,delivered_mean,delivered_ci95,served_mean,served_ci95,corridors,pads\n",
-    );
+    let mut out = CsvWriter::new(&[
+        "method",
+        "k",
+        "delivered_mean",
+        "delivered_ci95",
+        "served_mean",
+        "served_ci95",
+        "corridors",
+        "pads",
+    ]);
     let mut row = |method: &str, k: usize, e: &Evaluation, pads: &[usize]| {
         let (d, s) = (e.delivered_ci(), e.served_ci());
         let ids: Vec<&str> = pads
             .iter()
             .map(|&c| siting.candidates()[c].id.as_str())
             .collect();
-        let _ = writeln!(
-            out,
-            "{method},{k},{:.3},{:.3},{:.3},{:.3},{},{}",
-            d.mean,
-            d.half_width,
-            s.mean,
-            s.half_width,
-            e.corridors,
-            ids.join(" ")
-        );
+        out.row(&[
+            method.to_owned(),
+            k.to_string(),
+            format!("{:.3}", d.mean),
+            format!("{:.3}", d.half_width),
+            format!("{:.3}", s.mean),
+            format!("{:.3}", s.half_width),
+            e.corridors.to_string(),
+            ids.join(" "),
+        ]);
     };
     for c in curves {
         row(c.method, 0, base, &[]);
@@ -193,7 +199,7 @@ fn curves_csv(siting: &Siting, base: &Evaluation, curves: &[Curve]) -> String {
             row(c.method, k + 1, e, pads);
         }
     }
-    out
+    out.finish()
 }
 
 /// `curve.svg`: delivered requests per day against pads added, one line per method.
