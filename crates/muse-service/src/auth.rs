@@ -274,10 +274,14 @@ impl RateLimiter {
 
     /// Takes one request from `key`'s bucket; `Err(seconds)` to wait if it is empty.
     pub fn check(&self, key: &str) -> Result<(), f64> {
+        self.check_at(key, WallInstant::now())
+    }
+
+    /// [`RateLimiter::check`] at the instant `now`.
+    fn check_at(&self, key: &str, now: WallInstant) -> Result<(), f64> {
         if self.rate <= 0.0 {
             return Ok(());
         }
-        let now = WallInstant::now();
         let mut buckets = self
             .buckets
             .lock()
@@ -379,12 +383,16 @@ mod tests {
 
     #[test]
     fn rate_limit_refills() {
+        // Instants given, not read: a slow machine cannot refill the bucket in between.
         let r = RateLimiter::new(1_000.0, 2.0);
-        assert!(r.check("k").is_ok());
-        assert!(r.check("k").is_ok());
-        assert!(r.check("k").is_err());
-        assert!(r.check("other").is_ok());
-        std::thread::sleep(std::time::Duration::from_millis(5));
-        assert!(r.check("k").is_ok());
+        let t = WallInstant::now();
+        assert!(r.check_at("k", t).is_ok());
+        assert!(r.check_at("k", t).is_ok());
+        assert!(r.check_at("k", t).is_err());
+        assert!(r.check_at("other", t).is_ok());
+        assert!(
+            r.check_at("k", t + std::time::Duration::from_millis(5))
+                .is_ok()
+        );
     }
 }
