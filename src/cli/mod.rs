@@ -5,6 +5,7 @@ mod bench;
 mod common;
 mod demand;
 mod experiment;
+mod export;
 mod layer_map;
 mod layers;
 mod load;
@@ -47,6 +48,10 @@ enum Command {
     /// One case of `muse bench`, measured in its own process (prints one JSON line).
     #[command(hide = true)]
     BenchCase(bench::CaseArgs),
+    /// Write a plans file in another tool's language: a BlueSky scenario, or ASTM F3548-21
+    /// operational intents.
+    #[command(subcommand)]
+    Export(export::ExportCommand),
     /// Generate a seeded requests file (uniform departures in a window, random station pairs).
     Demand(demand::DemandCmd),
     /// Load a running `muse serve` over HTTP (open loop, paced clients or closed loop), report throughput and
@@ -89,6 +94,15 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Bench(args) => bench::run(&args, &own("bench")),
         Command::BenchCase(args) => bench::run_case(&args),
         Command::Demand(args) => demand::run(&args),
+        Command::Export(cmd) => {
+            let name = match cmd {
+                export::ExportCommand::Bluesky(_) => "bluesky",
+                export::ExportCommand::F3548(_) => "f3548",
+            };
+            let own = own("export");
+            let own = own.subcommand_matches(name).cloned().unwrap_or_default();
+            export::run(&cmd, &own)
+        }
         Command::Siting(args) => siting::run(&args),
         Command::Load(args) => load::run(&args),
         Command::Plan(args) => plan::run(&args),

@@ -1,0 +1,1 @@
+//! A day of flights as a BlueSky scenario file.

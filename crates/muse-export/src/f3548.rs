@@ -1,0 +1,1 @@
+//! Flights as ASTM F3548-21 operational intents.
