@@ -12,7 +12,8 @@ use muse_formats::stays_csv::write_stays_csv;
 use muse_model::{Instant, Millis};
 use muse_sim::day::DayRun;
 use muse_sim::demand::BookingLead;
-use muse_sim::metrics::{OptimizerSummary, Provenance, ReplanSummary, RunItem, Summary};
+use muse_sim::metrics::{Provenance, ReplanSummary, Summary};
+use muse_sim::outputs::{DayContext, DayOutputs, day_outputs};
 
 use super::common::{FlightArgs, World, WorldArgs};
 use super::layers::LayersArgs;
@@ -120,62 +121,21 @@ pub fn write_outputs(
     out: &std::path::Path,
 ) -> anyhow::Result<(Summary, Vec<PlanRecord>)> {
     let a = &world.airspace;
-    let mut text = String::with_capacity(run.requests.len() * 400);
-    let mut records = Vec::with_capacity(run.requests.len());
-    for (i, (r, o)) in run.requests.iter().zip(&run.outcomes).enumerate() {
-        let record = PlanRecord {
-            changes: run.changes[i].clone(),
-            fate: run.fate(i).cloned(),
-            ..PlanRecord::first(
-                r.id.clone(),
-                a.node(r.origin).id.clone(),
-                a.node(r.destination).id.clone(),
-                r.departure,
-                o.result.clone(),
-                o.free_flow,
-                o.expanded,
-            )
-        };
-        write_plan_line(&mut text, a, world.offset, &record);
-        records.push(record);
-    }
-    let pad = |n: Option<muse_model::NodeId>| n.map_or_else(String::new, |n| a.node(n).id.clone());
-    for u in unserved.unwrap_or_default() {
-        let record = PlanRecord::first(
-            u.id.clone(),
-            pad(u.origin),
-            pad(u.destination),
-            u.departure,
-            Err(muse_model::RejectReason::Unserved),
-            None,
-            0,
-        );
-        write_plan_line(&mut text, a, world.offset, &record);
-        records.push(record);
-    }
-    let items = run
-        .requests
-        .iter()
-        .zip(&run.outcomes)
-        .map(|(r, o)| RunItem {
-            departure: r.departure,
-            result: &o.result,
-            free_flow: o.free_flow,
-            expanded: o.expanded,
-        });
-    let mut summary = Summary::compute(items, params, run.planner_wall, provenance)
-        .with_world(world.record.clone());
-    if let Some(lead) = booking_lead {
-        summary = summary.with_booking_lead(lead);
-    }
-    if let Some(unserved) = unserved {
-        summary = summary.with_unserved(unserved.len());
-    }
-    if !run.zones.announced.is_empty() {
-        summary = summary.with_replanning(ReplanSummary::of(run, world.offset));
-    }
-    if let Some(report) = &run.optimizer {
-        summary = summary.with_optimizer(OptimizerSummary::of(report, &run.requests));
+    let DayOutputs { records, summary } = day_outputs(
+        run,
+        DayContext {
+            airspace: a,
+            offset: world.offset,
+            params,
+            provenance,
+            world: world.record.clone(),
+            booking_lead,
+            unserved,
+        },
+    );
+    let mut text = String::with_capacity(records.len() * 400);
+    for record in &records {
+        write_plan_line(&mut text, a, world.offset, record);
     }
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     write_atomically(&out.join("plans.jsonl"), &text)?;

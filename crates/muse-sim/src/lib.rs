@@ -9,6 +9,7 @@
 //!   of a kind, sharded and merged, written as CSV files, tables and plots, and study files:
 //!   the paper's sweep ([`experiment::sweep`]), the announcement-lead sweep
 //!   ([`experiment::lead`]) and the scaling benchmark ([`experiment::bench`]);
+//! - [`outputs`]: a planned day's records (the lines of `plans.jsonl`) and its summary;
 //! - [`stats`]: means and 95% confidence intervals;
 //! - [`metrics`]: the run summary (`summary.json`, SPEC §7): success rate, rejections by
 //!   reason, air and ground delay statistics, planner time and search effort, parameters.
@@ -19,5 +20,6 @@ pub mod day;
 pub mod demand;
 pub mod experiment;
 pub mod metrics;
+pub mod outputs;
 pub mod replay;
 pub mod stats;

@@ -1,0 +1,74 @@
+//! `verify`: a plans file checked against every rule (SPEC §3–§4, §11–§13), independently of
+//! the planner, as `muse verify` checks it.
+
+use std::path::PathBuf;
+
+use muse_airspace::announced::KnownZones;
+use muse_formats::plans::read_plan_entries;
+use muse_model::Millis;
+use muse_verify::recorded::Recorded;
+use muse_verify::verify_known_in;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::airspace::Airspace;
+use crate::error;
+use crate::options::options;
+use crate::world::{Zones, world};
+
+/// Checks the plans JSON Lines `plans` (named `source` in messages) on `airspace` with
+/// `zones`, under the flight parameters and layers of the keywords. Returns `ok`, `flights`
+/// (the number checked), `lines` (the lines read) and `violations` (each as `muse verify`
+/// prints it).
+#[pyfunction]
+#[pyo3(signature = (plans, source, airspace = None, zones = None, **kwargs))]
+pub fn verify<'py>(
+    py: Python<'py>,
+    plans: &str,
+    source: &str,
+    airspace: Option<PyRef<'py, Airspace>>,
+    zones: Option<Vec<PathBuf>>,
+    kwargs: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let opts = options(kwargs)?;
+    let zones = zones.map_or(Zones::Own, Zones::Files);
+    let world = world(airspace.as_deref(), &zones, &opts.layers).map_err(error)?;
+    let a = &world.airspace;
+    let entries = read_plan_entries(plans, source, a).map_err(error)?;
+    let records = entries.iter().filter_map(|e| e.record().cloned()).collect();
+    let recorded = Recorded::new(records, a).map_err(|e| error(format!("{source}: {e}")))?;
+    let (violations, flights) = py.detach(|| {
+        let flights = recorded.flights();
+        let day = Millis::from_secs(86_400);
+        let first = flights
+            .iter()
+            .map(|f| f.plan.takeoff())
+            .min()
+            .unwrap_or_default();
+        let last = flights
+            .iter()
+            .map(|f| f.plan.landing())
+            .max()
+            .unwrap_or_default();
+        let from = world
+            .zones
+            .iter()
+            .filter_map(|z| z.announced)
+            .min()
+            .map_or(first - day, |n| n.min(first - day));
+        let zones = KnownZones::resolve(a, &world.zones, from, last + day)
+            .map_err(|e| error(format!("zones: {e}")))?;
+        let violations: Vec<String> =
+            verify_known_in(a, &zones, &opts.params, &flights, world.offset)
+                .iter()
+                .map(ToString::to_string)
+                .collect();
+        PyResult::Ok((violations, flights.len()))
+    })?;
+    let out = PyDict::new(py);
+    out.set_item("ok", violations.is_empty())?;
+    out.set_item("flights", flights)?;
+    out.set_item("lines", entries.len())?;
+    out.set_item("violations", violations)?;
+    Ok(out)
+}

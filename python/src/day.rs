@@ -1,0 +1,209 @@
+//! `plan` and `simulate`: a day planned first come, first served (SPEC §5–§7), handed back as
+//! the texts the command line writes: `plans.jsonl`, `summary.json`, `flights.csv` and
+//! `stays.csv`.
+
+use std::path::PathBuf;
+
+use muse_formats::flights_csv::write_flights_csv;
+use muse_formats::plans::write_plan_line;
+use muse_formats::requests::{Demand, LocalDay, read_demand};
+use muse_formats::stays_csv::write_stays_csv;
+use muse_model::time::parse_clock;
+use muse_model::{FlightParams, Instant, Millis, Request};
+use muse_sim::day::{Planning, plan_requests_by};
+use muse_sim::demand::{BookingLead, DemandSpec, OdRule, generate};
+use muse_sim::metrics::Provenance;
+use muse_sim::outputs::{DayContext, day_outputs};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::airspace::Airspace;
+use crate::options::options;
+use crate::world::{World, Zones, world};
+use crate::{MuseError, error};
+
+/// Plans the requests CSV `requests` (named `source` in messages; columns as SPEC §5, and
+/// the customer columns of SPEC §15) on `airspace` with `zones` (`None`: the airspace's own;
+/// a list: these files), first come, first served. Keywords: flight parameters and layers.
+/// Returns `plans`, `summary`, `flights` and `stays`: the texts of the command line's files.
+#[pyfunction]
+#[pyo3(signature = (requests, source, airspace = None, zones = None, **kwargs))]
+pub fn plan<'py>(
+    py: Python<'py>,
+    requests: &str,
+    source: &str,
+    airspace: Option<PyRef<'py, Airspace>>,
+    zones: Option<Vec<PathBuf>>,
+    kwargs: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let opts = options(kwargs)?;
+    let world = world_of(airspace.as_deref(), zones, &opts.layers)?;
+    let day = LocalDay {
+        date: world.date,
+        offset: world.offset,
+    };
+    let demand = read_demand(requests, source, &world.airspace, day).map_err(error)?;
+    let provenance = Provenance {
+        airspace: world.source.clone(),
+        zones: world.zones.iter().map(|z| z.id.clone()).collect(),
+        requests: source.to_owned(),
+        seed: None,
+    };
+    let texts = py.detach(|| run_day(&world, opts.params, demand, provenance, None))?;
+    texts_dict(py, &texts)
+}
+
+/// Generates a seeded day of `count` requests departing uniformly in `[start, end)` (local
+/// `HH:MM[:SS]`) between random station pairs (`od`: `uniform` or `in-range`), as
+/// `muse simulate` does, and plans it. Keywords: flight parameters and layers.
+#[pyfunction]
+#[pyo3(signature = (count, seed, start, end, od, airspace = None, zones = None, **kwargs))]
+#[allow(clippy::too_many_arguments)]
+pub fn simulate<'py>(
+    py: Python<'py>,
+    count: usize,
+    seed: u64,
+    start: &str,
+    end: &str,
+    od: &str,
+    airspace: Option<PyRef<'py, Airspace>>,
+    zones: Option<Vec<PathBuf>>,
+    kwargs: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let opts = options(kwargs)?;
+    let world = world_of(airspace.as_deref(), zones, &opts.layers)?;
+    let clock = |name: &str, text: &str| {
+        parse_clock(text)
+            .map(|t| Instant::at_local(world.date, t, world.offset))
+            .map_err(|e| {
+                error(format!(
+                    "{name} `{text}` is not a local time HH:MM[:SS]: {e}"
+                ))
+            })
+    };
+    let (from, to) = (clock("start", start)?, clock("end", end)?);
+    if to <= from {
+        return Err(error(format!("end {end} must be after start {start}")));
+    }
+    let od_rule = match od {
+        "uniform" => OdRule::Uniform,
+        "in-range" => OdRule::InRange {
+            speed: opts.params.speed,
+            max_flight: opts.params.max_flight,
+        },
+        other => {
+            return Err(error(format!(
+                "od: `{other}` is not `uniform` or `in-range`"
+            )));
+        }
+    };
+    let spec = DemandSpec {
+        count,
+        start: from,
+        end: to,
+        seed,
+        od: od_rule,
+        booking_lead: BookingLead::NONE,
+    };
+    let requests: Vec<Request> = generate(&world.airspace, &spec).map_err(error)?;
+    let provenance = Provenance {
+        airspace: world.source.clone(),
+        zones: world.zones.iter().map(|z| z.id.clone()).collect(),
+        requests: format!("generated: {count} requests, {start}–{end}, {od} pairs, seed {seed}"),
+        seed: Some(seed),
+    };
+    let demand = Demand {
+        requests,
+        ..Demand::default()
+    };
+    let texts = py.detach(|| {
+        run_day(
+            &world,
+            opts.params,
+            demand,
+            provenance,
+            Some(BookingLead::NONE),
+        )
+    })?;
+    texts_dict(py, &texts)
+}
+
+/// The world of the arguments, or the error naming what is wrong.
+fn world_of(
+    airspace: Option<&Airspace>,
+    zones: Option<Vec<PathBuf>>,
+    layers: &muse_model::Layers,
+) -> PyResult<World> {
+    let zones = zones.map_or(Zones::Own, Zones::Files);
+    let world = world(airspace, &zones, layers).map_err(error)?;
+    if let Some(z) = world.zones.iter().find(|z| z.withdrawn.is_some()) {
+        return Err(error(format!(
+            "zones: zone `{}` was withdrawn (`withdrawn`): a day cannot be planned with a \
+             withdrawn zone; leave it out",
+            z.id
+        )));
+    }
+    Ok(world)
+}
+
+/// The texts of a planned day's files.
+struct Texts {
+    plans: String,
+    summary: String,
+    flights: String,
+    stays: String,
+}
+
+/// Plans `demand` on `world` and writes its files' texts.
+fn run_day(
+    world: &World,
+    params: FlightParams,
+    demand: Demand,
+    provenance: Provenance,
+    booking_lead: Option<BookingLead>,
+) -> PyResult<Texts> {
+    let a = &world.airspace;
+    let run = plan_requests_by(
+        a,
+        &world.zones,
+        params,
+        demand.requests,
+        Planning::FirstComeFirstServed,
+        |_| {},
+    )
+    .map_err(|e| MuseError::new_err(e.to_string()))?;
+    let unserved = demand.rows.is_some().then_some(demand.unserved.as_slice());
+    let day = day_outputs(
+        &run,
+        DayContext {
+            airspace: a,
+            offset: world.offset,
+            params: &params,
+            provenance,
+            world: world.record.clone(),
+            booking_lead,
+            unserved,
+        },
+    );
+    let mut plans = String::with_capacity(day.records.len() * 400);
+    for record in &day.records {
+        write_plan_line(&mut plans, a, world.offset, record);
+    }
+    let midnight = Instant::at_local(world.date, Millis::ZERO, world.offset);
+    Ok(Texts {
+        plans,
+        summary: day.summary.to_json(),
+        flights: write_flights_csv(&day.records, a, world.offset, midnight),
+        stays: write_stays_csv(&day.records, a, world.offset, midnight),
+    })
+}
+
+/// The texts as a dict.
+fn texts_dict<'py>(py: Python<'py>, texts: &Texts) -> PyResult<Bound<'py, PyDict>> {
+    let out = PyDict::new(py);
+    out.set_item("plans", &texts.plans)?;
+    out.set_item("summary", &texts.summary)?;
+    out.set_item("flights", &texts.flights)?;
+    out.set_item("stays", &texts.stays)?;
+    Ok(out)
+}
