@@ -196,6 +196,17 @@ class Verification:
     def __bool__(self) -> bool:
         return self.ok
 
+    def __str__(self) -> str:
+        if self.ok:
+            return f"OK: {self.flights} flights checked of {self.lines} plans, every rule holds"
+        listed = "".join(f"\n  {v}" for v in self.violations[:20])
+        more = len(self.violations) - 20
+        tail = f"\n  ... and {more} more" if more > 0 else ""
+        return (
+            f"FAILED: {len(self.violations)} violation(s) among the {self.flights} flights "
+            f"checked{listed}{tail}"
+        )
+
 
 def plan(
     requests: Union[Table, PathLike],
