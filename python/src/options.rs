@@ -3,6 +3,7 @@
 //! (SPEC §13) by the command line's option names (`layers`, `heading_rule`, …).
 
 use muse_formats::params::ParamsRecord;
+use muse_formats::ranges::{BASE_ALTITUDE_M, CLIMB_MPS, LAYER_SPACING_M, LAYERS, Range};
 use muse_model::{FlightParams, HeadingRule, Layers, Metres};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
@@ -68,12 +69,12 @@ pub fn options(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Options> {
         }
     }
     let record: ParamsRecord = serde_json::from_value(record).map_err(error)?;
+    record.check_ranges().map_err(error)?;
     let params = record.to_params().map_err(error)?;
     let mm = climb_mps * 1_000.0;
-    if (mm - mm.round()).abs() > 1e-6 || !(1.0..=100_000.0).contains(&mm.round()) {
+    if (mm - mm.round()).abs() > 1e-6 {
         return Err(error(format!(
-            "climb_mps {climb_mps}: must be a vertical speed from 0.001 to 100 m/s in whole \
-             millimetres per second"
+            "climb_mps {climb_mps}: give whole millimetres per second (at most 3 decimals)"
         )));
     }
     layers.climb_mm_per_s = mm.round() as u32;
@@ -85,10 +86,12 @@ pub fn options(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Options> {
 
 /// Sets the layering keyword `key` to `value`.
 fn set_layer(layers: &mut Layers, climb_mps: &mut f64, key: &str, value: &Value) -> PyResult<()> {
-    let number = || {
-        value
+    let number = |range: Range<f64>| {
+        let bad = |problem: String| error(format!("{key} {value}: {problem}"));
+        let x = value
             .as_f64()
-            .ok_or_else(|| error(format!("{key}: must be a number, not {value}")))
+            .ok_or_else(|| bad(range.check(f64::NAN).unwrap_err()))?;
+        range.check(x).map_err(bad)
     };
     let metres = |m: f64| Metres::from_m(m).map_err(|e| error(format!("{key} {m}: {e}")));
     match key {
@@ -96,16 +99,13 @@ fn set_layer(layers: &mut Layers, climb_mps: &mut f64, key: &str, value: &Value)
             layers.count = value
                 .as_u64()
                 .and_then(|n| u32::try_from(n).ok())
-                .ok_or_else(|| {
-                    error(format!(
-                        "layers: must be a whole number of layers from 1 to {}, not {value}",
-                        Layers::MAX_COUNT
-                    ))
-                })?;
+                .ok_or_else(|| LAYERS.check(0).unwrap_err())
+                .and_then(|n| LAYERS.check(n))
+                .map_err(|problem| error(format!("layers {value}: {problem}")))?;
         }
-        "base_altitude_m" => layers.base = metres(number()?)?,
-        "layer_spacing_m" => layers.spacing = metres(number()?)?,
-        "climb_mps" => *climb_mps = number()?,
+        "base_altitude_m" => layers.base = metres(number(BASE_ALTITUDE_M)?)?,
+        "layer_spacing_m" => layers.spacing = metres(number(LAYER_SPACING_M)?)?,
+        "climb_mps" => *climb_mps = number(CLIMB_MPS)?,
         _ => {
             layers.heading_rule = match value.as_str() {
                 Some("none") => HeadingRule::None,

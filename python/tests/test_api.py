@@ -93,8 +93,14 @@ def test_errors_carry_the_command_lines_messages(tmp_path, muse_cli):
         muse.plan([{"id": "r1", "origin": "S001", "destination": "S999", "departure": "08:00"}])
     with pytest.raises(muse.MuseError, match="unknown column"):
         muse.plan([{"id": "r1", "from": "S001", "destination": "S002", "departure": "08:00"}])
-    with pytest.raises(muse.MuseError, match="speed_kmh"):
-        muse.simulate(count=10, speed_kmh=-3)
+    # The command line's ranges, in the same words.
+    with pytest.raises(muse.MuseError) as raised:
+        muse.simulate(count=10, speed_kmh=5000)
+    assert str(raised.value) == "speed_kmh: 5000 must be a speed in km/h from 1 to 1000"
+    cli = muse_cli("simulate", "--speed-kmh", 5000, check=False)
+    assert cli.returncode == 2 and "must be a speed in km/h from 1 to 1000" in cli.stderr
+    with pytest.raises(muse.MuseError, match="layers 65: must be a whole number of layers"):
+        muse.simulate(count=10, layers=65)
     with pytest.raises(muse.MuseError, match="unknown parameter `speedkmh`"):
         muse.simulate(count=10, speedkmh=30)
     with pytest.raises(muse.MuseError, match="heading_rule"):

@@ -9,41 +9,15 @@
 //! without a range. Numeric options also take `allow_negative_numbers`, so that `-30` is
 //! read as a value (and refused here) rather than as an unknown option.
 
-use std::fmt::Display;
-use std::str::FromStr;
-
-/// A number an option can take: parsed from text, compared, shown.
-pub trait Number: FromStr + PartialOrd + Display + Copy {
-    /// Whether the value is a finite number (always, for integers).
-    fn is_finite_number(self) -> bool;
-}
-
-impl Number for f64 {
-    fn is_finite_number(self) -> bool {
-        self.is_finite()
-    }
-}
-
-macro_rules! integer_number {
-    ($($t:ty),*) => {$(
-        impl Number for $t {
-            fn is_finite_number(self) -> bool {
-                true
-            }
-        }
-    )*};
-}
-integer_number!(u32, u64, usize);
+pub use muse_formats::ranges::Number;
+use muse_formats::ranges::{
+    BASE_ALTITUDE_M, CLIMB_MPS, DAY_S, LAYER_SPACING_M, LAYERS, MAX_FLIGHT_MIN, MAX_LEGS,
+    MAX_TRIP_MIN, Range, SEPARATION_S, SPEED_KMH,
+};
 
 /// Reads `text` as a `T` within `lo..=hi`; the error says `must be {what} from {lo} to {hi}`.
-pub fn in_range<T: Number>(text: &str, lo: T, hi: T, what: &str) -> Result<T, String> {
-    let bad = || format!("must be {what} from {lo} to {hi}");
-    let x: T = text.trim().parse().map_err(|_| bad())?;
-    if x.is_finite_number() && lo <= x && x <= hi {
-        Ok(x)
-    } else {
-        Err(bad())
-    }
+pub fn in_range<T: Number>(text: &str, lo: T, hi: T, what: &'static str) -> Result<T, String> {
+    Range { lo, hi, what }.parse(text)
 }
 
 /// Declares one parser per option: `name: type = lo, hi, "what it is";`.
@@ -62,17 +36,17 @@ pub const MAX_REQUESTS: usize = muse_sim::demand::MAX_REQUESTS;
 
 ranges! {
     /// `--speed-kmh`.
-    speed_kmh: f64 = 1.0, 1_000.0, "a speed in km/h";
+    speed_kmh: f64 = SPEED_KMH.lo, SPEED_KMH.hi, SPEED_KMH.what;
     /// `--max-flight-min`: up to a day.
-    max_flight_min: f64 = 1.0, 1_440.0, "a number of minutes";
+    max_flight_min: f64 = MAX_FLIGHT_MIN.lo, MAX_FLIGHT_MIN.hi, MAX_FLIGHT_MIN.what;
     /// `--node-separation-s` and `--headway-s`: up to an hour.
-    separation_s: f64 = 0.0, 3_600.0, "a number of seconds";
+    separation_s: f64 = SEPARATION_S.lo, SEPARATION_S.hi, SEPARATION_S.what;
     /// `--max-ground-delay-s` and `--battery-swap-s`: up to a day.
-    day_s: f64 = 0.0, 86_400.0, "a number of seconds";
+    day_s: f64 = DAY_S.lo, DAY_S.hi, DAY_S.what;
     /// `--max-legs`.
-    max_legs: u32 = 1, 100, "a whole number of legs";
+    max_legs: u32 = MAX_LEGS.lo, MAX_LEGS.hi, MAX_LEGS.what;
     /// `--max-trip-min`: a deadline of at least a minute, at most a day.
-    max_trip_min: f64 = 1.0, 1_440.0, "a number of minutes";
+    max_trip_min: f64 = MAX_TRIP_MIN.lo, MAX_TRIP_MIN.hi, MAX_TRIP_MIN.what;
     /// `--count` of generated demand (`muse demand`, `muse simulate`, `muse bench-case`).
     requests: usize = 1, MAX_REQUESTS, "a whole number of requests";
     /// `muse load --count`.
@@ -132,13 +106,13 @@ ranges! {
     /// `--neighbourhood` of the optimiser.
     neighbourhood: usize = 1, 1_000, "a whole number of flights";
     /// `--layers`.
-    layers: u32 = 1, muse_model::Layers::MAX_COUNT, "a whole number of layers";
+    layers: u32 = LAYERS.lo, LAYERS.hi, LAYERS.what;
     /// `--base-altitude-m`.
-    altitude_m: f64 = 0.0, 10_000.0, "a number of metres";
+    altitude_m: f64 = BASE_ALTITUDE_M.lo, BASE_ALTITUDE_M.hi, BASE_ALTITUDE_M.what;
     /// `--layer-spacing-m`.
-    layer_spacing_m: f64 = 0.001, 1_000.0, "a number of metres";
+    layer_spacing_m: f64 = LAYER_SPACING_M.lo, LAYER_SPACING_M.hi, LAYER_SPACING_M.what;
     /// `--climb-mps`.
-    climb_mps: f64 = 0.001, 100.0, "a number of metres per second";
+    climb_mps: f64 = CLIMB_MPS.lo, CLIMB_MPS.hi, CLIMB_MPS.what;
     /// `muse airspace map --width`.
     width_px: u32 = 100, 20_000, "a whole number of pixels";
 }

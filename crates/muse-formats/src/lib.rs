@@ -15,7 +15,8 @@
 //! - [`flights`]: planned flights as time-stamped GeoJSON lines (QGIS, kepler.gl);
 //! - [`flights_csv`]: one row per request, the plans file as a table;
 //! - [`stays_csv`]: one row per stay of every flight that flies;
-//! - [`params`]: the flight parameters in user units (summaries, `/healthz`, options).
+//! - [`params`]: the flight parameters in user units (summaries, `/healthz`, options);
+//! - [`ranges`]: the accepted range of each of them, and of the layering's.
 #![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 pub mod airspace_geojson;
@@ -28,6 +29,7 @@ pub mod land;
 pub mod pads;
 pub mod params;
 pub mod plans;
+pub mod ranges;
 pub mod requests;
 pub mod stays_csv;
 mod table;
