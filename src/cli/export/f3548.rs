@@ -42,10 +42,11 @@ pub struct F3548Args {
     /// overrides its own). Default: `summary.json` beside the plans file, if there is one.
     #[arg(long, value_name = "FILE")]
     summary: Option<PathBuf>,
+    // Boxed: the world's options are large, and `muse export`'s formats share one enum.
     #[command(flatten)]
-    world: WorldArgs,
+    world: Box<WorldArgs>,
     #[command(flatten)]
-    layers: LayersArgs,
+    layers: Box<LayersArgs>,
     /// Horizontal buffer B, metres, from 0 to 1000: each stay is a circle of radius B around
     /// its node, each corridor traversal the corridor widened by B on every side (0 is
     /// written as 1 cm, the standard's intersection precision).

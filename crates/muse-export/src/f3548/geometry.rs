@@ -137,25 +137,28 @@ mod tests {
 
     #[test]
     fn the_outline_lies_between_the_buffer_and_two_percent_beyond() {
-        let (a, b, r) = ((0.0, 0.0), (300.0, 400.0), 10.0);
-        let outline = corridor_outline(a, b, r).unwrap();
+        let (start, end, r) = ((0.0, 0.0), (300.0, 400.0), 10.0);
+        let outline = corridor_outline(start, end, r).unwrap();
         assert_eq!(outline.len(), 16);
         let reach = r / (std::f64::consts::PI / 16.0).cos();
         for &v in &outline {
-            let d = to_segment(v, a, b);
+            let d = to_segment(v, start, end);
             assert!(d > r && (d - reach).abs() < 1e-9, "{v:?} at {d}");
         }
         // The edges between the vertices come no nearer than r: the midpoint of every
         // edge is at least r from the segment (tangent points are exactly at r).
         for i in 0..outline.len() {
-            let (p, q) = (outline[i], outline[(i + 1) % outline.len()]);
-            let mid = (f64::midpoint(p.0, q.0), f64::midpoint(p.1, q.1));
-            assert!(to_segment(mid, a, b) >= r - 1e-9);
+            let (this, next) = (outline[i], outline[(i + 1) % outline.len()]);
+            let mid = (f64::midpoint(this.0, next.0), f64::midpoint(this.1, next.1));
+            assert!(to_segment(mid, start, end) >= r - 1e-9);
         }
         // Beyond `b` along the axis, the outline reaches exactly r: the edge between the
         // two middle vertices of the cap is tangent there.
-        let (p, q) = (outline[3], outline[4]);
-        let tip = (f64::midpoint(p.0, q.0), f64::midpoint(p.1, q.1));
+        let (left, right) = (outline[3], outline[4]);
+        let tip = (
+            f64::midpoint(left.0, right.0),
+            f64::midpoint(left.1, right.1),
+        );
         assert!((tip.0 - 306.0).abs() < 1e-9 && (tip.1 - 408.0).abs() < 1e-9);
     }
 

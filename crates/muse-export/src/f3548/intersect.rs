@@ -184,47 +184,50 @@ fn meet(a: &Slab, b: &Slab) -> bool {
     }
 }
 
-/// Volume `j` of intent `i` in the frame.
-fn slab(frame: &LocalFrame, i: usize, j: usize, v: &Volume4D) -> Result<Slab, IntersectError> {
+/// Volume `volume` of intent `intent` in the frame.
+fn slab(
+    frame: &LocalFrame,
+    intent: usize,
+    volume: usize,
+    v4: &Volume4D,
+) -> Result<Slab, IntersectError> {
     let time = |text: &str| {
         Instant::parse_rfc3339(text).map_err(|_| IntersectError::Time {
-            intent: i,
-            volume: j,
+            intent,
+            volume,
             text: text.to_owned(),
         })
     };
-    let (start, end) = (time(&v.time_start.value)?, time(&v.time_end.value)?);
+    let (start, end) = (time(&v4.time_start.value)?, time(&v4.time_end.value)?);
     if end <= start {
-        return Err(IntersectError::Backwards {
-            intent: i,
-            volume: j,
-        });
+        return Err(IntersectError::Backwards { intent, volume });
     }
     let outline = |problem| IntersectError::Outline {
-        intent: i,
-        volume: j,
+        intent,
+        volume,
         problem,
     };
     let xy = |p: &super::model::LatLngPoint| frame.to_xy(LonLat::new(p.lng, p.lat));
-    let (shape, bbox) = match (&v.volume.outline_circle, &v.volume.outline_polygon) {
+    let (shape, bbox) = match (&v4.volume.outline_circle, &v4.volume.outline_polygon) {
         (Some(c), None) => {
-            let (x, y) = xy(&c.center);
-            let r = c.radius.value;
-            if r.is_nan() || r <= 0.0 {
+            let (east, north) = xy(&c.center);
+            let radius = c.radius.value;
+            if radius.is_nan() || radius <= 0.0 {
                 return Err(outline("a circle's radius must be positive"));
             }
             let shape = Shape::Circle {
-                center: Point::new(x, y),
-                radius: r,
+                center: Point::new(east, north),
+                radius,
             };
-            (shape, [x - r, y - r, x + r, y + r])
+            let bbox = [east - radius, north - radius, east + radius, north + radius];
+            (shape, bbox)
         }
-        (None, Some(p)) if p.vertices.len() >= 3 => {
-            let ring: Vec<Coord<f64>> = p
+        (None, Some(polygon)) if polygon.vertices.len() >= 3 => {
+            let ring: Vec<Coord<f64>> = polygon
                 .vertices
                 .iter()
-                .map(|v| {
-                    let (x, y) = xy(v);
+                .map(|point| {
+                    let (x, y) = xy(point);
                     Coord { x, y }
                 })
                 .collect();
@@ -246,11 +249,11 @@ fn slab(frame: &LocalFrame, i: usize, j: usize, v: &Volume4D) -> Result<Slab, In
         _ => return Err(outline("a volume needs exactly one outline")),
     };
     Ok(Slab {
-        intent: u32::try_from(i).unwrap_or(u32::MAX),
+        intent: u32::try_from(intent).unwrap_or(u32::MAX),
         start,
         end,
-        lower: v.volume.altitude_lower.value,
-        upper: v.volume.altitude_upper.value,
+        lower: v4.volume.altitude_lower.value,
+        upper: v4.volume.altitude_upper.value,
         bbox,
         shape,
     })

@@ -272,13 +272,13 @@ impl Options {
 pub fn entity_id(name: &str) -> String {
     const OFFSET: u128 = 0x6c62_272e_07bb_0142_62b8_2175_6295_c58d;
     const PRIME: u128 = 0x0000_0000_0100_0000_0000_0000_0000_013b;
+    const MIX_1: u128 = 0x9e37_79b9_7f4a_7c15_f39c_c060_5ced_c835;
+    const MIX_2: u128 = 0xbf58_476d_1ce4_e5b9_94d0_49bb_1331_11eb;
     let mut h = OFFSET;
     for &byte in name.as_bytes() {
         h ^= u128::from(byte);
         h = h.wrapping_mul(PRIME);
     }
-    const MIX_1: u128 = 0x9e37_79b9_7f4a_7c15_f39c_c060_5ced_c835;
-    const MIX_2: u128 = 0xbf58_476d_1ce4_e5b9_94d0_49bb_1331_11eb;
     h ^= h >> 67;
     h = h.wrapping_mul(MIX_1);
     h ^= h >> 59;

@@ -1,4 +1,4 @@
-//! The part of the F3548-21 data model (UTM API 1.0.0, the standard's OpenAPI) that an
+//! The part of the F3548-21 data model (UTM API 1.0.0, the standard's `OpenAPI`) that an
 //! operational intent needs, with the standard's field names and spellings.
 //!
 //! Optional fields that MUSE leaves empty are omitted rather than written `null`; enums that

@@ -118,7 +118,7 @@ fn no_buffer_is_written_as_one_centimetre() {
     let entry = export(&air, &plan, &options).unwrap();
     let volumes = &entry.operational_intent.details.volumes;
     let circle = volumes[1].volume.outline_circle.as_ref().unwrap();
-    assert_eq!(circle.radius.value, MIN_OUTLINE_M);
+    assert_eq!(circle.radius, Radius::metres(MIN_OUTLINE_M));
     let polygon = volumes[0].volume.outline_polygon.as_ref().unwrap();
     let mut distinct = polygon.vertices.clone();
     distinct.dedup();
