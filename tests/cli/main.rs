@@ -4,7 +4,8 @@
 //! (`deploy_scripts`), bad inputs refused (`bad_inputs`), outputs that never clobber
 //! (`outputs`), batch planning (`optimize`), parameters read from the summary beside the plans (`params_travel`), layered
 //! airspace's outputs and their verification (`layers`), airspaces built from pads (`pads`) and every example of docs/reference.md
-//! read by MUSE (`reference_examples`).
+//! read by MUSE (`reference_examples`), and flights exported as ASTM F3548-21 operational
+//! intents (`export_f3548`).
 
 /// What this area's tests share (tests/support): `muse serve` on a loopback port, scratch
 /// folders; [`csv`] compares the CSV files of sweeps.
@@ -20,6 +21,7 @@ mod bad_inputs;
 mod commands;
 mod customers;
 mod deploy_scripts;
+mod export_f3548;
 mod layers;
 mod optimize;
 mod outputs;

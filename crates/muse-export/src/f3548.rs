@@ -1,1 +1,0 @@
-//! Flights as ASTM F3548-21 operational intents.
