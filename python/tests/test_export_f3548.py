@@ -12,7 +12,6 @@ The muse binary is `$MUSE_BIN`, else `<repo>/target/debug/muse` (build it first 
 """
 
 import json
-import os
 import re
 import subprocess
 from datetime import datetime
@@ -22,27 +21,18 @@ import pytest
 from implicitdict import ImplicitDict
 from uas_standards.astm.f3548.v21 import api, constants
 
-REPO = Path(__file__).resolve().parents[2]
+from conftest import muse_bin
+
 REQUESTS = 120
 UUID4 = re.compile(r"^[0-9a-f]{8}-[0-9a-f]{4}-4[0-9a-f]{3}-[89ab][0-9a-f]{3}-[0-9a-f]{12}$")
 RFC3339_Z = re.compile(r"^\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}(\.\d+)?Z$")
 RESULT = re.compile(r"(\d+) of (\d+) flights' pairs intersect in 4-D at buffer ([\d.]+) m")
 
 
-def muse_bin() -> str:
-    path = os.environ.get("MUSE_BIN") or str(REPO / "target" / "debug" / "muse")
-    if not (os.path.isfile(path) and os.access(path, os.X_OK)):
-        pytest.fail(
-            f"no muse binary at {path}: build it with `cargo build --bin muse` "
-            "or point MUSE_BIN at one"
-        )
-    return path
-
-
 def muse(*args: str) -> str:
     """Runs muse; its standard output and error together."""
     done = subprocess.run(
-        [muse_bin(), *args], capture_output=True, text=True, timeout=120, check=False
+        [str(muse_bin()), *args], capture_output=True, text=True, timeout=120, check=False
     )
     said = done.stdout + done.stderr
     assert done.returncode == 0, f"muse {' '.join(args)} exited {done.returncode}:\n{said}"
