@@ -3,9 +3,10 @@
 //! (`swaps`), sweeps sharded and merged (`sweep_shards`), the deployment scripts
 //! (`deploy_scripts`), bad inputs refused (`bad_inputs`), outputs that never clobber
 //! (`outputs`), batch planning (`optimize`), parameters read from the summary beside the plans (`params_travel`), layered
-//! airspace's outputs and their verification (`layers`), airspaces built from pads (`pads`) and every example of docs/reference.md
-//! read by MUSE (`reference_examples`), and flights exported as ASTM F3548-21 operational
-//! intents (`export_f3548`).
+//! airspace's outputs and their verification (`layers`), airspaces built from pads (`pads`),
+//! plans exported as BlueSky scenarios (`export_bluesky`) and as ASTM F3548-21 operational
+//! intents (`export_f3548`), and every example of docs/reference.md read by MUSE
+//! (`reference_examples`).
 
 /// What this area's tests share (tests/support): `muse serve` on a loopback port, scratch
 /// folders; [`csv`] compares the CSV files of sweeps.
@@ -21,6 +22,7 @@ mod bad_inputs;
 mod commands;
 mod customers;
 mod deploy_scripts;
+mod export_bluesky;
 mod export_f3548;
 mod layers;
 mod optimize;
