@@ -6,12 +6,12 @@
 //! the Python layer turns into pandas `DataFrame`s and dicts. Every error is a
 //! `muse.MuseError` (a `ValueError`) carrying the message the command line prints.
 //!
-//! - [`airspace`]: the `Airspace` class: a built-in scenario, a GeoJSON file, or built from
+//! - `airspace`: the `Airspace` class: a built-in scenario, a GeoJSON file, or built from
 //!   pads (SPEC §15);
-//! - [`options`]: keyword arguments as flight parameters and layers;
-//! - [`world`]: an airspace with its zones and day, as the command line loads it;
-//! - [`day`]: `plan` and `simulate`;
-//! - [`check`](mod@check): `verify`.
+//! - `options`: keyword arguments as flight parameters and layers;
+//! - `world`: an airspace with its zones and day, as the command line loads it;
+//! - `day`: `plan` and `simulate`;
+//! - `check`: `verify`.
 
 // Python functions take their arguments as owned values (`PyRef`, `Vec`, `PathBuf`):
 // that is how pyo3 extracts them.
