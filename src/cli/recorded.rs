@@ -21,6 +21,25 @@ pub struct Summary {
     pub recorded: Recorded,
 }
 
+/// What a command reading the plans file `plans` reads, which its outputs must not overwrite:
+/// the plans, the world's files and the summary `found` (named `--summary` when `given`, else
+/// as the one beside the plans).
+pub fn plans_inputs(
+    plans: &Path,
+    found: Option<&Summary>,
+    given: bool,
+    world: &WorldArgs,
+) -> super::output::Inputs {
+    let inputs = super::output::Inputs::new()
+        .add("--plans", plans)
+        .world(world);
+    match found {
+        Some(s) if given => inputs.add("--summary", &s.path),
+        Some(s) => inputs.add("the summary beside --plans", &s.path),
+        None => inputs,
+    }
+}
+
 /// The summary that goes with `plans`: `given` (which must exist), else the `summary.json`
 /// beside the plans file if there is one.
 pub fn find(plans: &Path, given: Option<&Path>) -> anyhow::Result<Option<Summary>> {

@@ -43,14 +43,12 @@ pub struct BlueskyArgs {
 /// nothing.
 pub fn run(args: &BlueskyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
     let found = recorded::find(&args.plans, args.summary.as_deref())?;
-    let inputs = output::Inputs::new()
-        .add("--plans", &args.plans)
-        .world(&args.world);
-    let inputs = match &found {
-        Some(s) if args.summary.is_some() => inputs.add("--summary", &s.path),
-        Some(s) => inputs.add("the summary beside --plans", &s.path),
-        None => inputs,
-    };
+    let inputs = recorded::plans_inputs(
+        &args.plans,
+        found.as_ref(),
+        args.summary.is_some(),
+        &args.world,
+    );
     let out = output::file("--out", &args.out, &inputs)?;
     let mut notes = Vec::new();
     let world_args = recorded::world_args(&args.world, matches, found.as_ref(), &mut notes)?;

@@ -100,14 +100,12 @@ fn file_text(args: &F3548Args, intents: &[IntentEntry]) -> anyhow::Result<String
 /// Runs `muse export f3548`.
 pub fn run(args: &F3548Args, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
     let found = recorded::find(&args.plans, args.summary.as_deref())?;
-    let inputs = output::Inputs::new()
-        .add("--plans", &args.plans)
-        .world(&args.world);
-    let inputs = match &found {
-        Some(s) if args.summary.is_some() => inputs.add("--summary", &s.path),
-        Some(s) => inputs.add("the summary beside --plans", &s.path),
-        None => inputs,
-    };
+    let inputs = recorded::plans_inputs(
+        &args.plans,
+        found.as_ref(),
+        args.summary.is_some(),
+        &args.world,
+    );
     let out = output::file("--out", &args.out, &inputs)?;
     let shared_at = args
         .shared_at
