@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use muse_airspace::builder::{BuildError, BuildOptions, build_airspace};
 use muse_airspace::plane::Plane;
+use muse_formats::exclusions::Exclusions;
 use muse_model::NodeKind;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -79,26 +80,16 @@ impl Airspace {
             None => Plane::Utm,
         };
         let nodes = muse_formats::pads::read_pads(pads, source).map_err(error)?;
-        let mut exclusions = Vec::new();
-        let mut origin = Vec::new();
-        for path in &exclude {
-            let polygons = muse_formats::exclusions::read_exclusions_file(path).map_err(error)?;
-            origin.extend((0..polygons.len()).map(|k| (path.display().to_string(), k)));
-            exclusions.extend(polygons);
-        }
+        let mut exclusions = Exclusions::read_files(&exclude).map_err(error)?;
         let opts = BuildOptions {
             plane,
             max_edge_length_m: max_corridor_m,
-            exclusions,
+            exclusions: std::mem::take(&mut exclusions.polygons),
             ..BuildOptions::default()
         };
         let graph = build_airspace(nodes, &opts).map_err(|e| match e {
             BuildError::Excluded { id, polygon } => {
-                let (file, k) = &origin[polygon];
-                error(format!(
-                    "{source}: pad `{id}` lies in polygon {k} (counted from 0) of the \
-                     exclusions {file}"
-                ))
+                error(exclusions.pad_inside(source, &id, polygon))
             }
             e => error(format!("building the airspace of {source}: {e}")),
         })?;

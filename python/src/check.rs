@@ -3,10 +3,8 @@
 
 use std::path::PathBuf;
 
-use muse_airspace::announced::KnownZones;
 use muse_formats::plans::read_plan_entries;
-use muse_model::Millis;
-use muse_verify::recorded::Recorded;
+use muse_verify::recorded::{Recorded, zones_for};
 use muse_verify::verify_known_in;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -39,25 +37,8 @@ pub fn verify<'py>(
     let recorded = Recorded::new(records, a).map_err(|e| error(format!("{source}: {e}")))?;
     let (violations, flights) = py.detach(|| {
         let flights = recorded.flights();
-        let day = Millis::from_secs(86_400);
-        let first = flights
-            .iter()
-            .map(|f| f.plan.takeoff())
-            .min()
-            .unwrap_or_default();
-        let last = flights
-            .iter()
-            .map(|f| f.plan.landing())
-            .max()
-            .unwrap_or_default();
-        let from = world
-            .zones
-            .iter()
-            .filter_map(|z| z.announced)
-            .min()
-            .map_or(first - day, |n| n.min(first - day));
-        let zones = KnownZones::resolve(a, &world.zones, from, last + day)
-            .map_err(|e| error(format!("zones: {e}")))?;
+        let zones =
+            zones_for(a, &world.zones, &flights).map_err(|e| error(format!("zones: {e}")))?;
         let violations: Vec<String> =
             verify_known_in(a, &zones, &opts.params, &flights, world.offset)
                 .iter()

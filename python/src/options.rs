@@ -2,7 +2,7 @@
 //! members of a summary's `parameters` (`speed_kmh`, `max_flight_min`, …), and the layers
 //! (SPEC §13) by the command line's option names (`layers`, `heading_rule`, …).
 
-use muse_formats::params::ParamsRecord;
+use muse_formats::params::{Field, ParamsRecord};
 use muse_formats::ranges::{BASE_ALTITUDE_M, CLIMB_MPS, LAYER_SPACING_M, LAYERS, Range};
 use muse_model::{FlightParams, HeadingRule, Layers, Metres};
 use pyo3::prelude::*;
@@ -20,18 +20,8 @@ const LAYER_KEYS: [&str; 5] = [
     "heading_rule",
 ];
 
-/// The flight-parameter keywords (the members of a summary's `parameters`).
-const FLIGHT_KEYS: [&str; 9] = [
-    "speed_kmh",
-    "max_flight_min",
-    "node_separation_s",
-    "edge_rule",
-    "headway_s",
-    "max_ground_delay_s",
-    "battery_swap_s",
-    "max_legs",
-    "max_trip_min",
-];
+/// The flight-parameter keywords: the members of a summary's `parameters`.
+const FLIGHT_KEYS: [&str; 9] = Field::NAMES;
 
 /// The parameters a call's keywords give.
 pub struct Options {

@@ -10,6 +10,7 @@ use muse_airspace::builder::{BuildError, BuildOptions, build_airspace};
 use muse_airspace::closures::closed_elements;
 use muse_airspace::plane::Plane;
 use muse_airspace::stats::airspace_stats;
+use muse_formats::exclusions::Exclusions;
 use muse_model::{
     Airspace, EdgeId, EdgeKind, HeadingRule, Layers, Metres, Millis, NodeId, Period, Speed, Zone,
 };
@@ -201,29 +202,17 @@ fn build_from_pads(
     };
     let target = output::file("--out", out, &inputs)?;
     let nodes = muse_formats::pads::read_pads_file(pads)?;
-    let mut exclusions = Vec::new();
-    // Where each polygon came from: its file and its place there.
-    let mut origin: Vec<(&Path, usize)> = Vec::new();
-    for path in exclude {
-        let polygons = muse_formats::exclusions::read_exclusions_file(path)?;
-        origin.extend((0..polygons.len()).map(|k| (path.as_path(), k)));
-        exclusions.extend(polygons);
-    }
+    let mut exclusions = Exclusions::read_files(exclude)?;
     let opts = BuildOptions {
         plane,
         max_edge_length_m: max_corridor_m,
-        exclusions,
+        exclusions: std::mem::take(&mut exclusions.polygons),
         ..BuildOptions::default()
     };
     let airspace = match build_airspace(nodes, &opts) {
         Ok(a) => a,
         Err(BuildError::Excluded { id, polygon }) => {
-            let (file, k) = origin[polygon];
-            anyhow::bail!(
-                "{}: pad `{id}` lies in polygon {k} (counted from 0) of the exclusions {}",
-                pads.display(),
-                file.display()
-            );
+            anyhow::bail!(exclusions.pad_inside(&pads.display().to_string(), &id, polygon));
         }
         Err(e) => {
             return Err(e).with_context(|| format!("building the airspace of {}", pads.display()));

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context as _;
 use clap::ArgMatches;
 use clap::parser::ValueSource;
+use muse_formats::params::Field;
 use muse_model::{EdgeRule, FlightParams};
 use muse_sim::metrics::ParamsRecord;
 use muse_sim::metrics::recorded::{Recorded, WorldRecord, read_recorded};
@@ -38,6 +39,30 @@ pub fn plans_inputs(
         Some(s) => inputs.add("the summary beside --plans", &s.path),
         None => inputs,
     }
+}
+
+/// The world of the run behind the plans file `plans` (whose summary is `found`) at its
+/// layers, and its flight parameters when `flight` is given: the summary's, each option the
+/// command line gives overriding its own. What was used is said on standard error.
+pub fn world_of_run(
+    plans: &Path,
+    found: Option<&Summary>,
+    world: &WorldArgs,
+    layers: &super::layers::LayersArgs,
+    flight: Option<&FlightArgs>,
+    matches: &ArgMatches,
+) -> anyhow::Result<(World, Option<FlightParams>)> {
+    let mut notes = Vec::new();
+    let world_args = world_args(world, matches, found, &mut notes)?;
+    let layers = super::layers::recorded_layers(layers, matches, found, &mut notes)?;
+    let params = flight
+        .map(|f| flight_params(f, matches, found, &mut notes))
+        .transpose()?;
+    let world = load_world(&world_args, found)?.layered(&layers)?;
+    for line in said(plans, found, &world, params.as_ref(), &notes) {
+        eprintln!("{line}");
+    }
+    Ok((world, params))
 }
 
 /// The summary that goes with `plans`: `given` (which must exist), else the `summary.json`
@@ -179,17 +204,7 @@ fn describe_zones(zones: Option<&[String]>) -> String {
 
 /// The flight options and the summary's field each is recorded in, by clap id (the same
 /// name).
-const FLIGHT_OPTIONS: [&str; 9] = [
-    "speed_kmh",
-    "max_flight_min",
-    "node_separation_s",
-    "edge_rule",
-    "headway_s",
-    "max_ground_delay_s",
-    "battery_swap_s",
-    "max_legs",
-    "max_trip_min",
-];
+const FLIGHT_OPTIONS: [&str; 9] = Field::NAMES;
 
 /// The flight parameters: the summary's, each overridden by the option the command line
 /// gives (said in `notes`); the command line's and the defaults without a summary.

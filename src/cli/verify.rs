@@ -5,14 +5,13 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{ArgMatches, Args};
-use muse_airspace::announced::KnownZones;
 use muse_formats::plans::{PlanEntry, PlanItem, read_plan_entries_file};
-use muse_model::{Millis, RejectReason};
-use muse_verify::recorded::Recorded;
+use muse_model::RejectReason;
+use muse_verify::recorded::{Recorded, zones_for};
 use muse_verify::verify_known_in;
 
 use super::common::{FlightArgs, WorldArgs};
-use super::layers::{LayersArgs, recorded_layers};
+use super::layers::LayersArgs;
 use super::recorded;
 
 /// Arguments of `muse verify`.
@@ -53,40 +52,22 @@ const STATUSES: [&str; 6] = [
 /// their operator and rejected requests are read and counted, and fly nothing).
 pub fn run(args: &VerifyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
     let summary = recorded::find(&args.plans, args.summary.as_deref())?;
-    let mut notes = Vec::new();
-    let world_args = recorded::world_args(&args.world, matches, summary.as_ref(), &mut notes)?;
-    let layers = recorded_layers(&args.layers, matches, summary.as_ref(), &mut notes)?;
-    let params = recorded::flight_params(&args.flight, matches, summary.as_ref(), &mut notes)?;
-    let world = recorded::load_world(&world_args, summary.as_ref())?.layered(&layers)?;
-    for line in recorded::said(&args.plans, summary.as_ref(), &world, Some(&params), &notes) {
-        eprintln!("{line}");
-    }
+    let (world, params) = recorded::world_of_run(
+        &args.plans,
+        summary.as_ref(),
+        &args.world,
+        &args.layers,
+        Some(&args.flight),
+        matches,
+    )?;
+    let params = params.expect("the flight parameters were asked for");
     let a = &world.airspace;
     let entries = read_plan_entries_file(&args.plans, a)?;
     let records = entries.iter().filter_map(|e| e.record().cloned()).collect();
     let recorded =
         Recorded::new(records, a).map_err(|e| anyhow::anyhow!("{}: {e}", args.plans.display()))?;
     let flights = recorded.flights();
-    let day = Millis::from_secs(86_400);
-    let from = flights
-        .iter()
-        .map(|f| f.plan.takeoff())
-        .min()
-        .unwrap_or_default()
-        - day;
-    let to = flights
-        .iter()
-        .map(|f| f.plan.landing())
-        .max()
-        .unwrap_or_default()
-        + day;
-    let from = world
-        .zones
-        .iter()
-        .filter_map(|z| z.announced)
-        .min()
-        .map_or(from, |n| n.min(from));
-    let zones = KnownZones::resolve(a, &world.zones, from, to)?;
+    let zones = zones_for(a, &world.zones, &flights)?;
     let violations = verify_known_in(a, &zones, &params, &flights, world.offset);
     let read = lines_read(&entries);
     let mut report = String::new();

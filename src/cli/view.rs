@@ -10,7 +10,7 @@ use muse_formats::plans::{OperatorCancellation, PlanItem, PlanRecord, read_plan_
 use muse_model::{Instant, Millis};
 
 use super::common::{World, WorldArgs};
-use super::layers::{LayersArgs, recorded_layers};
+use super::layers::LayersArgs;
 use super::output::write_atomically;
 use super::{output, recorded};
 
@@ -43,13 +43,14 @@ pub fn run(args: &ViewArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
         &args.world,
     );
     let out = output::file("--out", &args.out, &inputs)?;
-    let mut notes = Vec::new();
-    let world_args = recorded::world_args(&args.world, matches, found.as_ref(), &mut notes)?;
-    let layers = recorded_layers(&args.layers, matches, found.as_ref(), &mut notes)?;
-    let world = recorded::load_world(&world_args, found.as_ref())?.layered(&layers)?;
-    for line in recorded::said(&args.plans, found.as_ref(), &world, None, &notes) {
-        eprintln!("{line}");
-    }
+    let (world, _) = recorded::world_of_run(
+        &args.plans,
+        found.as_ref(),
+        &args.world,
+        &args.layers,
+        None,
+        matches,
+    )?;
     let mut records = Vec::new();
     let mut cancelled = Vec::new();
     for entry in read_plan_entries_file(&args.plans, &world.airspace)? {

@@ -88,6 +88,41 @@ pub fn read_exclusions_file(path: &Path) -> Result<Vec<Polygon<f64>>, InputError
     read_exclusions(&crate::read_to_string(path)?, &path.display().to_string())
 }
 
+/// The polygons of several exclusion files, in order, each knowing the file and place it came
+/// from, to name it when a pad lies in it.
+#[derive(Clone, Debug, Default)]
+pub struct Exclusions {
+    /// Every polygon of every file, in order.
+    pub polygons: Vec<Polygon<f64>>,
+    /// Each polygon's file and its index there (counted from 0).
+    origin: Vec<(String, usize)>,
+}
+
+impl Exclusions {
+    /// Reads the exclusion files `paths`, in order.
+    ///
+    /// # Errors
+    /// The first file that cannot be read, as [`read_exclusions_file`] says.
+    pub fn read_files(paths: &[impl AsRef<Path>]) -> Result<Self, InputError> {
+        let mut all = Exclusions::default();
+        for path in paths {
+            let path = path.as_ref();
+            let polygons = read_exclusions_file(path)?;
+            let file = path.display().to_string();
+            all.origin
+                .extend((0..polygons.len()).map(|k| (file.clone(), k)));
+            all.polygons.extend(polygons);
+        }
+        Ok(all)
+    }
+
+    /// Why pad `id` of the pads file `pads` cannot be: it lies in polygon `polygon` of these.
+    pub fn pad_inside(&self, pads: &str, id: &str, polygon: usize) -> String {
+        let (file, k) = &self.origin[polygon];
+        format!("{pads}: pad `{id}` lies in polygon {k} (counted from 0) of the exclusions {file}")
+    }
+}
+
 /// A polygon from its GeoJSON rings.
 fn polygon(rings: &Value) -> Result<Polygon<f64>, String> {
     let rings = rings

@@ -89,8 +89,32 @@ pub enum Field {
 }
 
 impl Field {
+    /// Every member, in the order a summary writes them.
+    pub const ALL: [Field; 9] = [
+        Field::SpeedKmh,
+        Field::MaxFlightMin,
+        Field::NodeSeparationS,
+        Field::EdgeRule,
+        Field::HeadwayS,
+        Field::MaxGroundDelayS,
+        Field::BatterySwapS,
+        Field::MaxLegs,
+        Field::MaxTripMin,
+    ];
+
+    /// The names of [`Field::ALL`], in order.
+    pub const NAMES: [&'static str; 9] = {
+        let mut names = [""; 9];
+        let mut i = 0;
+        while i < names.len() {
+            names[i] = Field::ALL[i].name();
+            i += 1;
+        }
+        names
+    };
+
     /// The member's name, e.g. `speed_kmh`.
-    pub fn name(self) -> &'static str {
+    pub const fn name(self) -> &'static str {
         match self {
             Field::SpeedKmh => "speed_kmh",
             Field::MaxFlightMin => "max_flight_min",

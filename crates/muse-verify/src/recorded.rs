@@ -2,8 +2,10 @@
 //! resolved against the airspace, and the flight as it finally stands after zone
 //! announcements (SPEC §11).
 
+use muse_airspace::announced::KnownZones;
+use muse_airspace::closures::ClosureError;
 use muse_formats::plans::PlanRecord;
-use muse_model::{Airspace, Request};
+use muse_model::{Airspace, Millis, Request, Zone};
 
 use crate::Flight;
 
@@ -101,6 +103,36 @@ impl Recorded {
     pub fn records(&self) -> &[PlanRecord] {
         &self.records
     }
+}
+
+/// The zones `flights` are checked against: `zones` resolved on `airspace` over the flights'
+/// day and a day either side (from the earliest announcement, if that is sooner), as
+/// `muse verify` and the Python package's `verify` check them.
+///
+/// # Errors
+/// A zone that cannot be resolved on the airspace.
+pub fn zones_for(
+    airspace: &Airspace,
+    zones: &[Zone],
+    flights: &[Flight<'_>],
+) -> Result<KnownZones, ClosureError> {
+    let day = Millis::from_secs(86_400);
+    let first = flights
+        .iter()
+        .map(|f| f.plan.takeoff())
+        .min()
+        .unwrap_or_default();
+    let last = flights
+        .iter()
+        .map(|f| f.plan.landing())
+        .max()
+        .unwrap_or_default();
+    let from = zones
+        .iter()
+        .filter_map(|z| z.announced)
+        .min()
+        .map_or(first - day, |n| n.min(first - day));
+    KnownZones::resolve(airspace, zones, from, last + day)
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@ use muse_export::bluesky::{Flight, Options, scenario};
 use muse_formats::plans::read_plan_entries_file;
 
 use super::super::common::{FlightArgs, WorldArgs};
-use super::super::layers::{LayersArgs, recorded_layers};
+use super::super::layers::LayersArgs;
 use super::super::{output, recorded};
 
 /// Arguments of `muse export bluesky`.
@@ -50,14 +50,15 @@ pub fn run(args: &BlueskyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode>
         &args.world,
     );
     let out = output::file("--out", &args.out, &inputs)?;
-    let mut notes = Vec::new();
-    let world_args = recorded::world_args(&args.world, matches, found.as_ref(), &mut notes)?;
-    let layers = recorded_layers(&args.layers, matches, found.as_ref(), &mut notes)?;
-    let params = recorded::flight_params(&args.flight, matches, found.as_ref(), &mut notes)?;
-    let world = recorded::load_world(&world_args, found.as_ref())?.layered(&layers)?;
-    for line in recorded::said(&args.plans, found.as_ref(), &world, Some(&params), &notes) {
-        eprintln!("{line}");
-    }
+    let (world, params) = recorded::world_of_run(
+        &args.plans,
+        found.as_ref(),
+        &args.world,
+        &args.layers,
+        Some(&args.flight),
+        matches,
+    )?;
+    let params = params.expect("the flight parameters were asked for");
     let entries = read_plan_entries_file(&args.plans, &world.airspace)?;
     let records: Vec<_> = entries.iter().filter_map(|e| e.record()).collect();
     let flights: Vec<Flight<'_>> = records

@@ -13,7 +13,7 @@ use muse_formats::plans::{PlanItem, read_plan_entries_file};
 use muse_model::Instant;
 
 use crate::cli::common::WorldArgs;
-use crate::cli::layers::{LayersArgs, recorded_layers};
+use crate::cli::layers::LayersArgs;
 use crate::cli::ranges::in_range;
 use crate::cli::{output, recorded};
 
@@ -128,13 +128,14 @@ pub fn run(args: &F3548Args, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
         };
         anyhow::anyhow!("{option}: {e}")
     })?;
-    let mut notes = Vec::new();
-    let world_args = recorded::world_args(&args.world, matches, found.as_ref(), &mut notes)?;
-    let layers = recorded_layers(&args.layers, matches, found.as_ref(), &mut notes)?;
-    let world = recorded::load_world(&world_args, found.as_ref())?.layered(&layers)?;
-    for line in recorded::said(&args.plans, found.as_ref(), &world, None, &notes) {
-        eprintln!("{line}");
-    }
+    let (world, _) = recorded::world_of_run(
+        &args.plans,
+        found.as_ref(),
+        &args.world,
+        &args.layers,
+        None,
+        matches,
+    )?;
     let entries = read_plan_entries_file(&args.plans, &world.airspace)?;
     let requests = entries.len();
     let records: Vec<_> = entries
