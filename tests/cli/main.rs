@@ -5,8 +5,9 @@
 //! (`outputs`), batch planning (`optimize`), parameters read from the summary beside the plans (`params_travel`), layered
 //! airspace's outputs and their verification (`layers`), airspaces built from pads (`pads`),
 //! plans exported as BlueSky scenarios (`export_bluesky`) and as ASTM F3548-21 operational
-//! intents (`export_f3548`), and every example of docs/reference.md read by MUSE
-//! (`reference_examples`).
+//! intents (`export_f3548`), every example of docs/reference.md read by MUSE
+//! (`reference_examples`), and every relative link of the README and docs/ resolving
+//! (`docs_links`).
 
 /// What this area's tests share (tests/support): `muse serve` on a loopback port, scratch
 /// folders; [`csv`] compares the CSV files of sweeps.
@@ -22,6 +23,7 @@ mod bad_inputs;
 mod commands;
 mod customers;
 mod deploy_scripts;
+mod docs_links;
 mod export_bluesky;
 mod export_f3548;
 mod layers;
