@@ -361,8 +361,10 @@ fn the_address_follows_the_selection_and_the_clock_both_ways() {
     page.eval(&format!("location.hash = '#f={}'", later.request))
         .expect("set the address");
     page.wait_for(
+        // The clock's text is drawn on the next frame, after the address changes: wait for both.
         &format!(
-            "museView.selected() === {:?} && location.hash === '#t={takeoff}&f={}'",
+            "museView.selected() === {:?} && location.hash === '#t={takeoff}&f={}' \
+             && document.getElementById('clock').textContent === '{takeoff}'",
             later.request, later.request
         ),
         Duration::from_secs(5),
