@@ -84,6 +84,9 @@ class Airspace:
         crs: str | None = None,
         exclude: Sequence[PathLike] = (),
         max_corridor_m: float | None = None,
+        time_zone: str | None = None,
+        utc_offset: str | None = None,
+        date: str | None = None,
     ) -> "Airspace":
         """The airspace of a set of pads, as ``muse airspace build --pads`` builds it.
 
@@ -91,7 +94,9 @@ class Airspace:
         ``name``), or the path of a pads CSV or GeoJSON file. ``crs``: the plane corridors are
         drawn in (``utm``, the default, ``EPSG:3414``, ...); ``exclude``: GeoJSON files of
         polygons no pad may lie in and no corridor may cross; ``max_corridor_m``: the longest
-        corridor.
+        corridor; ``time_zone`` (an IANA name such as ``Europe/Vienna``) or ``utc_offset``
+        (``+01:00``), with ``date`` (``YYYY-MM-DD``, default 2026-01-05): the day its requests
+        are planned on, so that clock times are the place's own.
 
         >>> pads = [{"id": "A", "lon": 103.80, "lat": 1.30},
         ...         {"id": "B", "lon": 103.81, "lat": 1.30},
@@ -107,7 +112,14 @@ class Airspace:
             text = _csv(_records(pads, "pads"), ("id", "lon", "lat"), ("name",), "pads")
             source = "pads"
         inner = _muse.Airspace.from_pads_csv(
-            text, source, crs, [os.fspath(p) for p in exclude], max_corridor_m
+            text,
+            source,
+            crs,
+            [os.fspath(p) for p in exclude],
+            max_corridor_m,
+            time_zone,
+            utc_offset,
+            date,
         )
         return cls(inner)
 

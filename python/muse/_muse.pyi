@@ -19,6 +19,9 @@ class Airspace:
         crs: str | None = None,
         exclude: Sequence[str] = ...,
         max_corridor_m: float | None = None,
+        time_zone: str | None = None,
+        utc_offset: str | None = None,
+        date: str | None = None,
     ) -> Airspace: ...
     @property
     def source(self) -> str: ...

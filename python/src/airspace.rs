@@ -5,6 +5,8 @@ use std::path::PathBuf;
 
 use muse_airspace::builder::{BuildError, BuildOptions, build_airspace};
 use muse_airspace::plane::Plane;
+use muse_formats::airspace_geojson::AirspaceFile;
+use muse_formats::day::FileDay;
 use muse_formats::exclusions::Exclusions;
 use muse_model::NodeKind;
 use pyo3::prelude::*;
@@ -25,6 +27,8 @@ pub struct Airspace {
     pub source: String,
     /// The land outline it carries (drawn on maps), if any.
     pub land: Vec<geo_types::Polygon<f64>>,
+    /// The day it carries (date, UTC offset, time zone), if any; else the default's.
+    pub day: Option<FileDay>,
 }
 
 #[pymethods]
@@ -41,40 +45,49 @@ impl Airspace {
             file: None,
             source: format!("embedded {}", s.name),
             land: Vec::new(),
+            day: None,
         })
     }
 
-    /// An airspace GeoJSON file (SPEC §2), with the land outline it may carry.
+    /// An airspace GeoJSON file (SPEC §2), with the land outline and the day it may carry.
     #[staticmethod]
     fn read(path: PathBuf) -> PyResult<Self> {
-        let graph = muse_formats::airspace_geojson::read_airspace_file(&path).map_err(error)?;
-        let land = muse_formats::land::read_land_file(&path).map_err(error)?;
+        let read = AirspaceFile::read(&path).map_err(error)?;
         let file = std::fs::canonicalize(&path)
             .unwrap_or_else(|_| path.clone())
             .display()
             .to_string();
         Ok(Airspace {
-            graph,
+            graph: read.airspace,
             scenario: None,
             file: Some(file),
             source: path.display().to_string(),
-            land,
+            land: read.land,
+            day: read.day,
         })
     }
 
     /// The airspace built from pads by the rule of SPEC §15, as `muse airspace build --pads`
     /// builds it: `pads` is the text of a pads CSV (`id,lon,lat[,name]`) named `source` in
     /// messages; `crs` the plane (`utm`, `EPSG:3414`, …); `exclude` GeoJSON files of polygons
-    /// no corridor may cross; `max_corridor_m` the longest corridor.
+    /// no corridor may cross; `max_corridor_m` the longest corridor; `time_zone` (an IANA
+    /// name) or `utc_offset`, with `date`, the day it is planned on.
     #[staticmethod]
-    #[pyo3(signature = (pads, source, crs = None, exclude = Vec::new(), max_corridor_m = None))]
+    #[pyo3(signature = (pads, source, crs = None, exclude = Vec::new(), max_corridor_m = None, time_zone = None, utc_offset = None, date = None))]
+    #[allow(clippy::too_many_arguments)]
     fn from_pads_csv(
         pads: &str,
         source: &str,
         crs: Option<&str>,
         exclude: Vec<PathBuf>,
         max_corridor_m: Option<f64>,
+        time_zone: Option<&str>,
+        utc_offset: Option<&str>,
+        date: Option<&str>,
     ) -> PyResult<Self> {
+        let default = muse_scenario::by_name(muse_scenario::SINGAPORE_77).map_err(error)?;
+        let day = FileDay::asked(time_zone, utc_offset, date, &default.date.to_string())
+            .map_err(|e| error(format!("{}: {}", e.field, e.message)))?;
         let plane = match crs {
             Some(text) => Plane::parse(text).map_err(|e| error(format!("crs: {e}")))?,
             None => Plane::Utm,
@@ -99,6 +112,7 @@ impl Airspace {
             file: None,
             source: format!("built from the pads of {source}"),
             land: Vec::new(),
+            day,
         })
     }
 
@@ -163,7 +177,11 @@ impl Airspace {
 
     /// The airspace as GeoJSON (SPEC §2), as `muse airspace build` writes it.
     fn to_geojson(&self) -> String {
-        muse_formats::airspace_geojson::write_airspace_with_land(&self.graph, &self.land)
+        muse_formats::airspace_geojson::write_airspace_file(
+            &self.graph,
+            &self.land,
+            self.day.as_ref(),
+        )
     }
 
     fn __repr__(&self) -> String {

@@ -4,9 +4,10 @@
 
 use std::path::PathBuf;
 
+use muse_formats::day::LocalDay;
 use muse_formats::flights_csv::write_flights_csv;
 use muse_formats::plans::write_plan_line;
-use muse_formats::requests::{Demand, LocalDay, read_demand};
+use muse_formats::requests::{Demand, read_demand};
 use muse_formats::stays_csv::write_stays_csv;
 use muse_model::time::parse_clock;
 use muse_model::{FlightParams, Instant, Millis, Request};

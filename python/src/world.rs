@@ -14,8 +14,8 @@ pub struct World {
     pub airspace: muse_model::Airspace,
     /// The zones.
     pub zones: Vec<Zone>,
-    /// The day (the scenario's; the Singapore default's for other airspaces, as on the
-    /// command line).
+    /// The day (the scenario's, or the one an airspace file carries; the Singapore default's
+    /// for other airspaces, as on the command line).
     pub date: jiff::civil::Date,
     /// The day's UTC offset.
     pub offset: UtcOffset,
@@ -41,18 +41,20 @@ pub enum Zones {
 /// message names the file or option.
 pub fn world(airspace: Option<&Airspace>, zones: &Zones, layers: &Layers) -> Result<World, String> {
     let default = muse_scenario::by_name(muse_scenario::SINGAPORE_77).map_err(|e| e.to_string())?;
-    let (graph, scenario, file, source) = match airspace {
+    let (graph, scenario, file, source, file_day) = match airspace {
         Some(a) => (
             a.graph.clone(),
             a.scenario,
             a.file.clone(),
             a.source.clone(),
+            a.day.as_ref().map(|d| d.day),
         ),
         None => (
             default.airspace.clone(),
             Some(default),
             None,
             format!("embedded {}", default.name),
+            None,
         ),
     };
     let (zones, zone_files) = match zones {
@@ -78,7 +80,13 @@ pub fn world(airspace: Option<&Airspace>, zones: &Zones, layers: &Layers) -> Res
     let airspace = graph
         .layered(layers)
         .map_err(|e| format!("layers {}: {e}", layers.count))?;
-    let day = scenario.unwrap_or(default);
+    let day = file_day.unwrap_or_else(|| {
+        let s = scenario.unwrap_or(default);
+        muse_formats::day::LocalDay {
+            date: s.date,
+            offset: s.offset,
+        }
+    });
     Ok(World {
         airspace,
         zones,

@@ -144,6 +144,28 @@ def test_airspace_from_pads_is_muse_airspace_build(tmp_path, muse_cli):
         muse.Airspace.from_pads([{"id": "A", "lon": 103.8, "lat": 1.3}])
 
 
+def test_an_airspace_in_vienna_plans_on_vienna_time(tmp_path, muse_cli):
+    pads = pathlib.Path(__file__).resolve().parents[2] / "examples" / "vienna-pads.csv"
+    airspace = muse.Airspace.from_pads(pads, time_zone="Europe/Vienna")
+    muse_cli(
+        "airspace", "build", "--pads", pads, "--time-zone", "Europe/Vienna",
+        "--out", tmp_path / "v.geojson",
+    )
+    assert airspace.to_geojson() == (tmp_path / "v.geojson").read_text()
+    ids = list(airspace.nodes.id)
+    day = muse.plan(
+        [{"id": "r1", "origin": ids[0], "destination": ids[1], "departure": "09:30"}],
+        airspace=muse.Airspace.read(tmp_path / "v.geojson"),
+    )
+    assert day.plans[0]["requested_departure"] == "2026-01-05T09:30:00.000+01:00"
+    summer = muse.Airspace.from_pads(pads, time_zone="Europe/Vienna", date="2026-07-06")
+    assert '"utc_offset": "+02:00"' in summer.to_geojson()
+    with pytest.raises(muse.MuseError, match="time_zone: `Mars/Olympus` is not a time zone"):
+        muse.Airspace.from_pads(pads, time_zone="Mars/Olympus")
+    with pytest.raises(muse.MuseError, match="date: a date needs a time zone"):
+        muse.Airspace.from_pads(pads, date="2026-07-06")
+
+
 def test_zones_none_and_files(tmp_path):
     # The default's CBD zone closes 10:00-12:00: a flight through it waits or goes round.
     own = muse.simulate(count=300, seed=SEED, start="10:00", end="12:00")

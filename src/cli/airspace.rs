@@ -10,6 +10,7 @@ use muse_airspace::builder::{BuildError, BuildOptions, build_airspace};
 use muse_airspace::closures::closed_elements;
 use muse_airspace::plane::Plane;
 use muse_airspace::stats::airspace_stats;
+use muse_formats::day::FileDay;
 use muse_formats::exclusions::Exclusions;
 use muse_model::{
     Airspace, EdgeId, EdgeKind, HeadingRule, Layers, Metres, Millis, NodeId, Period, Speed, Zone,
@@ -46,6 +47,31 @@ pub enum AirspaceCommand {
         /// Drop corridors longer than this (with `--pads`), metres, from 1 to 1000000.
         #[arg(long, value_name = "M", requires = "pads", allow_negative_numbers = true, value_parser = super::ranges::max_corridor_m)]
         max_corridor_m: Option<f64>,
+        /// The pads' time zone (with `--pads`), an IANA name such as `Europe/Vienna`: the file
+        /// then carries the day its airspace is planned on, `--date` at this zone's offset at
+        /// noon, so that local clock times in requests and every output's times are the
+        /// place's own. Without it (or `--utc-offset`) the day is the default's (2026-01-05,
+        /// +08:00, Singapore's).
+        #[arg(
+            long,
+            value_name = "NAME",
+            requires = "pads",
+            conflicts_with = "utc_offset"
+        )]
+        time_zone: Option<String>,
+        /// The pads' day at a fixed UTC offset (with `--pads`) instead of a time zone, e.g.
+        /// `+01:00` or `-05:00`.
+        #[arg(
+            long,
+            value_name = "±HH:MM",
+            requires = "pads",
+            allow_hyphen_values = true
+        )]
+        utc_offset: Option<String>,
+        /// The date of the pads' day (with `--time-zone` or `--utc-offset`), YYYY-MM-DD, years
+        /// 1001 to 8999; default 2026-01-05 (a Monday), the default scenario's.
+        #[arg(long, value_name = "YYYY-MM-DD", requires = "pads")]
+        date: Option<String>,
         /// Output: with `--pads`, the airspace GeoJSON file (`-`: standard output; an existing
         /// file is replaced atomically, never an input); without, the folder of the Singapore
         /// files (default `scenarios/singapore-77`), whose two files are replaced, each
@@ -102,12 +128,16 @@ pub fn run(cmd: AirspaceCommand) -> anyhow::Result<ExitCode> {
             max_corridor_m,
             out,
             land,
+            time_zone,
+            utc_offset,
+            date,
             check: _,
         } => build_from_pads(
             &pads,
             crs.as_deref(),
             &exclude,
             land.as_deref(),
+            pads_day(time_zone.as_deref(), utc_offset.as_deref(), date.as_deref())?.as_ref(),
             max_corridor_m,
             out.as_deref(),
         ),
@@ -175,12 +205,33 @@ fn build(out: &Path, check: bool) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// The day `muse airspace build --pads` writes into the airspace file: `date` (default the
+/// default scenario's) in time zone `time_zone` or at offset `utc_offset`; none without either.
+fn pads_day(
+    time_zone: Option<&str>,
+    utc_offset: Option<&str>,
+    date: Option<&str>,
+) -> anyhow::Result<Option<FileDay>> {
+    let default = muse_scenario::by_name(muse_scenario::SINGAPORE_77)?
+        .date
+        .to_string();
+    FileDay::asked(time_zone, utc_offset, date, &default).map_err(|e| {
+        let option = match e.field {
+            "date" => "--date",
+            "utc_offset" => "--utc-offset",
+            _ => "--time-zone",
+        };
+        anyhow::anyhow!("{option}: {}", e.message)
+    })
+}
+
 /// `muse airspace build --pads`: the airspace of any set of pads (SPEC §15).
 fn build_from_pads(
     pads: &Path,
     crs: Option<&str>,
     exclude: &[PathBuf],
     land: Option<&Path>,
+    day: Option<&FileDay>,
     max_corridor_m: Option<f64>,
     out: Option<&Path>,
 ) -> anyhow::Result<ExitCode> {
@@ -222,7 +273,7 @@ fn build_from_pads(
         Some(path) => muse_formats::exclusions::read_exclusions_file(path)?,
         None => Vec::new(),
     };
-    let text = muse_formats::airspace_geojson::write_airspace_with_land(&airspace, &outline);
+    let text = muse_formats::airspace_geojson::write_airspace_file(&airspace, &outline, day);
     target.write(&text)?;
     eprintln!(
         "built {} pads into {} corridors in {plane} ({} bytes to {target})",
@@ -230,6 +281,21 @@ fn build_from_pads(
         airspace.edge_count(),
         text.len(),
     );
+    match day {
+        Some(d) => eprintln!(
+            "its day: {} at {}{}",
+            d.day.date,
+            d.day.offset,
+            d.time_zone
+                .as_ref()
+                .map(|z| format!(" ({z})"))
+                .unwrap_or_default()
+        ),
+        None => eprintln!(
+            "note: no --time-zone: its day is the default scenario's (Singapore's date and \
+             offset, +08:00); --time-zone NAME gives the pads' own"
+        ),
+    }
     Ok(ExitCode::SUCCESS)
 }
 
@@ -498,7 +564,11 @@ fn export(world: &WorldArgs, out: &Path, zones_out: Option<&Path>) -> anyhow::Re
              or a built-in scenario)"
         );
     }
-    let text = muse_formats::airspace_geojson::write_airspace(&world.airspace);
+    let text = muse_formats::airspace_geojson::write_airspace_file(
+        &world.airspace,
+        &world.land_outline,
+        world.file_day.as_ref(),
+    );
     let zones = zones_out
         .as_ref()
         .map(|_| muse_formats::zones::write_ed318(&world.zones));

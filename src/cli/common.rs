@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 use clap::Args;
 use clap::builder::PossibleValuesParser;
+use muse_formats::day::LocalDay;
 use muse_formats::params::ParamsRecord;
 use muse_model::{Airspace, Millis, Speed, UtcOffset, Zone};
 use muse_sim::metrics::WorldRecord;
@@ -104,6 +105,10 @@ pub struct World {
     pub date: jiff::civil::Date,
     /// The scenario's UTC offset.
     pub offset: UtcOffset,
+    /// The day an airspace file carries (with its time zone's name, if it gives one), which
+    /// `date` and `offset` are then; `None` for a scenario, a synthetic airspace or a file
+    /// without one.
+    pub file_day: Option<muse_formats::day::FileDay>,
     /// Where the airspace and zones came from, as `summary.json` records it.
     pub record: WorldRecord,
 }
@@ -130,16 +135,18 @@ impl WorldArgs {
         if no_zones && self.zones.len() > 1 {
             anyhow::bail!("`--zones none` cannot be combined with zone files");
         }
-        // Date and offset: the scenario's; files and synthetic airspaces use the default's.
+        // Date and offset: the scenario's, or the one an airspace file carries; files without
+        // one and synthetic airspaces are planned on the default's.
         let default = muse_scenario::by_name(muse_scenario::SINGAPORE_77)?;
-        let land_outline = match &self.airspace {
-            Some(path) => muse_formats::land::read_land_file(path)?,
-            None => Vec::new(),
-        };
+        let mut land_outline = Vec::new();
+        let mut file_day = None;
         let (airspace_source, airspace, scenario, title) = if let Some(path) = &self.airspace {
+            let file = muse_formats::airspace_geojson::AirspaceFile::read(path)?;
+            land_outline = file.land;
+            file_day = file.day;
             (
                 path.display().to_string(),
-                muse_formats::airspace_geojson::read_airspace_file(path)?,
+                file.airspace,
                 None,
                 format!("MUSE airspace: {}", path.display()),
             )
@@ -184,7 +191,15 @@ impl WorldArgs {
             }
             all
         };
-        let day = scenario.unwrap_or(default);
+        let day = if let Some(f) = &file_day {
+            f.day
+        } else {
+            let s = scenario.unwrap_or(default);
+            LocalDay {
+                date: s.date,
+                offset: s.offset,
+            }
+        };
         let record = self.record()?;
         Ok(World {
             airspace_source,
@@ -196,6 +211,7 @@ impl WorldArgs {
             title,
             date: day.date,
             offset: day.offset,
+            file_day,
             record,
         })
     }

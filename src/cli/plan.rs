@@ -5,9 +5,10 @@ use std::process::ExitCode;
 
 use anyhow::Context as _;
 use clap::Args;
+use muse_formats::day::LocalDay;
 use muse_formats::flights_csv::write_flights_csv;
 use muse_formats::plans::{PlanRecord, write_plan_line};
-use muse_formats::requests::{LocalDay, UnservedRequest, read_demand_file};
+use muse_formats::requests::{UnservedRequest, read_demand_file};
 use muse_formats::stays_csv::write_stays_csv;
 use muse_model::{Instant, Millis};
 use muse_sim::day::DayRun;

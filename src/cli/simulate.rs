@@ -6,9 +6,10 @@ use std::process::ExitCode;
 
 use anyhow::Context as _;
 use clap::Args;
+use muse_formats::day::LocalDay;
 use muse_formats::flights::{FlightFeature, write_flights};
 use muse_formats::plans::PlanRecord;
-use muse_formats::requests::{Demand, LocalDay, read_demand_file, write_demand, write_requests};
+use muse_formats::requests::{Demand, read_demand_file, write_demand, write_requests};
 use muse_model::Request;
 use muse_sim::day::DayRun;
 use muse_sim::demand::generate;

@@ -1,4 +1,5 @@
-//! The `muse` binary as a user runs it: its commands end to end (`commands`), zones' heights in
+//! The `muse` binary as a user runs it: its commands end to end (`commands`), the day an
+//! airspace file carries (`airspace_day`), zones' heights in
 //! `muse airspace info` (`airspace_info`), multi-leg days
 //! (`swaps`), sweeps sharded and merged (`sweep_shards`), the deployment scripts
 //! (`deploy_scripts`), bad inputs refused (`bad_inputs`), outputs that never clobber
@@ -18,6 +19,7 @@ mod support {
     pub use serve::{scratch_dir, start};
 }
 
+mod airspace_day;
 mod airspace_info;
 mod bad_inputs;
 mod commands;

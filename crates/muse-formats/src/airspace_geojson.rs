@@ -11,7 +11,9 @@
 //!
 //! A file may also carry the map's outline: `Polygon` or `MultiPolygon` features with
 //! `"kind": "land"` (`muse airspace build --pads … --land L.geojson`). They are not part of
-//! the graph; [`read_land`](crate::land::read_land) reads them, for maps and the viewer.
+//! the graph; [`read_land`](crate::land::read_land) reads them, for maps and the viewer. And it
+//! may carry the day its airspace is planned on ([`crate::day`]); [`AirspaceFile`] reads all
+//! three.
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
@@ -20,6 +22,7 @@ use std::path::Path;
 use muse_model::{Airspace, AirspaceError, Edge, LonLat, Node, NodeId, NodeKind};
 use serde_json::{Map, Value};
 
+use crate::day::FileDay;
 use crate::error::{InputError, Location};
 
 /// Reads an airspace from GeoJSON text; `file` names the source in error messages.
@@ -37,9 +40,60 @@ use crate::error::{InputError, Location};
 /// assert_eq!(a.edges()[0].id, "A-B");
 /// ```
 pub fn read_airspace(text: &str, file: &str) -> Result<Airspace, InputError> {
+    airspace_of(&parse_root(text, file)?, file)
+}
+
+/// The JSON document of an airspace file.
+fn parse_root(text: &str, file: &str) -> Result<Value, InputError> {
+    serde_json::from_str(text)
+        .map_err(|e| InputError::new(file, Location::Whole, None, format!("not valid JSON: {e}")))
+}
+
+/// Everything an airspace file carries: the graph, the land outline its maps draw, and the
+/// day it is planned on ([`crate::day`]).
+#[derive(Debug)]
+pub struct AirspaceFile {
+    /// The graph.
+    pub airspace: Airspace,
+    /// The land outline (features of kind `land`); empty for most files.
+    pub land: Vec<geo_types::Polygon<f64>>,
+    /// The day the file carries, if any; its airspace is otherwise planned on the default's.
+    pub day: Option<FileDay>,
+}
+
+impl AirspaceFile {
+    /// Reads the text of an airspace file; `file` names it in error messages.
+    ///
+    /// ```
+    /// let text = r#"{"type": "FeatureCollection", "date": "2026-01-05", "utc_offset": "+01:00", "features": [
+    ///   {"type": "Feature", "geometry": {"type": "Point", "coordinates": [16.37, 48.21]}, "properties": {"id": "A", "kind": "station"}}]}"#;
+    /// let f = muse_formats::airspace_geojson::AirspaceFile::parse(text, "a.geojson").unwrap();
+    /// assert_eq!(f.day.unwrap().day.offset.to_string(), "+01:00");
+    /// assert!(f.land.is_empty());
+    /// ```
+    pub fn parse(text: &str, file: &str) -> Result<Self, InputError> {
+        let root = parse_root(text, file)?;
+        Ok(AirspaceFile {
+            airspace: airspace_of(&root, file)?,
+            land: crate::land::land_of(&root, file)?,
+            day: crate::day::read_day(&root, file)?,
+        })
+    }
+
+    /// Reads an airspace file.
+    pub fn read(path: &Path) -> Result<Self, InputError> {
+        Self::parse(&crate::read_to_string(path)?, &path.display().to_string())
+    }
+
+    /// The file's text, as [`write_airspace_file`] writes it.
+    pub fn write(&self) -> String {
+        write_airspace_file(&self.airspace, &self.land, self.day.as_ref())
+    }
+}
+
+/// The airspace of an airspace file's JSON document.
+fn airspace_of(root: &Value, file: &str) -> Result<Airspace, InputError> {
     let whole = |msg: String| InputError::new(file, Location::Whole, None, msg);
-    let root: Value =
-        serde_json::from_str(text).map_err(|e| whole(format!("not valid JSON: {e}")))?;
     let features = root
         .get("features")
         .and_then(Value::as_array)
@@ -296,13 +350,22 @@ fn graph_features(features: &[Value], file: &str) -> Result<GraphFeatures, Input
 /// assert_eq!(write_airspace(&read_airspace(&out, "t2").unwrap()), out);
 /// ```
 pub fn write_airspace(airspace: &Airspace) -> String {
-    write_airspace_with_land(airspace, &[])
+    write_airspace_file(airspace, &[], None)
 }
 
-/// [`write_airspace`], followed by the land outline `land`, one `Polygon` feature of kind
-/// `land` per polygon (positions rounded to 7 decimals).
-pub fn write_airspace_with_land(airspace: &Airspace, land: &[geo_types::Polygon<f64>]) -> String {
-    let mut out = String::from("{\"type\": \"FeatureCollection\", \"features\": [\n");
+/// [`write_airspace`] with the day `day`, if any, as members of the FeatureCollection (before
+/// `features`), and followed by the land outline `land`, one `Polygon` feature of kind `land`
+/// per polygon (positions rounded to 7 decimals). Without a day or land it is
+/// [`write_airspace`]'s text.
+pub fn write_airspace_file(
+    airspace: &Airspace,
+    land: &[geo_types::Polygon<f64>],
+    day: Option<&FileDay>,
+) -> String {
+    let mut out = format!(
+        "{{\"type\": \"FeatureCollection\", {}\"features\": [\n",
+        day.map(FileDay::members).unwrap_or_default()
+    );
     let mut first = true;
     let mut sep = |out: &mut String| {
         if !first {

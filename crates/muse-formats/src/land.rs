@@ -3,7 +3,6 @@
 //! viewer; not part of the graph ([`crate::airspace_geojson`] skips them).
 
 use std::fmt::Write as _;
-use std::path::Path;
 
 use geo_types::{LineString, Polygon};
 use serde_json::Value;
@@ -26,21 +25,18 @@ pub(crate) fn land_polygons(geometry: &Value) -> Result<Vec<Polygon<f64>>, (&'st
     })
 }
 
-/// The land outline an airspace file carries (its features of kind `land`), in file order;
-/// none for most files.
+/// The land outline of an airspace file's JSON document (its features of kind `land`), in
+/// file order; none for most files. [`AirspaceFile`](crate::airspace_geojson::AirspaceFile)
+/// reads it:
 ///
 /// ```
 /// let text = r#"{"type": "FeatureCollection", "features": [
 ///   {"type": "Feature", "geometry": {"type": "Point", "coordinates": [16.37, 48.2]}, "properties": {"id": "A", "kind": "station"}},
 ///   {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [[[16.3, 48.1], [16.5, 48.1], [16.5, 48.3], [16.3, 48.1]]]}, "properties": {"kind": "land"}}]}"#;
-/// let land = muse_formats::land::read_land(text, "a.geojson").unwrap();
-/// assert_eq!(land.len(), 1);
-/// assert_eq!(muse_formats::airspace_geojson::read_airspace(text, "a.geojson").unwrap().node_count(), 1);
+/// let file = muse_formats::airspace_geojson::AirspaceFile::parse(text, "a.geojson").unwrap();
+/// assert_eq!((file.land.len(), file.airspace.node_count()), (1, 1));
 /// ```
-pub fn read_land(text: &str, file: &str) -> Result<Vec<Polygon<f64>>, InputError> {
-    let whole = |msg: String| InputError::new(file, Location::Whole, None, msg);
-    let root: Value =
-        serde_json::from_str(text).map_err(|e| whole(format!("not valid JSON: {e}")))?;
+pub(crate) fn land_of(root: &Value, file: &str) -> Result<Vec<Polygon<f64>>, InputError> {
     let mut out = Vec::new();
     for (index, feature) in root["features"]
         .as_array()
@@ -57,11 +53,6 @@ pub fn read_land(text: &str, file: &str) -> Result<Vec<Polygon<f64>>, InputError
         out.extend(polygons);
     }
     Ok(out)
-}
-
-/// Reads an airspace file's land outline ([`read_land`]).
-pub fn read_land_file(path: &Path) -> Result<Vec<Polygon<f64>>, InputError> {
-    read_land(&crate::read_to_string(path)?, &path.display().to_string())
 }
 
 /// Appends one land feature for `p` (positions rounded to 7 decimals, as the airspace's).

@@ -5,6 +5,7 @@
 //! or feature, and the field. Nothing here panics on bad input.
 //!
 //! - [`airspace_geojson`]: the airspace GeoJSON (nodes as `Point`s, edges as `LineString`s);
+//! - [`day`]: the day an airspace is planned on (its date and UTC offset), which a file may carry;
 //! - [`zones`]: no-fly zones in the ED-318 GeoJSON profile and ED-269 JSON;
 //! - [`pads`]: the pads an airspace is built from (CSV or GeoJSON points, SPEC §15);
 //! - [`exclusions`]: polygons no corridor of an airspace built from pads may meet;
@@ -21,6 +22,7 @@
 
 pub mod airspace_geojson;
 pub mod customers;
+pub mod day;
 pub mod error;
 pub mod exclusions;
 pub mod flights;

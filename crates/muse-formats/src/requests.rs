@@ -30,22 +30,13 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
-use jiff::civil::Date;
 use muse_model::request::{ID_RULE, valid_id};
 use muse_model::time::{TimeError, parse_clock};
 use muse_model::{Airspace, Instant, NodeId, Request, UtcOffset};
 
+use crate::day::LocalDay;
 use crate::error::{InputError, Location};
 use crate::table::Table;
-
-/// The date and offset that give meaning to bare local clock times.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct LocalDay {
-    /// The scenario date.
-    pub date: Date,
-    /// The scenario's UTC offset.
-    pub offset: UtcOffset,
-}
 
 /// The required columns, in the order [`write_requests`] writes them.
 const COLUMNS: [&str; 4] = ["id", "origin", "destination", "departure"];
@@ -176,7 +167,7 @@ pub struct UnservedRequest {
 /// [`read_demand`]).
 ///
 /// ```
-/// use muse_formats::requests::{read_requests, LocalDay};
+/// use muse_formats::{day::LocalDay, requests::read_requests};
 /// # let air = muse_formats::airspace_geojson::read_airspace(r#"{"type": "FeatureCollection", "features": [
 /// #  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.8, 1.3]}, "properties": {"id": "A", "kind": "station"}},
 /// #  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.81, 1.3]}, "properties": {"id": "B", "kind": "station"}}]}"#, "a").unwrap();
@@ -202,7 +193,7 @@ pub fn read_requests(
 /// requests apart.
 ///
 /// ```
-/// use muse_formats::requests::{read_demand, LocalDay};
+/// use muse_formats::{day::LocalDay, requests::read_demand};
 /// # let air = muse_formats::airspace_geojson::read_airspace(r#"{"type": "FeatureCollection", "features": [
 /// #  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.8, 1.3]}, "properties": {"id": "A", "kind": "station"}},
 /// #  {"type": "Feature", "geometry": {"type": "Point", "coordinates": [103.81, 1.3]}, "properties": {"id": "B", "kind": "station"}}]}"#, "a").unwrap();

@@ -5,7 +5,8 @@ use std::path::PathBuf;
 
 use muse_formats::Location;
 use muse_formats::airspace_geojson::read_airspace_file;
-use muse_formats::requests::{LocalDay, read_requests, read_requests_file, write_requests};
+use muse_formats::day::LocalDay;
+use muse_formats::requests::{read_requests, read_requests_file, write_requests};
 use muse_model::testing::request;
 use muse_model::{Airspace, Instant, Millis, Request, UtcOffset};
 use proptest::prelude::*;
