@@ -258,6 +258,19 @@ impl WorldArgs {
 }
 
 impl World {
+    /// The day an airspace file carries, for the summary's demand line: ` on 2026-01-05 at
+    /// +01:00 (Europe/Vienna)`; empty on the default day and a scenario's.
+    pub fn day_note(&self) -> String {
+        self.file_day.as_ref().map_or(String::new(), |d| {
+            let zone = d
+                .time_zone
+                .as_ref()
+                .map(|z| format!(" ({z})"))
+                .unwrap_or_default();
+            format!(" on {} at {}{zone}", d.day.date, d.day.offset)
+        })
+    }
+
     /// Refuses zones with a `withdrawn` instant (a service listing's): `command` plans, and
     /// planning replays zone announcements, never withdrawals.
     pub fn refuse_withdrawn(&self, command: &str) -> anyhow::Result<()> {

@@ -88,9 +88,10 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
             .demand
             .booking_note()
             .map_or(String::new(), |b| format!(", {b}"));
+        let (from, to, day) = (&args.demand.from, &args.demand.to, world.day_note());
         let source = format!(
-            "generated: {} requests, {}–{}, {od} pairs, seed {}{booked}",
-            spec.count, args.demand.from, args.demand.to, spec.seed
+            "generated: {} requests, {from}–{to}{day}, {od} pairs, seed {}{booked}",
+            spec.count, spec.seed
         );
         let demand = Demand {
             requests: reqs,

@@ -64,6 +64,13 @@ fn a_vienna_day_is_planned_and_written_in_vienna_time() {
         out.to_str().unwrap(),
     ]);
     assert!(sim.status.success(), "{}", said(&sim));
+    assert!(
+        said(&sim).contains(
+            "generated: 300 requests, 08:00–20:00 on 2026-01-05 at +01:00 (Europe/Vienna),"
+        ),
+        "{}",
+        said(&sim)
+    );
     // Generated departures lie in 08:00–20:00 of Vienna's clock, written at Vienna's offset.
     let deps = departures(&out.join("requests.csv"));
     assert_eq!(deps.len(), 300);
