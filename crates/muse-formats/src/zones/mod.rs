@@ -24,6 +24,11 @@
 //!   `GeometryCollection` is the band of its members that carry none. MUSE extension: a zone
 //!   with explicit `nodes` / `edges` and no geometry gives its band as `properties.layer`
 //!   (what [`write_ed318`] writes for it); with a geometry, `properties.layer` is an error.
+//! - `properties.lowerLimit`, `properties.upperLimit` (ED-269's names, with `uomDimensions`,
+//!   `lowerVerticalReference` and `upperVerticalReference`): read exactly as an ED-269
+//!   volume's (below), the band of every geometry without a `layer` (or of a zone without
+//!   geometry). A `layer` (on the geometry or in the properties) giving another band is an
+//!   error: the file says two things.
 //!
 //! # ED-269 JSON
 //!
