@@ -175,18 +175,16 @@ impl WorldArgs {
         } else if self.zones.is_empty() {
             scenario.map(|s| s.zones.clone()).unwrap_or_default()
         } else {
-            let mut all = Vec::new();
+            let mut all = muse_formats::zones::ZoneFiles::default();
             for path in &self.zones {
-                all.extend(
-                    muse_formats::zones::read_zones_file(path)
-                        .with_context(|| format!("reading zones from {}", path.display()))?,
-                );
+                all.add(path)
+                    .with_context(|| format!("reading zones from {}", path.display()))?;
             }
-            all
+            all.into_zones()
         };
         let day = scenario.unwrap_or(default);
         let record = self.record()?;
-        Ok(World {
+        let world = World {
             airspace_source,
             airspace,
             zones,
@@ -197,7 +195,9 @@ impl WorldArgs {
             date: day.date,
             offset: day.offset,
             record,
-        })
+        };
+        world.warn_idle_zones(false);
+        Ok(world)
     }
 
     /// What `summary.json` records of these arguments: files as absolute paths, so that a
@@ -242,6 +242,51 @@ impl WorldArgs {
 }
 
 impl World {
+    /// Warns on standard error of every zone that does nothing on the airspace ([`idle`]):
+    /// one that closes nothing, or is announced after its last window ended. With
+    /// `heights_only` (the airspace just layered, the rest said already) only of a zone whose
+    /// heights hold no layer. A zone the airspace cannot resolve (an unknown id) is left to
+    /// the error its resolution gives.
+    ///
+    /// [`idle`]: muse_airspace::closures::idle::idle
+    pub fn warn_idle_zones(&self, heights_only: bool) {
+        use muse_airspace::closures::idle::{Idle, idle};
+        for zone in &self.zones {
+            let id = &zone.id;
+            match idle(&self.airspace, zone) {
+                Ok(Some(Idle::ClosesNothingAtItsHeights)) => {
+                    let layers = self.airspace.layers().map_or_else(String::new, |l| {
+                        format!(
+                            " (the layers fly from {} m to {} m)",
+                            l.altitude(1),
+                            l.altitude(l.count)
+                        )
+                    });
+                    eprintln!(
+                        "warning: zone `{id}` closes nothing on the airspace at its heights \
+                         ({}): it covers stations or corridors, but no layer{layers} nor climb \
+                         between layers lies in its band",
+                        zone.vertical
+                    );
+                }
+                Ok(Some(Idle::ClosesNothing)) if !heights_only => eprintln!(
+                    "warning: zone `{id}` closes nothing on the airspace ({}): its area covers \
+                     no station, waypoint or corridor, and it lists none",
+                    self.airspace_source
+                ),
+                Ok(Some(Idle::AnnouncedAfterItsWindows { announced, ended })) if !heights_only => {
+                    eprintln!(
+                        "warning: zone `{id}` is announced at {}, when its last window has \
+                         already ended ({}): it closes nothing",
+                        announced.to_rfc3339(self.offset),
+                        ended.to_rfc3339(self.offset)
+                    );
+                }
+                _ => {}
+            }
+        }
+    }
+
     /// Refuses zones with a `withdrawn` instant (a service listing's): `command` plans, and
     /// planning replays zone announcements, never withdrawals.
     pub fn refuse_withdrawn(&self, command: &str) -> anyhow::Result<()> {

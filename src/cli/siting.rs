@@ -118,14 +118,12 @@ impl SitingArgs {
         if self.zones.is_empty() {
             return Ok(default);
         }
-        let mut all = Vec::new();
+        let mut all = muse_formats::zones::ZoneFiles::default();
         for path in &self.zones {
-            all.extend(
-                muse_formats::zones::read_zones_file(path)
-                    .with_context(|| format!("reading zones from {}", path.display()))?,
-            );
+            all.add(path)
+                .with_context(|| format!("reading zones from {}", path.display()))?;
         }
-        Ok(all)
+        Ok(all.into_zones())
     }
 
     /// The seeded days.
