@@ -1,6 +1,6 @@
 //! Options shared by several commands: which airspace and zones, and flight parameters.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
 use clap::Args;
@@ -429,6 +429,28 @@ pub fn world_attribution(world: &World) -> String {
     } else {
         String::new()
     }
+}
+
+/// The name `--customers` (`muse demand`, `muse siting`) takes for the embedded customers:
+/// every HDB car park (2,257), each of weight 1, as a proxy for where Singapore's residents
+/// live.
+pub const SINGAPORE_HDB: &str = "singapore-hdb";
+
+/// The file `--customers` names, `None` for the embedded customers ([`SINGAPORE_HDB`]).
+pub fn customers_file(arg: &Path) -> Option<&Path> {
+    (arg.as_os_str() != SINGAPORE_HDB).then_some(arg)
+}
+
+/// The customers `--customers` names: the embedded HDB car parks for [`SINGAPORE_HDB`], else
+/// a customers CSV (`id,lon,lat[,weight]`).
+///
+/// # Errors
+/// A file that cannot be read or is refused, named with its line and field.
+pub fn read_customers(arg: &Path) -> anyhow::Result<Vec<muse_formats::customers::Customer>> {
+    Ok(match customers_file(arg) {
+        None => muse_scenario::candidates::residential_customers()?,
+        Some(path) => muse_formats::customers::read_customers_file(path)?,
+    })
 }
 
 /// Each zone as a map draws it on `airspace`: its area, label and the elements it closes.
