@@ -28,6 +28,7 @@ class Airspace:
     def edge_columns(self) -> dict[str, list[Any]]: ...
     def to_geojson(self) -> str: ...
 
+def read_text(path: str) -> str: ...
 def plan(
     requests: str,
     source: str,
@@ -36,8 +37,8 @@ def plan(
     **kwargs: Any,
 ) -> dict[str, str]: ...
 def simulate(
-    count: int,
-    seed: int,
+    count: Any,
+    seed: Any,
     start: str,
     end: str,
     od: str,
