@@ -190,3 +190,12 @@ def test_bad_counts_seeds_and_missing_files_raise_muse_error(tmp_path, muse_cli)
     with pytest.raises(muse.MuseError, match="missing-pads.csv: cannot read"):
         muse.Airspace.from_pads(tmp_path / "missing-pads.csv")
 
+
+def test_pads_across_the_180th_meridian_are_refused():
+    fiji = [
+        {"id": "F1", "lon": 179.95, "lat": -17.0},
+        {"id": "F2", "lon": -179.95, "lat": -17.05},
+        {"id": "F3", "lon": 179.9, "lat": -17.1},
+    ]
+    with pytest.raises(muse.MuseError, match="both sides of the ±180° meridian"):
+        muse.Airspace.from_pads(fiji)
