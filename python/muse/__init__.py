@@ -106,8 +106,7 @@ class Airspace:
         """
         if isinstance(pads, (str, os.PathLike)):
             path = os.fspath(pads)
-            with open(path, encoding="utf-8") as f:
-                text, source = f.read(), path
+            text, source = _muse.read_text(path), path
         else:
             text = _csv(_records(pads, "pads"), ("id", "lon", "lat"), ("name",), "pads")
             source = "pads"
@@ -237,8 +236,7 @@ def plan(
     """
     if isinstance(requests, (str, os.PathLike)):
         path = os.fspath(requests)
-        with open(path, encoding="utf-8") as f:
-            text, source = f.read(), path
+        text, source = _muse.read_text(path), path
     else:
         rows = _records(requests, "requests")
         text = _csv(rows, _REQUEST_COLUMNS, _OPTIONAL_REQUEST_COLUMNS, "requests")
@@ -261,7 +259,8 @@ def simulate(
     """Generates a seeded day of demand and plans it, as ``muse simulate`` (same seed, same
     requests, same plans): ``count`` requests departing uniformly in ``[start, end)`` (local
     time) between random station pairs (``od="in-range"``: only pairs within the battery's
-    range).
+    range). ``count`` is 1 to 10,000,000 and ``seed`` 0 to 2**64 - 1, as ``--count`` and
+    ``--seed``; anything else raises :class:`MuseError`.
     """
     out = _muse.simulate(
         count, seed, start, end, od, _inner(airspace), _zones(zones), **params
@@ -287,8 +286,7 @@ def verify(
         params = {**plans.params, **params}
     elif isinstance(plans, (str, os.PathLike)):
         source = os.fspath(plans)
-        with open(source, encoding="utf-8") as f:
-            text = f.read()
+        text = _muse.read_text(source)
     else:
         text, source = "".join(json.dumps(p) + "\n" for p in plans), "plans"
     out = _muse.verify(text, source, _inner(airspace), _zones(zones), **params)

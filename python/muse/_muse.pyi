@@ -31,6 +31,7 @@ class Airspace:
     def edge_columns(self) -> dict[str, list[Any]]: ...
     def to_geojson(self) -> str: ...
 
+def read_text(path: str) -> str: ...
 def plan(
     requests: str,
     source: str,
@@ -39,8 +40,8 @@ def plan(
     **kwargs: Any,
 ) -> dict[str, str]: ...
 def simulate(
-    count: int,
-    seed: int,
+    count: Any,
+    seed: Any,
     start: str,
     end: str,
     od: str,

@@ -19,7 +19,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::airspace::Airspace;
-use crate::options::options;
+use crate::options::{options, whole};
 use crate::world::{World, Zones, world};
 use crate::{MuseError, error};
 
@@ -56,14 +56,15 @@ pub fn plan<'py>(
 
 /// Generates a seeded day of `count` requests departing uniformly in `[start, end)` (local
 /// `HH:MM[:SS]`) between random station pairs (`od`: `uniform` or `in-range`), as
-/// `muse simulate` does, and plans it. Keywords: flight parameters and layers.
+/// `muse simulate` does, and plans it. `count` and `seed` take the values `--count` and
+/// `--seed` take. Keywords: flight parameters and layers.
 #[pyfunction]
 #[pyo3(signature = (count, seed, start, end, od, airspace = None, zones = None, **kwargs))]
 #[allow(clippy::too_many_arguments)]
 pub fn simulate<'py>(
     py: Python<'py>,
-    count: usize,
-    seed: u64,
+    count: &Bound<'py, PyAny>,
+    seed: &Bound<'py, PyAny>,
     start: &str,
     end: &str,
     od: &str,
@@ -71,6 +72,8 @@ pub fn simulate<'py>(
     zones: Option<Vec<PathBuf>>,
     kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let count = whole("count", count, muse_formats::ranges::REQUESTS)?;
+    let seed = whole("seed", seed, muse_formats::ranges::SEED)?;
     let opts = options(kwargs)?;
     let world = world_of(airspace.as_deref(), zones, &opts.layers)?;
     let clock = |name: &str, text: &str| {

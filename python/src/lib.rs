@@ -38,13 +38,23 @@ fn error(message: impl std::fmt::Display) -> PyErr {
     MuseError::new_err(message.to_string())
 }
 
-/// The module: the `Airspace` class, `plan`, `simulate`, `verify` and `MuseError`.
+/// The text of the file at `path` as the command line reads its inputs: a file that cannot be
+/// read, or is not UTF-8, is a `MuseError` in the command line's words
+/// (`PATH: cannot read: No such file or directory (os error 2)`), never an `OSError`.
+#[pyfunction]
+fn read_text(path: std::path::PathBuf) -> PyResult<String> {
+    muse_formats::read_to_string(&path).map_err(error)
+}
+
+/// The module: the `Airspace` class, `plan`, `simulate`, `verify`, `read_text` and
+/// `MuseError`.
 #[pymodule]
 fn _muse(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<airspace::Airspace>()?;
     m.add_function(wrap_pyfunction!(day::plan, m)?)?;
     m.add_function(wrap_pyfunction!(day::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(check::verify, m)?)?;
+    m.add_function(wrap_pyfunction!(read_text, m)?)?;
     m.add("MuseError", m.py().get_type::<MuseError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -3,7 +3,7 @@
 //! (SPEC §13) by the command line's option names (`layers`, `heading_rule`, …).
 
 use muse_formats::params::{Field, ParamsRecord};
-use muse_formats::ranges::{BASE_ALTITUDE_M, CLIMB_MPS, LAYER_SPACING_M, LAYERS, Range};
+use muse_formats::ranges::{BASE_ALTITUDE_M, CLIMB_MPS, LAYER_SPACING_M, LAYERS, Number, Range};
 use muse_model::{FlightParams, HeadingRule, Layers, Metres};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
@@ -72,6 +72,21 @@ pub fn options(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Options> {
         .validate()
         .map_err(|e| error(format!("layers: {e}")))?;
     Ok(Options { params, layers })
+}
+
+/// The argument `key` (`count`, `seed`) as a number in `range`, read as the command line
+/// reads its option (from the value's text), refused in the same words:
+/// `count 0: must be a whole number of requests from 1 to 10000000`. A negative or huge
+/// integer, a float or a bool is a `MuseError` too, never an `OverflowError` or a
+/// `TypeError`.
+///
+/// # Errors
+/// A value outside `range`, or not a whole number.
+pub fn whole<T: Number>(key: &str, value: &Bound<'_, PyAny>, range: Range<T>) -> PyResult<T> {
+    let text = value.str()?.to_string();
+    range
+        .parse(&text)
+        .map_err(|problem| error(format!("{key} {text}: {problem}")))
 }
 
 /// Sets the layering keyword `key` to `value`.

@@ -60,13 +60,11 @@ pub fn world(airspace: Option<&Airspace>, zones: &Zones, layers: &Layers) -> Res
     let (zones, zone_files) = match zones {
         Zones::Own => (scenario.map(|s| s.zones.clone()).unwrap_or_default(), None),
         Zones::Files(paths) => {
-            let mut all = Vec::new();
+            let mut all = muse_formats::zones::ZoneFiles::default();
             let mut files = Vec::new();
             for path in paths {
-                all.extend(
-                    muse_formats::zones::read_zones_file(path)
-                        .map_err(|e| format!("reading zones from {}: {e}", path.display()))?,
-                );
+                all.add(path)
+                    .map_err(|e| format!("reading zones from {}: {e}", path.display()))?;
                 files.push(
                     std::fs::canonicalize(path)
                         .unwrap_or_else(|_| path.clone())
@@ -74,7 +72,7 @@ pub fn world(airspace: Option<&Airspace>, zones: &Zones, layers: &Layers) -> Res
                         .to_string(),
                 );
             }
-            (all, Some(files))
+            (all.into_zones(), Some(files))
         }
     };
     let airspace = graph

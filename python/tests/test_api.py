@@ -179,3 +179,45 @@ def test_zones_none_and_files(tmp_path):
     assert all(v.startswith("zone rule violated") for v in broken.violations)
     with pytest.raises(muse.MuseError, match="missing.geojson"):
         muse.simulate(count=10, zones=[tmp_path / "missing.geojson"])
+
+
+def test_bad_counts_seeds_and_missing_files_raise_muse_error(tmp_path, muse_cli):
+    # `count` and `seed` take the values `--count` and `--seed` take, refused in their words.
+    requests = "must be a whole number of requests from 1 to 10000000"
+    cli = muse_cli("simulate", "--count", 0, "--out", tmp_path / "zero", check=False)
+    assert cli.returncode == 2 and requests in cli.stderr
+    for count in (0, -5, 10**7 + 1, 10**30, 2.5):
+        with pytest.raises(muse.MuseError) as raised:
+            muse.simulate(count=count)
+        assert str(raised.value) == f"count {count}: {requests}"
+    seeds = "must be a whole number from 0 to 18446744073709551615"
+    cli = muse_cli("simulate", "--seed", -1, "--out", tmp_path / "seed", check=False)
+    assert cli.returncode == 2 and seeds in cli.stderr
+    for seed in (-1, 2**64):
+        with pytest.raises(muse.MuseError) as raised:
+            muse.simulate(count=10, seed=seed)
+        assert str(raised.value) == f"seed {seed}: {seeds}"
+    # The largest seed is a seed.
+    assert muse.simulate(count=10, seed=2**64 - 1).summary["provenance"]["seed"] == 2**64 - 1
+    # A file that is not there: the command line's message, naming the file.
+    missing = tmp_path / "missing.csv"
+    cli = muse_cli("plan", "--requests", missing, "--out", tmp_path / "out", check=False)
+    assert cli.returncode == 2
+    with pytest.raises(muse.MuseError) as raised:
+        muse.plan(missing)
+    assert cli.stderr.strip() == f"error: {raised.value}"
+    assert str(missing) in str(raised.value)
+    with pytest.raises(muse.MuseError, match="missing.jsonl: cannot read"):
+        muse.verify(tmp_path / "missing.jsonl")
+    with pytest.raises(muse.MuseError, match="missing-pads.csv: cannot read"):
+        muse.Airspace.from_pads(tmp_path / "missing-pads.csv")
+
+
+def test_pads_across_the_180th_meridian_are_refused():
+    fiji = [
+        {"id": "F1", "lon": 179.95, "lat": -17.0},
+        {"id": "F2", "lon": -179.95, "lat": -17.05},
+        {"id": "F3", "lon": 179.9, "lat": -17.1},
+    ]
+    with pytest.raises(muse.MuseError, match="both sides of the ±180° meridian"):
+        muse.Airspace.from_pads(fiji)

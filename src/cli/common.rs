@@ -1,6 +1,6 @@
 //! Options shared by several commands: which airspace and zones, and flight parameters.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
 use clap::Args;
@@ -182,14 +182,12 @@ impl WorldArgs {
         } else if self.zones.is_empty() {
             scenario.map(|s| s.zones.clone()).unwrap_or_default()
         } else {
-            let mut all = Vec::new();
+            let mut all = muse_formats::zones::ZoneFiles::default();
             for path in &self.zones {
-                all.extend(
-                    muse_formats::zones::read_zones_file(path)
-                        .with_context(|| format!("reading zones from {}", path.display()))?,
-                );
+                all.add(path)
+                    .with_context(|| format!("reading zones from {}", path.display()))?;
             }
-            all
+            all.into_zones()
         };
         let day = if let Some(f) = &file_day {
             f.day
@@ -201,7 +199,7 @@ impl WorldArgs {
             }
         };
         let record = self.record()?;
-        Ok(World {
+        let world = World {
             airspace_source,
             airspace,
             zones,
@@ -213,7 +211,9 @@ impl WorldArgs {
             offset: day.offset,
             file_day,
             record,
-        })
+        };
+        world.warn_idle_zones(false);
+        Ok(world)
     }
 
     /// What `summary.json` records of these arguments: files as absolute paths, so that a
@@ -269,6 +269,51 @@ impl World {
                 .unwrap_or_default();
             format!(" on {} at {}{zone}", d.day.date, d.day.offset)
         })
+    }
+
+    /// Warns on standard error of every zone that does nothing on the airspace ([`idle`]):
+    /// one that closes nothing, or is announced after its last window ended. With
+    /// `heights_only` (the airspace just layered, the rest said already) only of a zone whose
+    /// heights hold no layer. A zone the airspace cannot resolve (an unknown id) is left to
+    /// the error its resolution gives.
+    ///
+    /// [`idle`]: muse_airspace::closures::idle::idle
+    pub fn warn_idle_zones(&self, heights_only: bool) {
+        use muse_airspace::closures::idle::{Idle, idle};
+        for zone in &self.zones {
+            let id = &zone.id;
+            match idle(&self.airspace, zone) {
+                Ok(Some(Idle::ClosesNothingAtItsHeights)) => {
+                    let layers = self.airspace.layers().map_or_else(String::new, |l| {
+                        format!(
+                            " (the layers fly from {} m to {} m)",
+                            l.altitude(1),
+                            l.altitude(l.count)
+                        )
+                    });
+                    eprintln!(
+                        "warning: zone `{id}` closes nothing on the airspace at its heights \
+                         ({}): it covers stations or corridors, but no layer{layers} nor climb \
+                         between layers lies in its band",
+                        zone.vertical
+                    );
+                }
+                Ok(Some(Idle::ClosesNothing)) if !heights_only => eprintln!(
+                    "warning: zone `{id}` closes nothing on the airspace ({}): its area covers \
+                     no station, waypoint or corridor, and it lists none",
+                    self.airspace_source
+                ),
+                Ok(Some(Idle::AnnouncedAfterItsWindows { announced, ended })) if !heights_only => {
+                    eprintln!(
+                        "warning: zone `{id}` is announced at {}, when its last window has \
+                         already ended ({}): it closes nothing",
+                        announced.to_rfc3339(self.offset),
+                        ended.to_rfc3339(self.offset)
+                    );
+                }
+                _ => {}
+            }
+        }
     }
 
     /// Refuses zones with a `withdrawn` instant (a service listing's): `command` plans, and
@@ -413,6 +458,28 @@ pub fn world_attribution(world: &World) -> String {
     } else {
         String::new()
     }
+}
+
+/// The name `--customers` (`muse demand`, `muse siting`) takes for the embedded customers:
+/// every HDB car park (2,257), each of weight 1, as a proxy for where Singapore's residents
+/// live.
+pub const SINGAPORE_HDB: &str = "singapore-hdb";
+
+/// The file `--customers` names, `None` for the embedded customers ([`SINGAPORE_HDB`]).
+pub fn customers_file(arg: &Path) -> Option<&Path> {
+    (arg.as_os_str() != SINGAPORE_HDB).then_some(arg)
+}
+
+/// The customers `--customers` names: the embedded HDB car parks for [`SINGAPORE_HDB`], else
+/// a customers CSV (`id,lon,lat[,weight]`).
+///
+/// # Errors
+/// A file that cannot be read or is refused, named with its line and field.
+pub fn read_customers(arg: &Path) -> anyhow::Result<Vec<muse_formats::customers::Customer>> {
+    Ok(match customers_file(arg) {
+        None => muse_scenario::candidates::residential_customers()?,
+        Some(path) => muse_formats::customers::read_customers_file(path)?,
+    })
 }
 
 /// Each zone as a map draws it on `airspace`: its area, label and the elements it closes.

@@ -11,7 +11,7 @@ use muse_sim::customers::serving_pads;
 use muse_sim::customers::trips::{TripSpec, draw_trips, request_for};
 use muse_sim::demand::{BookingLead, DemandSpec, OdRule, generate};
 
-use super::common::{RangeArgs, World, WorldArgs};
+use super::common::{RangeArgs, World, WorldArgs, read_customers};
 use super::output;
 use super::ranges::{self, MAX_LEAD_MIN};
 
@@ -193,11 +193,9 @@ pub struct DemandCmd {
 
 /// Runs `muse demand`.
 pub fn run(args: &DemandCmd) -> anyhow::Result<ExitCode> {
-    let inputs = output::Inputs::new().world(&args.world);
-    let inputs = match &args.customers {
-        Some(path) if path.as_os_str() != SINGAPORE_HDB => inputs.add("--customers", path),
-        _ => inputs,
-    };
+    let inputs = output::Inputs::new()
+        .world(&args.world)
+        .customers(args.customers.as_deref());
     let out = output::file("--out", &args.out, &inputs)?;
     let world = args.world.load()?;
     let spec = args.demand.spec(&world, args.range)?;
@@ -221,9 +219,6 @@ pub fn run(args: &DemandCmd) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// The name of the embedded customers: every HDB car park.
-const SINGAPORE_HDB: &str = "singapore-hdb";
-
 /// `muse demand --customers`: trips between customers, each mapped to its customers' pads.
 fn from_customers(
     args: &DemandCmd,
@@ -232,11 +227,7 @@ fn from_customers(
     spec: &DemandSpec,
     out: &output::FileOut,
 ) -> anyhow::Result<ExitCode> {
-    let customers = if path.as_os_str() == SINGAPORE_HDB {
-        muse_scenario::candidates::residential_customers()?
-    } else {
-        muse_formats::customers::read_customers_file(path)?
-    };
+    let customers = read_customers(path)?;
     let weights: Vec<f64> = customers.iter().map(|c| c.weight).collect();
     let trips = draw_trips(
         &weights,

@@ -73,7 +73,7 @@ impl LayersArgs {
 
 impl World {
     /// The world flown at the layers `args` give (unchanged with one layer); `summary.json`
-    /// records them.
+    /// records them. A zone whose heights hold no layer is warned of.
     ///
     /// # Errors
     /// Options out of range, or a layer copy's id (`ID@k`) already taken in the airspace.
@@ -85,6 +85,7 @@ impl World {
                 .layered(&layers)
                 .with_context(|| format!("--layers {}", layers.count))?;
             self.record.layers = Some(LayersRecord::of(&layers));
+            self.warn_idle_zones(true);
         }
         Ok(self)
     }

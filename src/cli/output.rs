@@ -108,6 +108,16 @@ impl Inputs {
         paths.iter().fold(self, |inputs, p| inputs.add(option, p))
     }
 
+    /// Adds the file `--customers` names, if it names one (not the embedded customers,
+    /// [`SINGAPORE_HDB`](super::common::SINGAPORE_HDB)).
+    #[must_use]
+    pub fn customers(self, arg: Option<&Path>) -> Self {
+        match arg.and_then(super::common::customers_file) {
+            Some(path) => self.add("--customers", path),
+            None => self,
+        }
+    }
+
     /// Adds the files a world is read from: `--airspace` and `--zones` (not `none`).
     #[must_use]
     pub fn world(self, world: &WorldArgs) -> Self {

@@ -12,7 +12,7 @@
 pub use muse_formats::ranges::Number;
 use muse_formats::ranges::{
     BASE_ALTITUDE_M, CLIMB_MPS, DAY_S, LAYER_SPACING_M, LAYERS, MAX_FLIGHT_MIN, MAX_LEGS,
-    MAX_TRIP_MIN, Range, SEPARATION_S, SPEED_KMH,
+    MAX_TRIP_MIN, REQUESTS, Range, SEED, SEPARATION_S, SPEED_KMH,
 };
 
 /// Reads `text` as a `T` within `lo..=hi`; the error says `must be {what} from {lo} to {hi}`.
@@ -48,11 +48,11 @@ ranges! {
     /// `--max-trip-min`: a deadline of at least a minute, at most a day.
     max_trip_min: f64 = MAX_TRIP_MIN.lo, MAX_TRIP_MIN.hi, MAX_TRIP_MIN.what;
     /// `--count` of generated demand (`muse demand`, `muse simulate`, `muse bench-case`).
-    requests: usize = 1, MAX_REQUESTS, "a whole number of requests";
+    requests: usize = REQUESTS.lo, REQUESTS.hi, REQUESTS.what;
     /// `muse load --count`.
-    load_count: u64 = 1, MAX_REQUESTS as u64, "a whole number of requests";
+    load_count: u64 = REQUESTS.lo as u64, REQUESTS.hi as u64, REQUESTS.what;
     /// Seeds: any 64-bit number.
-    seed: u64 = 0, u64::MAX, "a whole number";
+    seed: u64 = SEED.lo, SEED.hi, SEED.what;
     /// `--nodes` of a synthetic airspace.
     nodes: usize = 2, muse_scenario::synthetic::MAX_NODES, "a whole number of nodes";
     /// `--spacing-m` of a synthetic airspace.

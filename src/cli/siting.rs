@@ -22,7 +22,7 @@ use muse_siting::baselines::{kmeans_sites, max_coverage};
 use muse_siting::greedy::{BATCH, first_round, lazy_greedy_from};
 use muse_siting::{Evaluation, Siting, SitingInput};
 
-use super::common::FlightArgs;
+use super::common::{FlightArgs, SINGAPORE_HDB, customers_file, read_customers};
 use super::output;
 use super::ranges;
 
@@ -40,10 +40,10 @@ pub struct SitingArgs {
     /// car parks (with the default pads only).
     #[arg(long, value_name = "FILE", requires = "pads")]
     candidates: Option<PathBuf>,
-    /// Customers CSV (`id,lon,lat[,weight]`), where deliveries start and end. Default: all
-    /// 2,257 HDB car parks as a residential proxy, each of weight 1 (with the default pads
-    /// only).
-    #[arg(long, value_name = "FILE", requires = "pads")]
+    /// Customers CSV (`id,lon,lat[,weight]`), where deliveries start and end, or
+    /// `singapore-hdb`: the embedded list of all 2,257 HDB car parks, each of weight 1, as a
+    /// proxy for where Singapore's residents live (the customers of the default pads).
+    #[arg(long, value_name = "FILE|singapore-hdb", requires = "pads")]
     customers: Option<PathBuf>,
     /// The plane airspaces are built in (with `--pads`): `utm` (default), `EPSG:3414`, a
     /// WGS84 UTM zone `EPSG:326zz`/`EPSG:327zz`, or `stereographic`. The default pads use
@@ -118,14 +118,12 @@ impl SitingArgs {
         if self.zones.is_empty() {
             return Ok(default);
         }
-        let mut all = Vec::new();
+        let mut all = muse_formats::zones::ZoneFiles::default();
         for path in &self.zones {
-            all.extend(
-                muse_formats::zones::read_zones_file(path)
-                    .with_context(|| format!("reading zones from {}", path.display()))?,
-            );
+            all.add(path)
+                .with_context(|| format!("reading zones from {}", path.display()))?;
         }
-        Ok(all)
+        Ok(all.into_zones())
     }
 
     /// The seeded days.
@@ -164,6 +162,10 @@ impl SitingArgs {
             p.as_deref()
                 .map_or(Ok("default".to_owned()), shards::file_digest)
         };
+        let customers = match self.customers.as_deref() {
+            Some(arg) if customers_file(arg).is_none() => SINGAPORE_HDB.to_owned(),
+            _ => file(&self.customers)?,
+        };
         let zones: Vec<String> = self
             .zones
             .iter()
@@ -181,7 +183,7 @@ impl SitingArgs {
              {}–{}, last mile {} m; {flight}",
             file(&self.pads)?,
             file(&self.candidates)?,
-            file(&self.customers)?,
+            customers,
             self.crs,
             zones.join(" "),
             self.days,
@@ -226,7 +228,7 @@ impl SitingArgs {
         let input = SitingInput {
             existing: muse_formats::pads::read_pads_file(pads)?,
             candidates: muse_formats::pads::read_candidate_pads_file(candidates)?,
-            customers: muse_formats::customers::read_customers_file(customers)?,
+            customers: read_customers(customers)?,
             last_mile_m: self.last_mile_m,
             days,
             params,
@@ -236,12 +238,15 @@ impl SitingArgs {
                 ..BuildOptions::default()
             },
         };
+        let customers = match customers_file(customers) {
+            Some(file) => file.display().to_string(),
+            None => format!("{SINGAPORE_HDB} ({} HDB car parks)", input.customers.len()),
+        };
         Ok(Loaded {
             source: format!(
-                "pads {}, candidates {}, customers {}",
+                "pads {}, candidates {}, customers {customers}",
                 pads.display(),
                 candidates.display(),
-                customers.display()
             ),
             input,
             singapore: false,
@@ -300,7 +305,7 @@ pub fn run(args: &SitingArgs) -> anyhow::Result<ExitCode> {
     let inputs = output::Inputs::new()
         .add_all("--pads", args.pads.as_slice())
         .add_all("--candidates", args.candidates.as_slice())
-        .add_all("--customers", args.customers.as_slice())
+        .customers(args.customers.as_deref())
         .add_all("--zones", &args.zones)
         .add_all("--from-shards", &args.from_shards);
     let shard = args

@@ -242,3 +242,52 @@ fn airspace_info_with_layers_follows_the_heading_rule_and_the_flat_ids() {
         said(&o)
     );
 }
+
+/// ED-318 features whose properties give ED-269's `lowerLimit` / `upperLimit`: around A up to
+/// 200 ft (60.96 m: layer 1 and the climb from it), around B from 65 to 75 m (layer 2 and the
+/// climbs on either side), as `BANDS`' `MID`.
+const PROPERTIES_LIMITS: &str = r#"{"type": "FeatureCollection", "features": [
+  {"type": "Feature", "properties": {"identifier": "LOWP", "name": "Low", "uomDimensions": "FT", "upperLimit": 200},
+   "geometry": {"type": "Point", "coordinates": [103.8, 1.3], "extent": {"subType": "Circle", "radius": 50}}},
+  {"type": "Feature", "properties": {"identifier": "MIDP", "name": "Mid", "lowerLimit": 65, "upperLimit": 75,
+     "lowerVerticalReference": "AGL", "upperVerticalReference": "AGL"},
+   "geometry": {"type": "Point", "coordinates": [103.8089, 1.3], "extent": {"subType": "Circle", "radius": 50}}}]}"#;
+
+#[test]
+fn airspace_info_with_layers_honours_limits_given_in_ed318_properties() {
+    let dir = scratch_dir("airspace_info_properties_limits");
+    std::fs::create_dir_all(&dir).unwrap();
+    let air = write(&dir, "line.geojson", LINE);
+    let zones = write(&dir, "props.geojson", PROPERTIES_LIMITS);
+    let got = zone_lines(&["--airspace", &air, "--zones", &zones, "--layers", "3"]);
+    let want = "\
+zone          LOWP — Low (permanent)
+  heights     up to 60.96 m AGL
+  covers      1 nodes: A
+  covers      1 edges: A-B
+  closes      layer 1: 1 nodes, 1 corridors; layer 2: none; layer 3: none; vertical links: 1
+zone          MIDP — Mid (permanent)
+  heights     65–75 m AGL
+  covers      1 nodes: B
+  covers      2 edges: A-B, B-C
+  closes      layer 1: none; layer 2: 1 nodes, 2 corridors; layer 3: none; vertical links: 2
+";
+    assert_eq!(got, want);
+
+    // Said again, differently, on the geometry: refused, naming the feature and the field.
+    let twice = write(
+        &dir,
+        "twice.geojson",
+        &PROPERTIES_LIMITS.replace(
+            r#""radius": 50}}},"#,
+            r#""radius": 50}, "layer": {"upper": 120, "uom": "m"}}},"#,
+        ),
+    );
+    let o = muse(&["airspace", "info", "--airspace", &air, "--zones", &twice]);
+    assert_eq!(o.status.code(), Some(2), "{}", said(&o));
+    assert!(
+        stderr(&o).contains("twice.geojson: feature 0 (`LOWP`): field `geometry.layer`: the layer (up to 120 m AGL) contradicts"),
+        "{}",
+        said(&o)
+    );
+}

@@ -2,6 +2,8 @@
 //! local script runs a sweep as separate shard processes and merges it, and the Slurm array
 //! script runs as each array task would (its `SLURM_*` variables set, as `sbatch` does),
 //! followed by the merge script. Both give the files of one machine, timing columns aside.
+//! `submit.sh` runs with fake `sbatch` and `sinfo` commands first on the PATH: it refuses
+//! jobs larger than any node, and prints reruns with the options it submitted with.
 //! (Kubernetes and Docker need a cluster and an engine; see `deploy/README.md`.)
 
 use std::path::{Path, PathBuf};
@@ -117,4 +119,137 @@ fn the_slurm_scripts_run_each_array_task_and_merge() {
     for file in ["sweep.csv", "sweep_summary.csv"] {
         crate::support::csv::same_untimed(&dir.join("whole"), &dir.join("results/merged"), file);
     }
+}
+
+/// A folder of fake `sbatch` and (unless `sinfo` is `None`) `sinfo` commands, to put first on
+/// PATH: `sbatch` logs its arguments to `sbatch.log` and answers job ids 101, 102, …;
+/// `sinfo` prints `sinfo` (one node per line, `CPUS MEMORY_MB`) and logs its arguments.
+fn fake_slurm(dir: &Path, sinfo: Option<&str>) -> String {
+    let bin = dir.join("bin");
+    std::fs::create_dir_all(&bin).expect("bin");
+    let sbatch = format!(
+        "#!/usr/bin/env bash\nlog={log}\nprintf '%s\\n' \"$*\" >>\"$log\"\necho $((100 + $(wc -l <\"$log\")))\n",
+        log = dir.join("sbatch.log").display()
+    );
+    let mut scripts = vec![("sbatch", sbatch)];
+    if let Some(nodes) = sinfo {
+        scripts.push((
+            "sinfo",
+            format!(
+                "#!/usr/bin/env bash\nprintf '%s\\n' \"$*\" >>{log}\nprintf '{nodes}'\n",
+                log = dir.join("sinfo.log").display()
+            ),
+        ));
+    }
+    for (name, text) in scripts {
+        let path = bin.join(name);
+        std::fs::write(&path, text).expect("script");
+        Command::new("chmod")
+            .arg("+x")
+            .arg(&path)
+            .status()
+            .expect("chmod");
+    }
+    format!(
+        "{}:{}",
+        bin.display(),
+        std::env::var("PATH").unwrap_or_default()
+    )
+}
+
+#[test]
+fn submit_refuses_tasks_larger_than_any_node_and_prints_reruns_with_their_options() {
+    let dir = crate::support::scratch_dir("deploy_submit");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch dir");
+    let args = [&["3", "results", "--"], SWEEP].concat();
+    // One node of 2 CPUs and 1,800 MB: the templates' 4 CPUs and 4 GB would wait forever.
+    let path = fake_slurm(&dir, Some("2 1800\\n"));
+    let (ok, text) = run(
+        "deploy/slurm/submit.sh",
+        &args,
+        &dir,
+        &[("PATH", path.clone())],
+    );
+    assert!(!ok, "{text}");
+    assert!(
+        text.contains(
+            "submit.sh: the sweep's tasks ask for 4 CPUs (--cpus-per-task) and 4096 MB of \
+             memory (--mem), but the largest node has 2 CPUs and 1800 MB (sinfo): they would \
+             wait forever; set SWEEP_SBATCH_OPTS=\"--cpus-per-task=2 --mem=1800M\""
+        ),
+        "{text}"
+    );
+    assert!(
+        !dir.join("sbatch.log").exists(),
+        "nothing submitted: {text}"
+    );
+    // Enough CPUs, too much memory: the option to change is --mem.
+    let env = [
+        ("PATH", path.clone()),
+        ("SWEEP_SBATCH_OPTS", "--cpus-per-task=2".to_owned()),
+    ];
+    let (ok, text) = run("deploy/slurm/submit.sh", &args, &dir, &env);
+    assert!(!ok, "{text}");
+    assert!(
+        text.contains(
+            "the sweep's tasks ask for 4096 MB of memory (--mem), but the largest node has \
+             1800 MB (sinfo): they would wait forever; set SWEEP_SBATCH_OPTS=\"--cpus-per-task=2 \
+             --mem=1800M\""
+        ),
+        "{text}"
+    );
+    // The merge job's defaults (1 CPU, 2 GB) are checked as well.
+    let env = [
+        ("PATH", path.clone()),
+        (
+            "SWEEP_SBATCH_OPTS",
+            "-c 2 --mem 1G --partition=small".to_owned(),
+        ),
+    ];
+    let (ok, text) = run("deploy/slurm/submit.sh", &args, &dir, &env);
+    assert!(!ok, "{text}");
+    assert!(
+        text.contains(
+            "the merge job asks for 2048 MB of memory (--mem), but the largest node has 1800 MB \
+             (sinfo): it would wait forever; set MERGE_SBATCH_OPTS=\"--mem=1800M\""
+        ),
+        "{text}"
+    );
+    // The partition asked for is the one looked at.
+    let sinfo_log = std::fs::read_to_string(dir.join("sinfo.log")).unwrap();
+    assert!(sinfo_log.contains("-p small"), "{sinfo_log}");
+
+    // Both fit: submitted, and the rerun and merge commands printed carry the options.
+    let env = [
+        ("PATH", path),
+        ("SWEEP_SBATCH_OPTS", "--cpus-per-task=2 --mem=1G".to_owned()),
+        ("MERGE_SBATCH_OPTS", "--mem=1000".to_owned()),
+    ];
+    let (ok, text) = run("deploy/slurm/submit.sh", &args, &dir, &env);
+    assert!(ok, "{text}");
+    let log = std::fs::read_to_string(dir.join("sbatch.log")).unwrap();
+    assert_eq!(log.lines().count(), 2, "{log}");
+    let rerun = text
+        .lines()
+        .find(|l| l.starts_with("rerun task(s) K:"))
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(
+        rerun.contains("sbatch --array=K --cpus-per-task=2 --mem=1G --output="),
+        "{rerun}"
+    );
+    let merge = text
+        .lines()
+        .find(|l| l.starts_with("then merge:"))
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!(
+        merge.contains("sbatch --dependency=afterok:RERUN_JOB_ID --mem=1000 --output="),
+        "{merge}"
+    );
+
+    // Without sinfo (not a Slurm login node, or another scheduler's): no check.
+    let _ = std::fs::remove_file(dir.join("sbatch.log"));
+    let path = fake_slurm(&dir.join("no-sinfo"), None);
+    let (ok, text) = run("deploy/slurm/submit.sh", &args, &dir, &[("PATH", path)]);
+    assert!(ok, "{text}");
 }

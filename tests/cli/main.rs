@@ -7,7 +7,8 @@
 //! airspace's outputs and their verification (`layers`), airspaces built from pads (`pads`),
 //! plans exported as BlueSky scenarios (`export_bluesky`) and as ASTM F3548-21 operational
 //! intents (`export_f3548`), every example of docs/reference.md read by MUSE
-//! (`reference_examples`), and every relative link of the README and docs/ resolving
+//! (`reference_examples`), zone files together and zones that do nothing (`zones`), and
+//! every relative link of the README and docs/ resolving
 //! (`docs_links`).
 
 /// What this area's tests share (tests/support): `muse serve` on a loopback port, scratch
@@ -38,3 +39,4 @@ mod run;
 mod siting;
 mod swaps;
 mod sweep_shards;
+mod zones;

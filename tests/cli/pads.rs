@@ -373,3 +373,58 @@ fn a_land_outline_is_carried_in_the_airspace_file_and_drawn() {
     );
     assert!(!out.exists());
 }
+
+#[test]
+fn pads_across_the_180th_meridian_near_a_pole_or_too_far_apart_are_refused() {
+    let dir = scratch_dir("pads-world");
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("a.geojson");
+    for (what, pads, message) in [
+        (
+            "across ±180° (Fiji)",
+            "id,lon,lat\nF1,179.95,-17.0\nF2,-179.95,-17.05\nF3,179.9,-17.1\n",
+            "the nodes lie on both sides of the ±180° meridian (`F2` at -179.95°, `F1` at \
+             179.95°)",
+        ),
+        (
+            "around the North Pole",
+            "id,lon,lat\nP1,0,88.5\nP2,120,88.5\nP3,-120,88.5\n",
+            "node `P1` is at latitude 88.5°: an airspace's nodes must lie between 84° S and 84° N",
+        ),
+        (
+            "near the South Pole",
+            "id,lon,lat\nQ1,10,-80\nQ2,11,-80.5\nQ3,10.5,-84.2\n",
+            "node `Q3` is at latitude -84.2°",
+        ),
+        (
+            "round the Arctic",
+            "id,lon,lat\nR1,0,80\nR2,120,80\nR3,-120,80\n",
+            "the nodes span 240° of longitude (`R3` at -120° to `R2` at 120°): they must lie \
+             within 60°",
+        ),
+        (
+            "a continent apart",
+            "id,lon,lat\nA,0,10\nB,70,10\nC,35,20\n",
+            "the nodes span 70° of longitude (`A` at 0° to `B` at 70°)",
+        ),
+    ] {
+        let file = write(&dir, "pads.csv", pads);
+        let o = build(&file, &out, &[]);
+        assert_eq!(o.status.code(), Some(2), "{what}: {}", said(&o));
+        let err = stderr(&o);
+        assert!(
+            err.contains(&format!("building the airspace of {file}: {message}")),
+            "{what}: {}",
+            said(&o)
+        );
+        assert!(!out.exists(), "{what}: no output");
+    }
+    // Right up to the limits is built.
+    let file = write(
+        &dir,
+        "edge.csv",
+        "id,lon,lat\nE1,179.0,83.9\nE2,179.9,83.95\nE3,179.5,83.5\n",
+    );
+    let o = build(&file, &out, &[]);
+    assert!(o.status.success(), "{}", said(&o));
+}

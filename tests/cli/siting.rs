@@ -252,3 +252,51 @@ fn shards_of_the_first_round_merge_into_the_same_picks() {
     );
     assert!(!bad.exists());
 }
+
+#[test]
+fn siting_takes_the_embedded_singapore_customers_with_pads_files() {
+    let dir = scratch_dir("siting-singapore-hdb");
+    std::fs::create_dir_all(&dir).unwrap();
+    // Six of Singapore's stations are there, two more may be added.
+    let stations = muse_scenario::station_nodes().unwrap();
+    let csv = |nodes: &[muse_model::Node]| {
+        let mut text = String::from("id,lon,lat\n");
+        for n in nodes {
+            writeln!(text, "{},{},{}", n.id, n.pos.lon, n.pos.lat).unwrap();
+        }
+        text
+    };
+    let pads = write(&dir, "pads.csv", &csv(&stations[30..36]));
+    let candidates = write(&dir, "candidates.csv", &csv(&stations[36..38]));
+    let out = dir.join("out");
+    let o = siting(&pads, &candidates, "singapore-hdb", &out, &["--add", "1"]);
+    assert!(o.status.success(), "{}", said(&o));
+    assert!(
+        stderr(&o).contains("customers singapore-hdb (2257 HDB car parks)"),
+        "{}",
+        said(&o)
+    );
+    assert_eq!(rows(&out.join("siting.csv")).len(), 1);
+    // A shard of the same problem too (its key names the embedded list, not a file).
+    let part = dir.join("part");
+    let o = siting(
+        &pads,
+        &candidates,
+        "singapore-hdb",
+        &part,
+        &["--shard", "0/2"],
+    );
+    assert!(o.status.success(), "{}", said(&o));
+    assert!(part.join("shard.json").exists());
+    // `muse demand` takes the name the same way.
+    let o = muse(&[
+        "demand",
+        "--customers",
+        "singapore-hdb",
+        "--count",
+        "5",
+        "--out",
+        "-",
+    ]);
+    assert!(o.status.success(), "{}", said(&o));
+}

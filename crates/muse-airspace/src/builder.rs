@@ -8,7 +8,8 @@
 //!    of the nodes' centroid (the normalised mean of their unit vectors); `SVY21`
 //!    (EPSG:3414) for Singapore's built-in scenarios; or an oblique stereographic projection
 //!    about the centroid. All nodes must lie strictly within 90° of the centroid (one
-//!    hemisphere).
+//!    hemisphere), between 84° S and 84° N, within 60° of longitude and on one side of the
+//!    ±180° meridian ([`check_extent`](crate::plane::check_extent)).
 //! 2. **Delaunay triangulation** of the projected points with [`spade`] (exact predicates).
 //!    Two nodes at the same position are an error.
 //! 3. **Join collinear nodes** (the paper's step): an edge A–C is dropped when some node B
@@ -206,6 +207,7 @@ pub fn build_airspace(nodes: Vec<Node>, opts: &BuildOptions) -> Result<Airspace,
             });
         }
     }
+    crate::plane::check_extent(&nodes)?;
     let projected = opts.plane.project(&nodes)?;
 
     // 2. Delaunay triangulation.
@@ -633,10 +635,22 @@ mod tests {
             build_airspace(vec![station("A", 103.8, 1.3)], &opts),
             Err(BuildError::BadOption(_))
         ));
-        let spread = vec![
+        // Round the equator: wider than 60° of longitude (and beyond a hemisphere).
+        let round = vec![
             station("A", 0.0, 0.0),
             station("B", 120.0, 0.0),
             station("C", -120.0, 0.0),
+        ];
+        assert!(matches!(
+            build_airspace(round, &BuildOptions::default()),
+            Err(BuildError::Plane(crate::plane::PlaneError::TooWide { .. }))
+        ));
+        // Within 60° of longitude, but from the Arctic to the Antarctic.
+        let spread = vec![
+            station("A", 0.0, 80.0),
+            station("B", 1.0, 80.0),
+            station("C", 0.0, 81.0),
+            station("D", 50.0, -80.0),
         ];
         assert!(matches!(
             build_airspace(spread, &BuildOptions::default()),

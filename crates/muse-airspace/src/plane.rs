@@ -6,6 +6,10 @@
 //! 327zz). Before §15 MUSE used an oblique stereographic projection about the centroid,
 //! still available as [`Plane::Stereographic`].
 //!
+//! Whatever the plane, maps draw corridors and zones test them as straight lines in
+//! longitude and latitude: [`check_extent`] keeps an airspace's nodes where that holds
+//! (between 84° S and 84° N, within 60° of longitude, on one side of the ±180° meridian).
+//!
 //! ```
 //! use muse_airspace::plane::Plane;
 //! assert_eq!(Plane::parse("EPSG:3414").unwrap(), Plane::Epsg(3414));
@@ -22,6 +26,12 @@ use spade::Point2;
 
 /// Mean Earth radius (IUGG), metres; the radius of the stereographic projection's sphere.
 const EARTH_RADIUS_M: f64 = 6_371_008.8;
+
+/// The furthest latitude, north or south, of an airspace's nodes ([`check_extent`]), degrees.
+pub const MAX_LATITUDE_DEG: f64 = 84.0;
+
+/// The widest span of longitude of an airspace's nodes ([`check_extent`]), degrees.
+pub const MAX_LONGITUDE_SPAN_DEG: f64 = 60.0;
 
 /// A local metric plane.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -52,6 +62,52 @@ pub enum PlaneError {
     /// The nodes do not fit in one hemisphere around their centroid.
     #[error("the nodes span more than a hemisphere; node `{0}` is 90° or more from their centroid")]
     TooSpread(String),
+    /// A node beyond [`MAX_LATITUDE_DEG`] north or south.
+    #[error(
+        "node `{id}` is at latitude {lat}°: an airspace's nodes must lie between 84° S and 84° N \
+         (nearer a pole, the straight lines in longitude and latitude that maps draw corridors \
+         as, and zones test them by, stray far from the paths flown)"
+    )]
+    NearPole {
+        /// The node's id.
+        id: String,
+        /// Its latitude.
+        lat: f64,
+    },
+    /// Nodes on both sides of the ±180° meridian.
+    #[error(
+        "the nodes lie on both sides of the ±180° meridian (`{west}` at {west_lon}°, `{east}` \
+         at {east_lon}°): maps draw corridors, and zones test them, as straight lines in \
+         longitude and latitude, which cannot cross it; an airspace must lie on one side"
+    )]
+    AcrossAntimeridian {
+        /// The node furthest west, by its longitude as written.
+        west: String,
+        /// Its longitude.
+        west_lon: f64,
+        /// The node furthest east.
+        east: String,
+        /// Its longitude.
+        east_lon: f64,
+    },
+    /// Nodes spanning more than [`MAX_LONGITUDE_SPAN_DEG`] of longitude.
+    #[error(
+        "the nodes span {span}° of longitude (`{west}` at {west_lon}° to `{east}` at \
+         {east_lon}°): they must lie within 60° (maps draw corridors, and zones test them, as \
+         straight lines in longitude and latitude, far from the paths flown over such a width)"
+    )]
+    TooWide {
+        /// The span, degrees.
+        span: f64,
+        /// The node furthest west.
+        west: String,
+        /// Its longitude.
+        west_lon: f64,
+        /// The node furthest east.
+        east: String,
+        /// Its longitude.
+        east_lon: f64,
+    },
     /// The projection library refused a position.
     #[error("node `{id}` at ({lon}, {lat}) cannot be projected to {plane}: {message}")]
     Projection {
@@ -162,6 +218,69 @@ impl fmt::Display for Plane {
             Plane::Stereographic => f.write_str("stereographic"),
         }
     }
+}
+
+/// Checks that `nodes` lie where an airspace can be drawn and tested as MUSE does, corridors
+/// and zones being straight lines in longitude and latitude: between [`MAX_LATITUDE_DEG`]
+/// south and north (nearer a pole such lines stray far from the paths flown, and a pole may
+/// lie inside the nodes' hull), within [`MAX_LONGITUDE_SPAN_DEG`] of longitude as written, and
+/// so not on both sides of the ±180° meridian (a corridor across it would be drawn round the
+/// world). Positions are assumed valid.
+///
+/// # Errors
+/// The first node beyond the latitudes; nodes on both sides of ±180° (when they are nearer
+/// across it than along it); nodes too far apart in longitude.
+///
+/// ```
+/// use muse_airspace::plane::{PlaneError, check_extent};
+/// use muse_model::{LonLat, Node, NodeKind};
+/// let node = |id: &str, lon, lat| Node {
+///     id: id.into(), kind: NodeKind::Station, name: String::new(), pos: LonLat::new(lon, lat),
+/// };
+/// assert!(check_extent(&[node("A", 16.37, 48.21), node("B", 16.40, 48.20)]).is_ok());
+/// let fiji = [node("F1", 179.95, -17.0), node("F2", -179.95, -17.05)];
+/// assert!(matches!(check_extent(&fiji), Err(PlaneError::AcrossAntimeridian { .. })));
+/// assert!(matches!(check_extent(&[node("P", 0.0, 88.5)]), Err(PlaneError::NearPole { .. })));
+/// ```
+pub fn check_extent(nodes: &[Node]) -> Result<(), PlaneError> {
+    if let Some(n) = nodes.iter().find(|n| n.pos.lat.abs() > MAX_LATITUDE_DEG) {
+        return Err(PlaneError::NearPole {
+            id: n.id.clone(),
+            lat: n.pos.lat,
+        });
+    }
+    let by_lon = |a: &&Node, b: &&Node| a.pos.lon.total_cmp(&b.pos.lon);
+    let (Some(west), Some(east)) = (nodes.iter().min_by(by_lon), nodes.iter().max_by(by_lon))
+    else {
+        return Ok(());
+    };
+    let span = east.pos.lon - west.pos.lon;
+    if span <= MAX_LONGITUDE_SPAN_DEG {
+        return Ok(());
+    }
+    // Nearer across ±180° than along: the widest gap between neighbours in longitude is
+    // inside the span, wider than the one across the meridian.
+    let mut lons: Vec<f64> = nodes.iter().map(|n| n.pos.lon).collect();
+    lons.sort_by(f64::total_cmp);
+    let widest = lons.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max);
+    let (west, west_lon, east, east_lon) =
+        (west.id.clone(), west.pos.lon, east.id.clone(), east.pos.lon);
+    Err(if widest > 360.0 - span {
+        PlaneError::AcrossAntimeridian {
+            west,
+            west_lon,
+            east,
+            east_lon,
+        }
+    } else {
+        PlaneError::TooWide {
+            span,
+            west,
+            west_lon,
+            east,
+            east_lon,
+        }
+    })
 }
 
 fn unit_vector(p: LonLat) -> [f64; 3] {

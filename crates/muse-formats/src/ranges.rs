@@ -1,7 +1,7 @@
-//! The accepted range of every flight-model and layering parameter in user units, in one
-//! place: the command line's options (`--speed-kmh`, …) and the Python package's keywords
-//! (`speed_kmh=`, …) refuse the same values with the same words, `must be a speed in km/h
-//! from 1 to 1000`.
+//! The accepted range of every flight-model and layering parameter in user units, and of a
+//! generated day's request count and seed, in one place: the command line's options
+//! (`--speed-kmh`, `--count`, …) and the Python package's keywords (`speed_kmh=`, `count=`, …)
+//! refuse the same values with the same words, `must be a speed in km/h from 1 to 1000`.
 //!
 //! ```
 //! use muse_formats::ranges::SPEED_KMH;
@@ -69,6 +69,21 @@ impl<T: Number> Range<T> {
     }
 }
 
+/// The most requests of one day (generated, or read from a requests file).
+pub const MAX_REQUESTS: usize = 10_000_000;
+
+/// Requests of a generated day (`--count`, Python's `count=`).
+pub const REQUESTS: Range<usize> = Range {
+    lo: 1,
+    hi: MAX_REQUESTS,
+    what: "a whole number of requests",
+};
+/// Seeds: any 64-bit number (`--seed`, Python's `seed=`).
+pub const SEED: Range<u64> = Range {
+    lo: 0,
+    hi: u64::MAX,
+    what: "a whole number",
+};
 /// Cruise speed, km/h.
 pub const SPEED_KMH: Range<f64> = Range {
     lo: 1.0,

@@ -263,6 +263,135 @@ fn cbd_round_trips() {
     assert_eq!(write_ed318(&back), text);
 }
 
+/// An ED-318 feature around (103.8, 1.3) whose `properties` hold `props` (JSON members) and
+/// whose geometry holds `geometry_extra`.
+fn ed318_with(props: &str, geometry_extra: &str) -> String {
+    format!(
+        r#"{{"type": "FeatureCollection", "features": [{{"type": "Feature",
+  "properties": {{"identifier": "Z", "type": "PROHIBITED"{props}}},
+  "geometry": {{"type": "Polygon", "coordinates": [[[103.79, 1.29], [103.81, 1.29],
+    [103.81, 1.31], [103.79, 1.31], [103.79, 1.29]]]{geometry_extra}}}}}]}}"#
+    )
+}
+
+#[test]
+fn ed318_properties_limits_read_as_ed269_reads_them() {
+    // ED-269's names in an ED-318 feature's properties: the band ED-269 gives a volume with
+    // the same members, whatever the unit, or metres without one.
+    let ed269 = |members: &str| {
+        let text = format!(
+            r#"{{"UASZoneList": [{{"identifier": "Z", "geometry": [{{{members},
+  "horizontalProjection": {{"type": "Circle", "center": [103.8, 1.3], "radius": 100}}}}]}}]}}"#
+        );
+        read_zones(&text, "ed269.json").unwrap()[0].vertical
+    };
+    for members in [
+        r#""uomDimensions": "FT", "lowerLimit": 100, "lowerVerticalReference": "AMSL", "upperLimit": 400, "upperVerticalReference": "AGL""#,
+        r#""lowerLimit": 30, "upperLimit": "120""#,
+        r#""upperLimit": 60"#,
+        r#""uomDimensions": "m", "lowerLimit": 45.5"#,
+    ] {
+        let text = ed318_with(&format!(", {members}"), "");
+        let zones = read_zones(&text, "z.geojson").unwrap();
+        assert_eq!(zones.len(), 1);
+        assert!(!zones[0].vertical.is_whole_sky(), "{members}");
+        assert_eq!(zones[0].vertical, ed269(members), "{members}");
+    }
+    let text = ed318_with(r#", "uomDimensions": "FT", "upperLimit": 400"#, "");
+    assert_eq!(
+        read_zones(&text, "z.geojson").unwrap()[0]
+            .vertical
+            .to_string(),
+        "up to 121.92 m AGL"
+    );
+    // The same limits on the geometry's `layer` too: one band, said twice, accepted.
+    let text = ed318_with(
+        r#", "lowerLimit": 30, "upperLimit": 120"#,
+        r#", "layer": {"lower": 30, "upper": 120, "uom": "m"}"#,
+    );
+    assert_eq!(
+        read_zones(&text, "z.geojson").unwrap()[0]
+            .vertical
+            .to_string(),
+        "30–120 m AGL"
+    );
+    // A zone with explicit nodes only takes them as its band (as `properties.layer`).
+    let text = r#"{"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": null,
+      "properties": {"identifier": "N", "nodes": ["S001"], "upperLimit": 90}}]}"#;
+    assert_eq!(
+        read_zones(text, "n.geojson").unwrap()[0]
+            .vertical
+            .to_string(),
+        "up to 90 m AGL"
+    );
+    // Written back, the band is the geometry's `layer`, read back the same.
+    let zones = read_zones(&ed318_with(r#", "lowerLimit": 30"#, ""), "z.geojson").unwrap();
+    assert_eq!(
+        read_zones(&write_ed318(&zones), "w.geojson").unwrap(),
+        zones
+    );
+}
+
+#[test]
+fn ed318_properties_limits_that_contradict_or_are_bad_are_refused() {
+    let refused = |text: &str| read_zones(text, "z.geojson").unwrap_err();
+    let feature = Location::Feature {
+        index: 0,
+        id: Some("Z".into()),
+    };
+    // A bad height, unit or reference: the ED-269 reader's own message, on the property.
+    let e = refused(&ed318_with(r#", "upperLimit": -5"#, ""));
+    assert_eq!(
+        (&e.location, e.field.as_deref()),
+        (&feature, Some("upperLimit"))
+    );
+    assert!(e.message.contains("must be ≥ 0"), "{e}");
+    let e = refused(&ed318_with(
+        r#", "uomDimensions": "FL", "upperLimit": 5"#,
+        "",
+    ));
+    assert_eq!(e.field.as_deref(), Some("uomDimensions"), "{e}");
+    let e = refused(&ed318_with(r#", "lowerLimit": 90, "upperLimit": 60"#, ""));
+    assert_eq!(e.field.as_deref(), Some("lowerLimit"), "{e}");
+    let e = refused(&ed318_with(
+        r#", "upperLimit": 60, "upperVerticalReference": "STD""#,
+        "",
+    ));
+    assert_eq!(e.field.as_deref(), Some("upperVerticalReference"), "{e}");
+    // The geometry's `layer` and the properties' limits disagree: which is meant?
+    let e = refused(&ed318_with(
+        r#", "upperLimit": 120"#,
+        r#", "layer": {"upper": 60, "uom": "m"}"#,
+    ));
+    assert_eq!(
+        (&e.location, e.field.as_deref()),
+        (&feature, Some("geometry.layer"))
+    );
+    assert!(
+        e.message.contains("up to 60 m AGL") && e.message.contains("up to 120 m AGL"),
+        "{e}"
+    );
+    // So do `properties.layer` and the limits of a zone without geometry.
+    let text = r#"{"type": "FeatureCollection", "features": [{"type": "Feature", "geometry": null,
+      "properties": {"identifier": "N", "nodes": ["S001"], "upperLimit": 90,
+        "layer": {"upper": 80, "uom": "m"}}}]}"#;
+    let e = refused(text);
+    assert_eq!(e.field.as_deref(), Some("layer"), "{e}");
+    // A member of a collection with a band of its own, other than the properties' one.
+    let text = r#"{"type": "FeatureCollection", "features": [{"type": "Feature",
+      "properties": {"identifier": "Z", "lowerLimit": 0, "upperLimit": 60},
+      "geometry": {"type": "GeometryCollection", "geometries": [
+        {"type": "Point", "coordinates": [103.8, 1.3], "extent": {"subType": "Circle", "radius": 50}},
+        {"type": "Point", "coordinates": [103.9, 1.3], "extent": {"subType": "Circle", "radius": 50},
+         "layer": {"lower": 60, "upper": 120, "uom": "m"}}]}}]}"#;
+    let e = refused(text);
+    assert_eq!(
+        e.field.as_deref(),
+        Some("geometry.geometries[1].layer"),
+        "{e}"
+    );
+}
+
 // ---------------------------------------------------------------------------------------------
 // Property tests.
 // ---------------------------------------------------------------------------------------------

@@ -58,13 +58,12 @@ fn split_zones(
     world: &World,
     files: &[std::path::PathBuf],
 ) -> anyhow::Result<(Vec<Zone>, Vec<Zone>)> {
-    let mut announce = Vec::new();
+    let mut read = muse_formats::zones::ZoneFiles::default();
     for path in files {
-        announce.extend(
-            muse_formats::zones::read_zones_file(path)
-                .with_context(|| format!("reading zones to announce from {}", path.display()))?,
-        );
+        read.add(path)
+            .with_context(|| format!("reading zones to announce from {}", path.display()))?;
     }
+    let mut announce = read.into_zones();
     if files.is_empty() {
         let cbd = world
             .scenario

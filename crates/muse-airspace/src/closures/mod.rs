@@ -6,13 +6,16 @@
 //! - [`windows`]: when it closes them ([`zone_windows`], [`MAX_RANGE_DAYS`]);
 //! - here: [`resolve`] puts the two together into [`Closures`]. Per element, windows of all
 //!   zones are sorted and overlapping or touching ones merged; [`Closures::add`] forms the
-//!   union of two resolutions the same way.
+//!   union of two resolutions the same way;
+//! - [`idle`]: whether a zone does nothing (closes nothing, or is announced after its last
+//!   window), which the command line warns of.
 //!
 //! A [`Window`] is half-open, `[start, end)`. A stay `[a, d]` at a closed node (or a
 //! traversal `[s, f]` of a closed edge) may not share an instant with it: it is allowed only
 //! when `d < start` or `a >= end` ([`Window::blocks`]).
 
 pub mod geometry;
+pub mod idle;
 mod layers;
 pub mod windows;
 

@@ -9,7 +9,7 @@ use super::geometry::{
     Part, assemble, parse_multipolygon, parse_polygon, parse_position, parse_radius,
 };
 use super::properties::parse_common;
-use super::vertical::parse_layer;
+use super::vertical::{agreeing, parse_layer, parse_properties_limits};
 use super::{Ctx, expect_object, join, member, normalize, parse_identifier, round_degrees, show};
 use crate::InputError;
 
@@ -36,23 +36,25 @@ pub(super) fn read_feature(file: &str, index: usize, v: &Value) -> Result<Vec<Zo
     };
     ctx.id = Some(id.clone());
     let common = parse_common(&ctx, props, &["restriction", "type"])?;
+    // ED-269's `lowerLimit` / `upperLimit` in the properties: the band of every geometry
+    // without a `layer` of its own (one that gives another is refused).
+    let given = parse_properties_limits(&ctx, props)?;
     let mut parts = Vec::new();
     let geometry_v = member(feature, "geometry");
     if let Some(g) = geometry_v {
-        geometry(
-            &ctx,
-            g,
-            "geometry",
-            (feature, props),
-            VerticalLimits::WHOLE_SKY,
-            &mut parts,
-        )?;
+        let around = Around {
+            feature,
+            props,
+            given,
+        };
+        let band = given.unwrap_or(VerticalLimits::WHOLE_SKY);
+        geometry(&ctx, g, "geometry", &around, band, &mut parts)?;
     }
     // MUSE extension: the band of a zone with explicit elements only sits in its properties
     // (what `write_ed318` writes for such a zone).
     let bare = match (member(props, "layer"), geometry_v) {
-        (None, _) => VerticalLimits::WHOLE_SKY,
-        (Some(layer), None) => parse_layer(&ctx, layer, "layer")?,
+        (None, _) => given.unwrap_or(VerticalLimits::WHOLE_SKY),
+        (Some(layer), None) => agreeing(&ctx, parse_layer(&ctx, layer, "layer")?, given, "layer")?,
         (Some(_), Some(_)) => {
             return Err(ctx.err(
                 "layer",
@@ -65,20 +67,33 @@ pub(super) fn read_feature(file: &str, index: usize, v: &Value) -> Result<Vec<Zo
     assemble(&ctx, id, common, parts, bare, "geometry")
 }
 
+/// What a feature's geometries are read in: the feature, its properties, and the limits
+/// its properties give.
+struct Around<'a> {
+    feature: &'a Map<String, Value>,
+    props: &'a Map<String, Value>,
+    given: Option<VerticalLimits>,
+}
+
 /// Reads a `GeoJSON` geometry (with the ED-318 circle extension) into `parts`, each with its
-/// vertical band: the geometry's `layer`, else `band` (the enclosing collection's, or the
-/// whole sky).
+/// vertical band: the geometry's `layer`, else `band` (the enclosing collection's, else the
+/// properties' limits, else the whole sky).
 fn geometry(
     ctx: &Ctx<'_>,
     v: &Value,
     field: &str,
-    (feature, props): (&Map<String, Value>, &Map<String, Value>),
+    around: &Around<'_>,
     band: VerticalLimits,
     parts: &mut Vec<(Part, VerticalLimits)>,
 ) -> Result<(), InputError> {
+    let (feature, props) = (around.feature, around.props);
     let g = expect_object(ctx, v, field, "a geometry")?;
     let band = match member(g, "layer") {
-        Some(layer) => parse_layer(ctx, layer, &join(field, "layer"))?,
+        Some(layer) => {
+            let layer_field = join(field, "layer");
+            let layer = parse_layer(ctx, layer, &layer_field)?;
+            agreeing(ctx, layer, around.given, &layer_field)?
+        }
         None => band,
     };
     let kind_field = join(field, "type");
@@ -131,14 +146,7 @@ fn geometry(
                     )
                 })?;
             for (i, item) in items.iter().enumerate() {
-                geometry(
-                    ctx,
-                    item,
-                    &format!("{gf}[{i}]"),
-                    (feature, props),
-                    band,
-                    parts,
-                )?;
+                geometry(ctx, item, &format!("{gf}[{i}]"), around, band, parts)?;
             }
         }
         _ => {

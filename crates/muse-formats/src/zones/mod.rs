@@ -24,6 +24,11 @@
 //!   `GeometryCollection` is the band of its members that carry none. MUSE extension: a zone
 //!   with explicit `nodes` / `edges` and no geometry gives its band as `properties.layer`
 //!   (what [`write_ed318`] writes for it); with a geometry, `properties.layer` is an error.
+//! - `properties.lowerLimit`, `properties.upperLimit` (ED-269's names, with `uomDimensions`,
+//!   `lowerVerticalReference` and `upperVerticalReference`): read exactly as an ED-269
+//!   volume's (below), the band of every geometry without a `layer` (or of a zone without
+//!   geometry). A `layer` (on the geometry or in the properties) giving another band is an
+//!   error: the file says two things.
 //!
 //! # ED-269 JSON
 //!
@@ -193,6 +198,75 @@ pub fn read_zones_file(path: &Path) -> Result<Vec<Zone>, InputError> {
         ));
     }
     Ok(zones)
+}
+
+/// The zones of several files read in order (`--zones a.json --zones b.json`), each zone id
+/// once across them all: a zone id from two files (or one file given twice) would make two
+/// zones of one name, which every output and the service tell apart by name only.
+///
+/// ```
+/// use muse_formats::zones::ZoneFiles;
+/// let dir = std::env::temp_dir().join(format!("muse-zone-files-{}", std::process::id()));
+/// std::fs::create_dir_all(&dir).unwrap();
+/// let zone = r#"{"type": "Feature", "properties": {"identifier": "X", "nodes": ["S001"]},
+///                "geometry": null}"#;
+/// let (a, b) = (dir.join("a.json"), dir.join("b.json"));
+/// std::fs::write(&a, zone).unwrap();
+/// std::fs::write(&b, zone).unwrap();
+/// let mut files = ZoneFiles::default();
+/// files.add(&a).unwrap();
+/// let e = files.add(&b).unwrap_err().to_string();
+/// assert!(e.contains("b.json: zone `X` is also in ") && e.contains("a.json"), "{e}");
+/// assert_eq!(files.into_zones().len(), 1);
+/// # std::fs::remove_dir_all(&dir).unwrap();
+/// ```
+#[derive(Debug, Default)]
+pub struct ZoneFiles {
+    zones: Vec<Zone>,
+    /// The file each zone id came from.
+    files: HashMap<String, String>,
+}
+
+impl ZoneFiles {
+    /// Reads the zone file `path` ([`read_zones_file`]) and adds its zones.
+    ///
+    /// # Errors
+    /// Those of [`read_zones_file`]; a zone whose id an earlier file gave, naming the zone and
+    /// both files (nothing of the file is added then).
+    pub fn add(&mut self, path: &Path) -> Result<(), InputError> {
+        let zones = read_zones_file(path)?;
+        let file = path.display().to_string();
+        if let Some((zone, first)) = zones
+            .iter()
+            .find_map(|z| self.files.get(&z.id).map(|first| (z, first)))
+        {
+            let twice = if *first == file {
+                " (the file is given twice)"
+            } else {
+                ""
+            };
+            return Err(InputError::new(
+                file.as_str(),
+                Location::Whole,
+                None,
+                format!(
+                    "zone `{}` is also in {first}{twice}: a zone id may be used once across \
+                     the zone files; rename one of them or give each file once",
+                    zone.id
+                ),
+            ));
+        }
+        for zone in &zones {
+            self.files.insert(zone.id.clone(), file.clone());
+        }
+        self.zones.extend(zones);
+        Ok(())
+    }
+
+    /// The zones of every file added, in order.
+    pub fn into_zones(self) -> Vec<Zone> {
+        self.zones
+    }
 }
 
 /// The canonical form of a zone, the form [`write_ed318`] writes: coordinates rounded to

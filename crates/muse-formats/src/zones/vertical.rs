@@ -1,5 +1,6 @@
 //! Vertical limits in zone files (SPEC §13): ED-318's `layer` on a geometry and ED-269's
-//! `lowerLimit` / `upperLimit` on a volume, read into a [`VerticalLimits`] band.
+//! `lowerLimit` / `upperLimit` on a volume (or in an ED-318 feature's properties), read into a
+//! [`VerticalLimits`] band.
 //!
 //! - A height is a number (or a numeric string) ≥ 0, in metres or feet (`M`, `FT`, any case;
 //!   1 ft = 0.3048 m exactly), kept to the micrometre. A missing or `null` side is open.
@@ -71,6 +72,42 @@ pub(super) fn parse_volume_limits(
     field: &str,
 ) -> Result<VerticalLimits, InputError> {
     parse_band(ctx, volume, field, &ED269)
+}
+
+/// ED-269's limits given in an ED-318 feature's `properties` (`lowerLimit`, `upperLimit`,
+/// `uomDimensions`, `lowerVerticalReference`, `upperVerticalReference`): read exactly as
+/// [`parse_volume_limits`] reads an ED-269 volume's, the band of the feature's geometries
+/// that give no `layer`. `None` when neither limit is given (a unit or reference alone is
+/// still checked).
+pub(super) fn parse_properties_limits(
+    ctx: &Ctx<'_>,
+    props: &Map<String, Value>,
+) -> Result<Option<VerticalLimits>, InputError> {
+    let band = parse_volume_limits(ctx, props, "")?;
+    let given = member(props, ED269.lower).is_some() || member(props, ED269.upper).is_some();
+    Ok(given.then_some(band))
+}
+
+/// `layer`, the band an ED-318 `layer` at `field` gives, unless the feature's properties
+/// give other limits (`given`, [`parse_properties_limits`]): a zone whose heights are said
+/// twice, differently, is refused rather than one of them dropped.
+pub(super) fn agreeing(
+    ctx: &Ctx<'_>,
+    layer: VerticalLimits,
+    given: Option<VerticalLimits>,
+    field: &str,
+) -> Result<VerticalLimits, InputError> {
+    match given {
+        Some(limits) if limits != layer => Err(ctx.err(
+            field,
+            format!(
+                "the layer ({layer}) contradicts the `lowerLimit` / `upperLimit` of the \
+                 feature's properties ({limits}): give the zone's vertical limits once, or \
+                 the same in both"
+            ),
+        )),
+        _ => Ok(layer),
+    }
 }
 
 #[derive(Clone, Copy)]
