@@ -505,3 +505,55 @@ fn layer_options_out_of_range_are_refused() {
         &["--heading-rule", "none", "sectors"],
     );
 }
+
+/// Simulates a small day into `dir/day`; its plans file's lines.
+fn simulated_plans(dir: &Path) -> Vec<String> {
+    let day = dir.join("day");
+    let o = muse(&[
+        "simulate",
+        "--count",
+        "40",
+        "--seed",
+        "3",
+        "--out",
+        day.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    std::fs::read_to_string(day.join("plans.jsonl"))
+        .unwrap()
+        .lines()
+        .map(str::to_owned)
+        .collect()
+}
+
+/// A plans file has one line per request: a request id on a second line is refused as a
+/// duplicate (both lines and the id named), never read as a flight in conflict with itself.
+#[test]
+fn a_request_id_twice_in_a_plans_file_is_refused() {
+    let dir = scratch_dir("duplicate_ids");
+    let lines = simulated_plans(&dir);
+    let first = lines
+        .iter()
+        .position(|l| l.contains(r#""status":"planned""#))
+        .expect("a planned line");
+    let id = serde_json::from_str::<serde_json::Value>(&lines[first]).unwrap()["request"]
+        .as_str()
+        .unwrap()
+        .to_owned();
+    let mut twice = lines.clone();
+    twice.push(lines[first].clone());
+    let dup = write(&dir, "dup.jsonl", twice.join("\n") + "\n");
+    let expected = format!(
+        "dup.jsonl: line {}: field `request`: duplicate request id `{id}` (first on line {})",
+        twice.len(),
+        first + 1
+    );
+    let err = refused(&["verify", "--plans", &dup], &[&expected]);
+    assert!(!err.contains("violat"), "{err}");
+    let html = dir.join("view.html");
+    refused(
+        &["view", "--plans", &dup, "--out", html.to_str().unwrap()],
+        &[&expected],
+    );
+    nothing_written(&html);
+}

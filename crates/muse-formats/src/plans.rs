@@ -39,7 +39,9 @@
 //! (no `path`, null times; `changes` and `original` stay when zone announcements had changed
 //! it before). A service listing saved as JSON Lines is a plans file: [`read_plan_entries`]
 //! reads every line of it, [`read_plans`] the lines that hold a request's answer. Any other
-//! field is an error naming it, as is a value of the wrong kind.
+//! field is an error naming it, as is a value of the wrong kind, and so is a request id on a
+//! second line: a plans file holds one line per request ([`read_listed_plans`] reads a
+//! listing fetched page after page, which may repeat a flight).
 
 use std::fmt::Write as _;
 
@@ -53,7 +55,9 @@ mod read;
 
 pub use legs::LegLine;
 use legs::leg_lines;
-pub use read::{read_plan_entries, read_plan_entries_file, read_plans, read_plans_file};
+pub use read::{
+    read_listed_plans, read_plan_entries, read_plan_entries_file, read_plans, read_plans_file,
+};
 
 /// One line of a plans file, in model types.
 #[derive(Clone, Debug, PartialEq)]
