@@ -557,3 +557,73 @@ fn a_request_id_twice_in_a_plans_file_is_refused() {
     );
     nothing_written(&html);
 }
+
+/// Timestamps of the years 0000–9999 are read, and MUSE plans those of the years 1000–8999
+/// (UTC): a departure or booking outside them is refused naming the file, the line, the field
+/// and the time as written, with or without zones; the first and last instants plan.
+#[test]
+fn departures_outside_the_planned_years_are_named() {
+    let dir = scratch_dir("planned_years");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    let rule = "outside the years MUSE plans: from 1000-01-01T00:00:00Z up to \
+                9000-01-01T00:00:00Z (the years 1000 to 8999, UTC)";
+    for (name, row, field, time) in [
+        (
+            "late.csv",
+            "r1,S012,S040,9999-12-31T23:59:59+00:00",
+            "departure",
+            "9999-12-31T23:59:59+00:00",
+        ),
+        (
+            "early.csv",
+            "r1,S012,S040,0500-06-01T10:00:00+08:00",
+            "departure",
+            "0500-06-01T10:00:00+08:00",
+        ),
+        (
+            "edge.csv",
+            "r1,S012,S040,9000-01-01T00:00:00Z",
+            "departure",
+            "9000-01-01T00:00:00Z",
+        ),
+        (
+            "booked.csv",
+            "r1,S012,S040,2026-01-05T08:00:00+08:00,0999-12-31T23:59:59.999Z",
+            "submitted",
+            "0999-12-31T23:59:59.999Z",
+        ),
+    ] {
+        let header = if field == "submitted" {
+            "id,origin,destination,departure,submitted"
+        } else {
+            "id,origin,destination,departure"
+        };
+        let r = write(&dir, name, format!("{header}\n{row}\n"));
+        let expected = format!("{name}: line 2: field `{field}`: `{time}` is {rule}");
+        for zones in [&[][..], &["--zones", "none"][..]] {
+            let mut args = vec!["plan", "--requests", &r, "--out", o];
+            args.extend_from_slice(zones);
+            let err = refused(&args, &[&expected]);
+            assert!(!err.contains(" ms"), "{err}");
+            nothing_written(&out);
+        }
+        refused(&["simulate", "--requests", &r, "--out", o], &[&expected]);
+        nothing_written(&out);
+    }
+    // The first and the last instants planned, with the scenario's zones.
+    for (name, departure) in [
+        ("first.csv", "1000-01-01T00:00:00Z"),
+        ("last.csv", "8999-12-31T23:59:59.999Z"),
+    ] {
+        let r = write(
+            &dir,
+            name,
+            format!("id,origin,destination,departure\nr1,S012,S040,{departure}\n"),
+        );
+        let run = muse(&["plan", "--requests", &r, "--out", o]);
+        assert_eq!(run.status.code(), Some(0), "{departure}: {}", stderr(&run));
+        let plans = std::fs::read_to_string(out.join("plans.jsonl")).unwrap();
+        assert!(plans.contains(r#""status":"planned""#), "{plans}");
+    }
+}
