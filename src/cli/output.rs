@@ -378,7 +378,7 @@ fn not_regular(path: &Path) -> anyhow::Result<Option<&'static str>> {
 }
 
 /// What a file type is, for messages: `a symbolic link`, `a folder`, `a FIFO (named pipe)` …
-fn kind(t: std::fs::FileType) -> &'static str {
+pub(crate) fn kind(t: std::fs::FileType) -> &'static str {
     #[cfg(unix)]
     {
         use std::os::unix::fs::FileTypeExt as _;

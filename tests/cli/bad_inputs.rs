@@ -627,3 +627,20 @@ fn departures_outside_the_planned_years_are_named() {
         assert!(plans.contains(r#""status":"planned""#), "{plans}");
     }
 }
+
+/// `muse serve --data` that is a file is refused once, naming the option, before serving.
+#[test]
+fn a_service_data_folder_that_is_a_file_is_refused_naming_data() {
+    let dir = scratch_dir("serve_data_file");
+    let file = write(&dir, "store", "not a folder\n");
+    let err = refused(
+        &["serve", "--listen", "127.0.0.1:0", "--data", &file],
+        &[&format!("--data {file} is a regular file")],
+    );
+    assert_eq!(err.matches("os error").count(), 0, "{err}");
+    assert_eq!(
+        std::fs::read_to_string(&file).unwrap(),
+        "not a folder\n",
+        "left alone"
+    );
+}
