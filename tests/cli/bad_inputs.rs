@@ -644,3 +644,35 @@ fn a_service_data_folder_that_is_a_file_is_refused_naming_data() {
         "left alone"
     );
 }
+
+/// A plans file cut short (a copy stopped mid-line) names its last line as cut short, not a
+/// field `?` at "line 1 column N"; a line that is not JSON gives its column in the line.
+#[test]
+fn a_plans_line_cut_short_is_named_as_such() {
+    let dir = scratch_dir("plans_cut_short");
+    let text = simulated_plans(&dir).join("\n") + "\n";
+    let cut = &text[..5000];
+    assert!(!cut.ends_with('\n'));
+    let last = cut.matches('\n').count() + 1;
+    let file = write(&dir, "t.jsonl", cut);
+    let err = refused(
+        &["verify", "--plans", &file],
+        &[&format!(
+            "t.jsonl: line {last}: the line is cut short: it ends before its JSON object does"
+        )],
+    );
+    assert!(
+        !err.contains("`?`") && !err.contains("line 1 column"),
+        "{err}"
+    );
+    let broken = text.replacen(r#","status":"#, r#";"status":"#, 1);
+    let file = write(&dir, "b.jsonl", broken);
+    let err = refused(
+        &["verify", "--plans", &file],
+        &["b.jsonl: line 1: not JSON: expected `,` or `}` at column "],
+    );
+    assert!(
+        !err.contains("`?`") && !err.contains("line 1 column"),
+        "{err}"
+    );
+}

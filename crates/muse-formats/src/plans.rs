@@ -804,6 +804,21 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("p.jsonl: line 1: not a plan record"), "{e}");
+        let e = read_plans("\n{\"request\":\"r1\",\"sta", "p.jsonl", &air())
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "p.jsonl: line 2: the line is cut short: it ends before its JSON object does (not \
+             complete JSON; was the file truncated?)"
+        );
+        let e = read_plans("{\"request\";\"r1\"}", "p.jsonl", &air())
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "p.jsonl: line 1: not JSON: expected `:` at column 11 of the line"
+        );
         let line = r#"{"request":"r1","status":"planned","reason":null,"origin":"A","destination":"B","requested_departure":"1970-01-01T08:00:00.000+08:00","takeoff":null,"landing":null,"airborne_s":null,"free_flow_s":null,"air_delay_s":null,"ground_delay_s":null,"distance_m":null,"path":[{"node":"Q","arrive":"1970-01-01T08:00:00.000+08:00","depart":"1970-01-01T08:00:00.000+08:00"}]}"#;
         let e = read_plans(&format!("\n{line}\n"), "p.jsonl", &air())
             .unwrap_err()

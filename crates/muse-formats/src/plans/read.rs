@@ -142,17 +142,40 @@ fn read_entries(
 
 impl LineReader<'_> {
     /// The JSON object of a line; an unknown field, a missing one or a value of the wrong
-    /// kind is named.
+    /// kind is named. A line that is not JSON is named as a whole; one that ends inside its
+    /// object, as cut short. Places are columns of the line (serde's "line 1" dropped: each
+    /// line is read alone).
     pub(super) fn parse(&self, raw: &str) -> Result<PlanLine, InputError> {
         let mut de = serde_json::Deserializer::from_str(raw);
         let line: PlanLine = serde_path_to_error::deserialize(&mut de).map_err(|e| {
             let path = e.path().to_string();
-            let field = (path != ".").then_some(path.as_str());
-            self.err(field, format!("not a plan record: {}", e.inner()))
+            let field = (path != "." && !e.inner().is_syntax() && !e.inner().is_eof())
+                .then_some(path.as_str());
+            self.json_err(field, e.inner())
         })?;
-        de.end()
-            .map_err(|e| self.err(None, format!("not a plan record: {e}")))?;
+        de.end().map_err(|e| self.json_err(None, &e))?;
         Ok(line)
+    }
+
+    /// The error of a line serde could not read: not JSON, cut short, or a JSON value that is
+    /// not a plan record (in `field`, if known).
+    fn json_err(&self, field: Option<&str>, e: &serde_json::Error) -> InputError {
+        let text = e.to_string();
+        let at = format!(" at line {} column {}", e.line(), e.column());
+        let what = match text.strip_suffix(&at) {
+            Some(what) => format!("{what} at column {} of the line", e.column()),
+            None => text,
+        };
+        let message = if e.is_eof() {
+            "the line is cut short: it ends before its JSON object does (not complete JSON; was \
+             the file truncated?)"
+                .to_owned()
+        } else if e.is_syntax() {
+            format!("not JSON: {what}")
+        } else {
+            format!("not a plan record: {what}")
+        };
+        self.err(field, message)
     }
 
     pub(super) fn time(&self, field: &str, text: &str) -> Result<Instant, InputError> {
