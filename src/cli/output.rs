@@ -167,8 +167,8 @@ impl fmt::Display for FileOut {
 }
 
 /// The file output `option` names, `path` (`-`: standard output), checked before the run
-/// does any work: it is refused if it exists and is not a regular file, if its folder does
-/// not exist, or if it is one of the run's `inputs`.
+/// does any work: it is refused if it is a folder's path (ending in `/`), if it exists and is
+/// not a regular file, if its folder does not exist, or if it is one of the run's `inputs`.
 pub fn file(option: &str, path: &Path, inputs: &Inputs) -> anyhow::Result<FileOut> {
     if path.as_os_str() == STDOUT {
         return Ok(FileOut {
@@ -179,9 +179,20 @@ pub fn file(option: &str, path: &Path, inputs: &Inputs) -> anyhow::Result<FileOu
     let shown = path.display();
     let (parent, name) = split(path)
         .with_context(|| format!("{option} {shown}: give a file path, or - for standard output"))?;
+    if path.to_string_lossy().ends_with(std::path::is_separator) {
+        bail!(
+            "{option} {shown} ends with {}, a folder's path: give the path of the file to write \
+             (or - for standard output)",
+            std::path::MAIN_SEPARATOR
+        );
+    }
     match std::fs::metadata(&parent) {
         Ok(m) if m.is_dir() => {}
         Ok(_) => bail!("{option} {shown}: {} is not a folder", parent.display()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => bail!(
+            "{option} {shown}: its folder {} does not exist: make it first, or give another path",
+            parent.display()
+        ),
         Err(e) => bail!("{option} {shown}: its folder {}: {e}", parent.display()),
     }
     clean_stale(&parent, &name, path);

@@ -353,6 +353,67 @@ fn a_dash_is_standard_output_for_one_file_only() {
     assert_eq!(names(&dir), ["day"], "no file named -");
 }
 
+/// A file output's folder is checked before any work, naming the option: a path ending in
+/// `/` (a folder's path) and a missing folder are refused for every command that writes one
+/// file, and `muse airspace build --out DIR` checks its folder before building.
+#[test]
+fn a_file_outputs_folder_is_checked_before_the_work() {
+    let dir = scratch("file_folder");
+    ok(&dir, &["simulate", "--count", "20", "--out", "day"]);
+    let pads = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/pads.csv");
+    let plans = "day/plans.jsonl";
+    let commands: [&[&str]; 8] = [
+        &["demand", "--count", "5"],
+        &["view", "--plans", plans],
+        &["airspace", "map"],
+        &["airspace", "export"],
+        &["airspace", "build", "--pads", pads],
+        &["export", "bluesky", "--plans", plans],
+        &["export", "f3548", "--plans", plans, "--buffer-m", "10"],
+        &["load", "--url", "http://127.0.0.1:9", "--count", "5"],
+    ];
+    for command in commands {
+        let run = |out: &str, message: &str| {
+            let mut args = command.to_vec();
+            args.extend_from_slice(&["--out", out]);
+            refused(&dir, &args, message);
+        };
+        run(
+            "nodir/",
+            "--out nodir/ ends with /, a folder's path: give the path of the file to write",
+        );
+        run(
+            "nodir/x.out",
+            "--out nodir/x.out: its folder nodir does not exist: make it first, or give another \
+             path",
+        );
+    }
+    refused(
+        &dir,
+        &[
+            "airspace",
+            "export",
+            "--out",
+            "x.geojson",
+            "--zones-out",
+            "nodir/",
+        ],
+        "--zones-out nodir/ ends with /",
+    );
+    std::fs::write(dir.join("afile"), "mine\n").expect("a file");
+    refused(
+        &dir,
+        &["airspace", "build", "--out", "afile"],
+        "--out afile is a regular file; give a folder path",
+    );
+    refused(
+        &dir,
+        &["airspace", "build", "--out", "afile/sub"],
+        "--out afile/sub: ",
+    );
+    assert_eq!(names(&dir), ["afile", "day"]);
+}
+
 #[test]
 fn a_folder_never_holds_files_of_two_runs() {
     let dir = scratch("two_runs");
