@@ -13,8 +13,10 @@
 //!
 //! The temporary names carry the process id of the run: a later run into the same place
 //! removes those of runs no longer running ([`clean_stale`]), and never takes one for output.
+//! A run interrupted by SIGINT or SIGTERM removes its own before it ends (`interrupt`).
 
 mod folder;
+mod interrupt;
 #[cfg(test)]
 mod tests;
 
@@ -26,6 +28,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context as _, bail};
 
 pub use folder::{OutFolder, folder};
+pub use interrupt::hold_if_interrupted;
 
 use super::common::WorldArgs;
 
@@ -256,6 +259,7 @@ pub fn write_atomically(path: &Path, text: &str) -> anyhow::Result<()> {
         );
     }
     let tmp = parent.join(temp_name(&name, PARTIAL));
+    interrupt::guard(&tmp);
     let written = create_new(&tmp)
         .and_then(|mut f| {
             f.write_all(text.as_bytes())?;
@@ -268,6 +272,7 @@ pub fn write_atomically(path: &Path, text: &str) -> anyhow::Result<()> {
     if written.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
+    interrupt::release(&tmp);
     written
 }
 

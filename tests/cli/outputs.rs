@@ -526,6 +526,71 @@ fn a_killed_run_leaves_nothing_that_looks_whole() {
     assert!(dir.join("day/summary.json").is_file());
 }
 
+/// A run interrupted by SIGTERM or SIGINT (Ctrl-C) removes its temporary folder and exits
+/// with the conventional 128 + the signal's number: 143 and 130.
+#[test]
+fn an_interrupted_run_removes_its_temporary_folder() {
+    let dir = scratch("interrupted");
+    // Days of 300,000 requests (50 of them for the sweep) take far longer than the wait below.
+    let runs: [(&[&str], &str, i32); 3] = [
+        (
+            &["simulate", "--count", "300000", "--out", "day"],
+            "TERM",
+            143,
+        ),
+        (
+            &["simulate", "--count", "300000", "--out", "day"],
+            "INT",
+            130,
+        ),
+        (
+            &[
+                "sweep", "--counts", "300000", "--reps", "1", "--out", "sweep",
+            ],
+            "TERM",
+            143,
+        ),
+    ];
+    for (args, signal, code) in runs {
+        let child = Command::new(env!("CARGO_BIN_EXE_muse"))
+            .args(args)
+            .current_dir(&dir)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("muse starts");
+        let out = args[args.len() - 1];
+        let temp = format!(".{out}.partial-{}", child.id());
+        let started = std::time::Instant::now();
+        while !dir.join(&temp).is_dir() {
+            assert!(
+                started.elapsed().as_secs() < 10,
+                "no {temp} after 10 s: {:?}",
+                names(&dir)
+            );
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(200));
+        let sent = Command::new("kill")
+            .args([format!("-{signal}"), child.id().to_string()])
+            .status()
+            .expect("kill runs");
+        assert!(sent.success());
+        let ended = child.wait_with_output().expect("reaped");
+        let err = String::from_utf8_lossy(&ended.stderr);
+        assert_eq!(
+            ended.status.code(),
+            Some(code),
+            "{args:?} SIG{signal}: {err}"
+        );
+        assert!(
+            err.contains(&format!("interrupted by SIG{signal}")),
+            "{err}"
+        );
+        assert_eq!(names(&dir), Vec::<String>::new(), "{args:?} SIG{signal}");
+    }
+}
+
 /// `muse verify … | head`: a reader that goes away before the report is written closes the
 /// pipe; verify stops quietly (no panic) and its exit code still says what it found.
 #[test]
