@@ -676,3 +676,38 @@ fn a_plans_line_cut_short_is_named_as_such() {
         "{err}"
     );
 }
+
+/// A requests file with no request, and a plans file with no line, are refused naming the
+/// file: never `planned 0 of 0 requests (100.0%)` nor a verification of nothing said OK.
+#[test]
+fn empty_requests_and_plans_files_are_refused() {
+    let dir = scratch_dir("empty_inputs");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    for (name, text) in [
+        ("header.csv", "id,origin,destination,departure\n"),
+        (
+            "customers.csv",
+            "id,origin,destination,departure,origin_customer,destination_customer\n\n",
+        ),
+    ] {
+        let r = write(&dir, name, text);
+        let expected = format!("{name}: no requests: the file has its header and no row");
+        refused(&["plan", "--requests", &r, "--out", o], &[&expected]);
+        nothing_written(&out);
+        refused(&["simulate", "--requests", &r, "--out", o], &[&expected]);
+        nothing_written(&out);
+    }
+    for (name, text) in [("empty.jsonl", ""), ("blank.jsonl", "\n  \n\n")] {
+        let plans = write(&dir, name, text);
+        let expected = format!("{name}: no plans: the file has no line");
+        let err = refused(&["verify", "--plans", &plans], &[&expected]);
+        assert!(!err.contains("OK"), "{err}");
+        let html = dir.join("view.html");
+        refused(
+            &["view", "--plans", &plans, "--out", html.to_str().unwrap()],
+            &[&expected],
+        );
+        nothing_written(&html);
+    }
+}

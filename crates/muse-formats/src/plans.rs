@@ -804,6 +804,14 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("p.jsonl: line 1: not a plan record"), "{e}");
+        for empty in ["", "\n \n"] {
+            assert_eq!(
+                read_plans(empty, "p.jsonl", &air())
+                    .unwrap_err()
+                    .to_string(),
+                "p.jsonl: no plans: the file has no line (a plans file has one line per request)"
+            );
+        }
         let e = read_plans("\n{\"request\":\"r1\",\"sta", "p.jsonl", &air())
             .unwrap_err()
             .to_string();

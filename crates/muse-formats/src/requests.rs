@@ -171,7 +171,8 @@ pub struct UnservedRequest {
     pub submitted: Instant,
 }
 
-/// Reads requests from CSV text, in file order; `file` names the source in error messages.
+/// Reads requests from CSV text, in file order; `file` names the source in error messages. A
+/// file with no request (its header alone) is an error.
 /// A file of demand from customers may hold unserved requests: they are refused here (see
 /// [`read_demand`]).
 ///
@@ -282,6 +283,14 @@ fn read(
             }),
         }
         rows.push(r);
+    }
+    if rows.is_empty() {
+        return Err(InputError::new(
+            file,
+            Location::Whole,
+            None,
+            "no requests: the file has its header and no row; give at least one request",
+        ));
     }
     out.rows = header.customers.map(|_| rows);
     Ok(out)
@@ -730,6 +739,10 @@ mod tests {
 
     #[test]
     fn errors_name_file_line_and_field() {
+        assert_eq!(
+            err(""),
+            "r.csv: no requests: the file has its header and no row; give at least one request"
+        );
         assert_eq!(
             err("r1,A,B,08:00\nr2,A,Q,08:00\n"),
             "r.csv: line 3: field `destination`: unknown node id `Q`"

@@ -10,7 +10,7 @@ use muse_model::{Airspace, Instant, Millis, NodeId, Plan, RejectReason, Stay};
 use super::legs::PlanFields;
 use super::line::LineReader;
 use super::{OperatorCancellation, PlanEntry, PlanItem, PlanLine, PlanRecord, StayLine};
-use crate::error::InputError;
+use crate::error::{InputError, Location};
 
 /// Reads the records of a plans JSON Lines file's text: every line that holds a request's
 /// answer (planned, rejected, or changed by zone announcements). A line of a flight its
@@ -29,7 +29,8 @@ pub fn read_plans(
 
 /// Reads the records of flights a service listed page after page, as [`read_plans`] reads a
 /// plans file's, except that a flight listed twice (a page boundary gone wrong) is read
-/// twice: the caller counts such repeats. `source` names the listing in errors.
+/// twice: the caller counts such repeats, and a listing may be empty. `source` names the
+/// listing in errors.
 pub fn read_listed_plans(
     text: &str,
     source: &str,
@@ -59,7 +60,8 @@ fn records(entries: Vec<PlanEntry>) -> Vec<PlanRecord> {
 /// (`operator`, `cancelled_at` and flights cancelled by their operator included). Node ids
 /// are resolved against `airspace`; every error names the file, line and field. A request id
 /// is given on one line only: a second line with it is an error naming both lines (a flight
-/// zone announcements changed keeps its first plan on its own line, in `original`).
+/// zone announcements changed keeps its first plan on its own line, in `original`). A file
+/// with no line (blank lines aside) is an error too.
 ///
 /// ```
 /// use muse_formats::plans::{PlanItem, read_plan_entries};
@@ -136,6 +138,14 @@ fn read_entries(
             operator: line.operator,
             item,
         });
+    }
+    if out.is_empty() && ids == Ids::Unique {
+        return Err(InputError::new(
+            file,
+            Location::Whole,
+            None,
+            "no plans: the file has no line (a plans file has one line per request)",
+        ));
     }
     Ok(out)
 }
