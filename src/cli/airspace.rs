@@ -164,6 +164,11 @@ const AIRSPACE_FILE: &str = "airspace.geojson";
 const ZONES_FILE: &str = "cbd_zone.geojson";
 
 fn build(out: &Path, check: bool) -> anyhow::Result<ExitCode> {
+    let targets = if check {
+        Vec::new()
+    } else {
+        build_targets(out)?
+    };
     let built = muse_scenario::build_singapore_77().context("building the Singapore airspace")?;
     let files = [
         (AIRSPACE_FILE, &built.airspace_geojson),
@@ -188,16 +193,6 @@ fn build(out: &Path, check: bool) -> anyhow::Result<ExitCode> {
             ExitCode::FAILURE
         });
     }
-    if out.as_os_str() == output::STDOUT {
-        anyhow::bail!(
-            "--out -: muse airspace build writes two files into a folder, and standard output takes a single file; give a folder path"
-        );
-    }
-    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    let targets = files
-        .iter()
-        .map(|(name, _)| output::file("--out", &out.join(name), &output::Inputs::new()))
-        .collect::<anyhow::Result<Vec<_>>>()?;
     for (target, (_, text)) in targets.iter().zip(files) {
         target.write(text)?;
         println!("wrote {target} ({} bytes)", text.len());
@@ -223,6 +218,33 @@ fn pads_day(
         };
         anyhow::anyhow!("{option}: {}", e.message)
     })
+}
+
+/// The two files `muse airspace build` writes into the folder `out`, checked before the
+/// build: `out` must be a folder (made if missing), and each file a regular file or none.
+fn build_targets(out: &Path) -> anyhow::Result<Vec<output::FileOut>> {
+    let shown = out.display();
+    if out.as_os_str() == output::STDOUT {
+        anyhow::bail!(
+            "--out -: muse airspace build writes two files into a folder, and standard output takes a single file; give a folder path"
+        );
+    }
+    match std::fs::metadata(out) {
+        Ok(m) if m.is_dir() => {}
+        Ok(m) => anyhow::bail!(
+            "--out {shown} is {}; give a folder path: muse airspace build writes \
+             {AIRSPACE_FILE} and {ZONES_FILE} into it",
+            output::kind(m.file_type())
+        ),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            std::fs::create_dir_all(out).with_context(|| format!("--out {shown}: creating it"))?;
+        }
+        Err(e) => anyhow::bail!("--out {shown}: {e}"),
+    }
+    [AIRSPACE_FILE, ZONES_FILE]
+        .iter()
+        .map(|name| output::file("--out", &out.join(name), &output::Inputs::new()))
+        .collect()
 }
 
 /// `muse airspace build --pads`: the airspace of any set of pads (SPEC §15).

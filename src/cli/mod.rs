@@ -89,7 +89,7 @@ pub fn run() -> anyhow::Result<ExitCode> {
             .cloned()
             .unwrap_or_default()
     };
-    match cli.command {
+    let ran = match cli.command {
         Command::Airspace(cmd) => airspace::run(cmd),
         Command::Bench(args) => bench::run(&args, &own("bench")),
         Command::BenchCase(args) => bench::run_case(&args),
@@ -111,7 +111,12 @@ pub fn run() -> anyhow::Result<ExitCode> {
         Command::Sweep(args) => sweep::run(&args, &own("sweep")),
         Command::Verify(args) => verify::run(&args, &own("verify")),
         Command::View(args) => view::run(&args, &own("view")),
+    };
+    if ran.is_err() {
+        // An interruption under way ends the process with its own code and message.
+        output::hold_if_interrupted();
     }
+    ran
 }
 
 #[cfg(test)]

@@ -13,8 +13,10 @@
 //!
 //! The temporary names carry the process id of the run: a later run into the same place
 //! removes those of runs no longer running ([`clean_stale`]), and never takes one for output.
+//! A run interrupted by SIGINT or SIGTERM removes its own before it ends (`interrupt`).
 
 mod folder;
+mod interrupt;
 #[cfg(test)]
 mod tests;
 
@@ -26,6 +28,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context as _, bail};
 
 pub use folder::{OutFolder, folder};
+pub use interrupt::hold_if_interrupted;
 
 use super::common::WorldArgs;
 
@@ -177,8 +180,8 @@ impl fmt::Display for FileOut {
 }
 
 /// The file output `option` names, `path` (`-`: standard output), checked before the run
-/// does any work: it is refused if it exists and is not a regular file, if its folder does
-/// not exist, or if it is one of the run's `inputs`.
+/// does any work: it is refused if it is a folder's path (ending in `/`), if it exists and is
+/// not a regular file, if its folder does not exist, or if it is one of the run's `inputs`.
 pub fn file(option: &str, path: &Path, inputs: &Inputs) -> anyhow::Result<FileOut> {
     if path.as_os_str() == STDOUT {
         return Ok(FileOut {
@@ -189,9 +192,20 @@ pub fn file(option: &str, path: &Path, inputs: &Inputs) -> anyhow::Result<FileOu
     let shown = path.display();
     let (parent, name) = split(path)
         .with_context(|| format!("{option} {shown}: give a file path, or - for standard output"))?;
+    if path.to_string_lossy().ends_with(std::path::is_separator) {
+        bail!(
+            "{option} {shown} ends with {}, a folder's path: give the path of the file to write \
+             (or - for standard output)",
+            std::path::MAIN_SEPARATOR
+        );
+    }
     match std::fs::metadata(&parent) {
         Ok(m) if m.is_dir() => {}
         Ok(_) => bail!("{option} {shown}: {} is not a folder", parent.display()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => bail!(
+            "{option} {shown}: its folder {} does not exist: make it first, or give another path",
+            parent.display()
+        ),
         Err(e) => bail!("{option} {shown}: its folder {}: {e}", parent.display()),
     }
     clean_stale(&parent, &name, path);
@@ -255,6 +269,7 @@ pub fn write_atomically(path: &Path, text: &str) -> anyhow::Result<()> {
         );
     }
     let tmp = parent.join(temp_name(&name, PARTIAL));
+    interrupt::guard(&tmp);
     let written = create_new(&tmp)
         .and_then(|mut f| {
             f.write_all(text.as_bytes())?;
@@ -267,6 +282,7 @@ pub fn write_atomically(path: &Path, text: &str) -> anyhow::Result<()> {
     if written.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
+    interrupt::release(&tmp);
     written
 }
 
@@ -388,7 +404,7 @@ fn not_regular(path: &Path) -> anyhow::Result<Option<&'static str>> {
 }
 
 /// What a file type is, for messages: `a symbolic link`, `a folder`, `a FIFO (named pipe)` …
-fn kind(t: std::fs::FileType) -> &'static str {
+pub(crate) fn kind(t: std::fs::FileType) -> &'static str {
     #[cfg(unix)]
     {
         use std::os::unix::fs::FileTypeExt as _;

@@ -124,6 +124,7 @@ pub struct ServeArgs {
 /// Runs `muse serve` until the process is stopped (Ctrl-C or SIGTERM stop it cleanly; any
 /// other end, even `kill -9`, loses nothing acknowledged).
 pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
+    check_data(&args.data)?;
     let params = args.flight.params()?;
     let world = args.world.load()?.layered(&args.layers)?;
     world.refuse_withdrawn("serve")?;
@@ -212,6 +213,21 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         anyhow::Ok(())
     })?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// Refuses a `--data` that exists and is not a folder (a link to a folder is followed), before
+/// anything is loaded: the store is a folder, made if missing.
+fn check_data(data: &Path) -> anyhow::Result<()> {
+    let shown = data.display();
+    match std::fs::metadata(data) {
+        Ok(m) if m.is_dir() => Ok(()),
+        Ok(m) => anyhow::bail!(
+            "--data {shown} is {}; give the service's data folder (made if missing)",
+            super::output::kind(m.file_type())
+        ),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => anyhow::bail!("--data {shown}: {e}"),
+    }
 }
 
 /// The service's options from the command line: `tokens`, `clock` and the live `page` made

@@ -505,3 +505,209 @@ fn layer_options_out_of_range_are_refused() {
         &["--heading-rule", "none", "sectors"],
     );
 }
+
+/// Simulates a small day into `dir/day`; its plans file's lines.
+fn simulated_plans(dir: &Path) -> Vec<String> {
+    let day = dir.join("day");
+    let o = muse(&[
+        "simulate",
+        "--count",
+        "40",
+        "--seed",
+        "3",
+        "--out",
+        day.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    std::fs::read_to_string(day.join("plans.jsonl"))
+        .unwrap()
+        .lines()
+        .map(str::to_owned)
+        .collect()
+}
+
+/// A plans file has one line per request: a request id on a second line is refused as a
+/// duplicate (both lines and the id named), never read as a flight in conflict with itself.
+#[test]
+fn a_request_id_twice_in_a_plans_file_is_refused() {
+    let dir = scratch_dir("duplicate_ids");
+    let lines = simulated_plans(&dir);
+    let first = lines
+        .iter()
+        .position(|l| l.contains(r#""status":"planned""#))
+        .expect("a planned line");
+    let id = serde_json::from_str::<serde_json::Value>(&lines[first]).unwrap()["request"]
+        .as_str()
+        .unwrap()
+        .to_owned();
+    let mut twice = lines.clone();
+    twice.push(lines[first].clone());
+    let dup = write(&dir, "dup.jsonl", twice.join("\n") + "\n");
+    let expected = format!(
+        "dup.jsonl: line {}: field `request`: duplicate request id `{id}` (first on line {})",
+        twice.len(),
+        first + 1
+    );
+    let err = refused(&["verify", "--plans", &dup], &[&expected]);
+    assert!(!err.contains("violat"), "{err}");
+    let html = dir.join("view.html");
+    refused(
+        &["view", "--plans", &dup, "--out", html.to_str().unwrap()],
+        &[&expected],
+    );
+    nothing_written(&html);
+}
+
+/// Timestamps of the years 0000–9999 are read, and MUSE plans those of the years 1000–8999
+/// (UTC): a departure or booking outside them is refused naming the file, the line, the field
+/// and the time as written, with or without zones; the first and last instants plan.
+#[test]
+fn departures_outside_the_planned_years_are_named() {
+    let dir = scratch_dir("planned_years");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    let rule = "outside the years MUSE plans: from 1000-01-01T00:00:00Z up to \
+                9000-01-01T00:00:00Z (the years 1000 to 8999, UTC)";
+    for (name, row, field, time) in [
+        (
+            "late.csv",
+            "r1,S012,S040,9999-12-31T23:59:59+00:00",
+            "departure",
+            "9999-12-31T23:59:59+00:00",
+        ),
+        (
+            "early.csv",
+            "r1,S012,S040,0500-06-01T10:00:00+08:00",
+            "departure",
+            "0500-06-01T10:00:00+08:00",
+        ),
+        (
+            "edge.csv",
+            "r1,S012,S040,9000-01-01T00:00:00Z",
+            "departure",
+            "9000-01-01T00:00:00Z",
+        ),
+        (
+            "booked.csv",
+            "r1,S012,S040,2026-01-05T08:00:00+08:00,0999-12-31T23:59:59.999Z",
+            "submitted",
+            "0999-12-31T23:59:59.999Z",
+        ),
+    ] {
+        let header = if field == "submitted" {
+            "id,origin,destination,departure,submitted"
+        } else {
+            "id,origin,destination,departure"
+        };
+        let r = write(&dir, name, format!("{header}\n{row}\n"));
+        let expected = format!("{name}: line 2: field `{field}`: `{time}` is {rule}");
+        for zones in [&[][..], &["--zones", "none"][..]] {
+            let mut args = vec!["plan", "--requests", &r, "--out", o];
+            args.extend_from_slice(zones);
+            let err = refused(&args, &[&expected]);
+            assert!(!err.contains(" ms"), "{err}");
+            nothing_written(&out);
+        }
+        refused(&["simulate", "--requests", &r, "--out", o], &[&expected]);
+        nothing_written(&out);
+    }
+    // The first and the last instants planned, with the scenario's zones.
+    for (name, departure) in [
+        ("first.csv", "1000-01-01T00:00:00Z"),
+        ("last.csv", "8999-12-31T23:59:59.999Z"),
+    ] {
+        let r = write(
+            &dir,
+            name,
+            format!("id,origin,destination,departure\nr1,S012,S040,{departure}\n"),
+        );
+        let run = muse(&["plan", "--requests", &r, "--out", o]);
+        assert_eq!(run.status.code(), Some(0), "{departure}: {}", stderr(&run));
+        let plans = std::fs::read_to_string(out.join("plans.jsonl")).unwrap();
+        assert!(plans.contains(r#""status":"planned""#), "{plans}");
+    }
+}
+
+/// `muse serve --data` that is a file is refused once, naming the option, before serving.
+#[test]
+fn a_service_data_folder_that_is_a_file_is_refused_naming_data() {
+    let dir = scratch_dir("serve_data_file");
+    let file = write(&dir, "store", "not a folder\n");
+    let err = refused(
+        &["serve", "--listen", "127.0.0.1:0", "--data", &file],
+        &[&format!("--data {file} is a regular file")],
+    );
+    assert_eq!(err.matches("os error").count(), 0, "{err}");
+    assert_eq!(
+        std::fs::read_to_string(&file).unwrap(),
+        "not a folder\n",
+        "left alone"
+    );
+}
+
+/// A plans file cut short (a copy stopped mid-line) names its last line as cut short, not a
+/// field `?` at "line 1 column N"; a line that is not JSON gives its column in the line.
+#[test]
+fn a_plans_line_cut_short_is_named_as_such() {
+    let dir = scratch_dir("plans_cut_short");
+    let text = simulated_plans(&dir).join("\n") + "\n";
+    let cut = &text[..5000];
+    assert!(!cut.ends_with('\n'));
+    let last = cut.matches('\n').count() + 1;
+    let file = write(&dir, "t.jsonl", cut);
+    let err = refused(
+        &["verify", "--plans", &file],
+        &[&format!(
+            "t.jsonl: line {last}: the line is cut short: it ends before its JSON object does"
+        )],
+    );
+    assert!(
+        !err.contains("`?`") && !err.contains("line 1 column"),
+        "{err}"
+    );
+    let broken = text.replacen(r#","status":"#, r#";"status":"#, 1);
+    let file = write(&dir, "b.jsonl", broken);
+    let err = refused(
+        &["verify", "--plans", &file],
+        &["b.jsonl: line 1: not JSON: expected `,` or `}` at column "],
+    );
+    assert!(
+        !err.contains("`?`") && !err.contains("line 1 column"),
+        "{err}"
+    );
+}
+
+/// A requests file with no request, and a plans file with no line, are refused naming the
+/// file: never `planned 0 of 0 requests (100.0%)` nor a verification of nothing said OK.
+#[test]
+fn empty_requests_and_plans_files_are_refused() {
+    let dir = scratch_dir("empty_inputs");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    for (name, text) in [
+        ("header.csv", "id,origin,destination,departure\n"),
+        (
+            "customers.csv",
+            "id,origin,destination,departure,origin_customer,destination_customer\n\n",
+        ),
+    ] {
+        let r = write(&dir, name, text);
+        let expected = format!("{name}: no requests: the file has its header and no row");
+        refused(&["plan", "--requests", &r, "--out", o], &[&expected]);
+        nothing_written(&out);
+        refused(&["simulate", "--requests", &r, "--out", o], &[&expected]);
+        nothing_written(&out);
+    }
+    for (name, text) in [("empty.jsonl", ""), ("blank.jsonl", "\n  \n\n")] {
+        let plans = write(&dir, name, text);
+        let expected = format!("{name}: no plans: the file has no line");
+        let err = refused(&["verify", "--plans", &plans], &[&expected]);
+        assert!(!err.contains("OK"), "{err}");
+        let html = dir.join("view.html");
+        refused(
+            &["view", "--plans", &plans, "--out", html.to_str().unwrap()],
+            &[&expected],
+        );
+        nothing_written(&html);
+    }
+}

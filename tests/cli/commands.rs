@@ -335,12 +335,13 @@ fn times_are_read_exactly_and_leap_seconds_refused() {
         assert_eq!(o.status.code(), Some(2), "{departure}: {}", stdout(&o));
         assert!(stderr(&o).contains(expected), "{}", stderr(&o));
     }
-    // Year 9999 is read (no "not RFC 3339"); what stops it is the zone calendar's range.
+    // Year 9999 is read (no "not RFC 3339"); what stops it is the years MUSE plans
+    // (tests/cli/bad_inputs.rs, departures_outside_the_planned_years_are_named).
     let r = requests("far.csv", "9999-12-31T23:59:59+08:00");
     let o = muse(&["plan", "--requests", &r, "--out", &out]);
     assert_eq!(o.status.code(), Some(2), "{}", stdout(&o));
     assert!(
-        stderr(&o).contains("outside the supported years") && !stderr(&o).contains("RFC 3339"),
+        stderr(&o).contains("outside the years MUSE plans") && !stderr(&o).contains("RFC 3339"),
         "{}",
         stderr(&o)
     );

@@ -353,6 +353,67 @@ fn a_dash_is_standard_output_for_one_file_only() {
     assert_eq!(names(&dir), ["day"], "no file named -");
 }
 
+/// A file output's folder is checked before any work, naming the option: a path ending in
+/// `/` (a folder's path) and a missing folder are refused for every command that writes one
+/// file, and `muse airspace build --out DIR` checks its folder before building.
+#[test]
+fn a_file_outputs_folder_is_checked_before_the_work() {
+    let dir = scratch("file_folder");
+    ok(&dir, &["simulate", "--count", "20", "--out", "day"]);
+    let pads = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/pads.csv");
+    let plans = "day/plans.jsonl";
+    let commands: [&[&str]; 8] = [
+        &["demand", "--count", "5"],
+        &["view", "--plans", plans],
+        &["airspace", "map"],
+        &["airspace", "export"],
+        &["airspace", "build", "--pads", pads],
+        &["export", "bluesky", "--plans", plans],
+        &["export", "f3548", "--plans", plans, "--buffer-m", "10"],
+        &["load", "--url", "http://127.0.0.1:9", "--count", "5"],
+    ];
+    for command in commands {
+        let run = |out: &str, message: &str| {
+            let mut args = command.to_vec();
+            args.extend_from_slice(&["--out", out]);
+            refused(&dir, &args, message);
+        };
+        run(
+            "nodir/",
+            "--out nodir/ ends with /, a folder's path: give the path of the file to write",
+        );
+        run(
+            "nodir/x.out",
+            "--out nodir/x.out: its folder nodir does not exist: make it first, or give another \
+             path",
+        );
+    }
+    refused(
+        &dir,
+        &[
+            "airspace",
+            "export",
+            "--out",
+            "x.geojson",
+            "--zones-out",
+            "nodir/",
+        ],
+        "--zones-out nodir/ ends with /",
+    );
+    std::fs::write(dir.join("afile"), "mine\n").expect("a file");
+    refused(
+        &dir,
+        &["airspace", "build", "--out", "afile"],
+        "--out afile is a regular file; give a folder path",
+    );
+    refused(
+        &dir,
+        &["airspace", "build", "--out", "afile/sub"],
+        "--out afile/sub: ",
+    );
+    assert_eq!(names(&dir), ["afile", "day"]);
+}
+
 #[test]
 fn a_folder_never_holds_files_of_two_runs() {
     let dir = scratch("two_runs");
@@ -463,6 +524,71 @@ fn a_killed_run_leaves_nothing_that_looks_whole() {
     ok(&dir, &["simulate", "--count", "20", "--out", "day"]);
     assert_eq!(names(&dir), ["day"]);
     assert!(dir.join("day/summary.json").is_file());
+}
+
+/// A run interrupted by SIGTERM or SIGINT (Ctrl-C) removes its temporary folder and exits
+/// with the conventional 128 + the signal's number: 143 and 130.
+#[test]
+fn an_interrupted_run_removes_its_temporary_folder() {
+    let dir = scratch("interrupted");
+    // Days of 300,000 requests (50 of them for the sweep) take far longer than the wait below.
+    let runs: [(&[&str], &str, i32); 3] = [
+        (
+            &["simulate", "--count", "300000", "--out", "day"],
+            "TERM",
+            143,
+        ),
+        (
+            &["simulate", "--count", "300000", "--out", "day"],
+            "INT",
+            130,
+        ),
+        (
+            &[
+                "sweep", "--counts", "300000", "--reps", "1", "--out", "sweep",
+            ],
+            "TERM",
+            143,
+        ),
+    ];
+    for (args, signal, code) in runs {
+        let child = Command::new(env!("CARGO_BIN_EXE_muse"))
+            .args(args)
+            .current_dir(&dir)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("muse starts");
+        let out = args[args.len() - 1];
+        let temp = format!(".{out}.partial-{}", child.id());
+        let started = std::time::Instant::now();
+        while !dir.join(&temp).is_dir() {
+            assert!(
+                started.elapsed().as_secs() < 10,
+                "no {temp} after 10 s: {:?}",
+                names(&dir)
+            );
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(200));
+        let sent = Command::new("kill")
+            .args([format!("-{signal}"), child.id().to_string()])
+            .status()
+            .expect("kill runs");
+        assert!(sent.success());
+        let ended = child.wait_with_output().expect("reaped");
+        let err = String::from_utf8_lossy(&ended.stderr);
+        assert_eq!(
+            ended.status.code(),
+            Some(code),
+            "{args:?} SIG{signal}: {err}"
+        );
+        assert!(
+            err.contains(&format!("interrupted by SIG{signal}")),
+            "{err}"
+        );
+        assert_eq!(names(&dir), Vec::<String>::new(), "{args:?} SIG{signal}");
+    }
 }
 
 /// `muse verify … | head`: a reader that goes away before the report is written closes the

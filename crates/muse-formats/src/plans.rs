@@ -39,7 +39,9 @@
 //! (no `path`, null times; `changes` and `original` stay when zone announcements had changed
 //! it before). A service listing saved as JSON Lines is a plans file: [`read_plan_entries`]
 //! reads every line of it, [`read_plans`] the lines that hold a request's answer. Any other
-//! field is an error naming it, as is a value of the wrong kind.
+//! field is an error naming it, as is a value of the wrong kind, and so is a request id on a
+//! second line: a plans file holds one line per request ([`read_listed_plans`] reads a
+//! listing fetched page after page, which may repeat a flight).
 
 use std::fmt::Write as _;
 
@@ -53,7 +55,9 @@ mod read;
 
 pub use legs::LegLine;
 use legs::leg_lines;
-pub use read::{read_plan_entries, read_plan_entries_file, read_plans, read_plans_file};
+pub use read::{
+    read_listed_plans, read_plan_entries, read_plan_entries_file, read_plans, read_plans_file,
+};
 
 /// One line of a plans file, in model types.
 #[derive(Clone, Debug, PartialEq)]
@@ -800,6 +804,29 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("p.jsonl: line 1: not a plan record"), "{e}");
+        for empty in ["", "\n \n"] {
+            assert_eq!(
+                read_plans(empty, "p.jsonl", &air())
+                    .unwrap_err()
+                    .to_string(),
+                "p.jsonl: no plans: the file has no line (a plans file has one line per request)"
+            );
+        }
+        let e = read_plans("\n{\"request\":\"r1\",\"sta", "p.jsonl", &air())
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "p.jsonl: line 2: the line is cut short: it ends before its JSON object does (not \
+             complete JSON; was the file truncated?)"
+        );
+        let e = read_plans("{\"request\";\"r1\"}", "p.jsonl", &air())
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            e,
+            "p.jsonl: line 1: not JSON: expected `:` at column 11 of the line"
+        );
         let line = r#"{"request":"r1","status":"planned","reason":null,"origin":"A","destination":"B","requested_departure":"1970-01-01T08:00:00.000+08:00","takeoff":null,"landing":null,"airborne_s":null,"free_flow_s":null,"air_delay_s":null,"ground_delay_s":null,"distance_m":null,"path":[{"node":"Q","arrive":"1970-01-01T08:00:00.000+08:00","depart":"1970-01-01T08:00:00.000+08:00"}]}"#;
         let e = read_plans(&format!("\n{line}\n"), "p.jsonl", &air())
             .unwrap_err()

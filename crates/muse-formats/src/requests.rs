@@ -30,7 +30,7 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
-use muse_model::request::{ID_RULE, valid_id};
+use muse_model::request::{ID_RULE, PLANNED, PLANNED_RULE, valid_id};
 use muse_model::time::{TimeError, parse_clock};
 use muse_model::{Airspace, Instant, NodeId, Request, UtcOffset};
 
@@ -162,7 +162,8 @@ pub struct UnservedRequest {
     pub submitted: Instant,
 }
 
-/// Reads requests from CSV text, in file order; `file` names the source in error messages.
+/// Reads requests from CSV text, in file order; `file` names the source in error messages. A
+/// file with no request (its header alone) is an error.
 /// A file of demand from customers may hold unserved requests: they are refused here (see
 /// [`read_demand`]).
 ///
@@ -274,6 +275,14 @@ fn read(
         }
         rows.push(r);
     }
+    if rows.is_empty() {
+        return Err(InputError::new(
+            file,
+            Location::Whole,
+            None,
+            "no requests: the file has its header and no row; give at least one request",
+        ));
+    }
     out.rows = header.customers.map(|_| rows);
     Ok(out)
 }
@@ -341,11 +350,11 @@ fn read_row(
             format!("origin and destination are both `{}`", get(1)),
         ));
     }
-    let departure = parse_time(get(3), day).map_err(|m| ("departure", m))?;
+    let departure = parse_planned(get(3), day).map_err(|m| ("departure", m))?;
     let submitted = match header.submitted.and_then(|i| record.get(i)) {
         None | Some("") => departure,
         Some(text) => {
-            let submitted = parse_time(text, day).map_err(|m| (SUBMITTED, m))?;
+            let submitted = parse_planned(text, day).map_err(|m| (SUBMITTED, m))?;
             if submitted > departure {
                 return Err((
                     SUBMITTED,
@@ -510,6 +519,19 @@ fn csv_field(s: &str) -> String {
         format!("\"{}\"", s.replace('"', "\"\""))
     } else {
         s.to_owned()
+    }
+}
+
+/// A `departure` or `submitted` cell ([`parse_time`]) that MUSE plans: an instant outside
+/// [`PLANNED`] is refused, the time named as written.
+fn parse_planned(text: &str, day: LocalDay) -> Result<Instant, String> {
+    let t = parse_time(text, day)?;
+    if PLANNED.contains(&t) {
+        Ok(t)
+    } else {
+        Err(format!(
+            "`{text}` is outside the years MUSE plans: {PLANNED_RULE}"
+        ))
     }
 }
 
@@ -709,6 +731,10 @@ mod tests {
     #[test]
     fn errors_name_file_line_and_field() {
         assert_eq!(
+            err(""),
+            "r.csv: no requests: the file has its header and no row; give at least one request"
+        );
+        assert_eq!(
             err("r1,A,B,08:00\nr2,A,Q,08:00\n"),
             "r.csv: line 3: field `destination`: unknown node id `Q`"
         );
@@ -744,10 +770,10 @@ mod tests {
                     "r.csv: line 2: field `submitted`: `23:59:60.5` is a leap second (second 60)"
                 )
         );
-        // A valid timestamp far ahead is read exactly; one beyond 64-bit milliseconds is out of
-        // range.
+        // A valid timestamp far ahead is read exactly, and planned up to the year 8999 (UTC);
+        // one beyond 64-bit milliseconds is out of range.
         let far = read_requests(
-            "id,origin,destination,departure\nr1,A,B,9999-12-31T23:59:59.999+08:00\n",
+            "id,origin,destination,departure\nr1,A,B,9000-01-01T07:59:59.999+08:00\n",
             "r.csv",
             &air(),
             DAY,
@@ -755,7 +781,13 @@ mod tests {
         .unwrap();
         assert_eq!(
             far[0].departure.to_rfc3339(UtcOffset::SINGAPORE),
-            "9999-12-31T23:59:59.999+08:00"
+            "9000-01-01T07:59:59.999+08:00"
+        );
+        assert_eq!(
+            err("r1,A,B,9999-12-31T23:59:59.999+08:00\n"),
+            "r.csv: line 2: field `departure`: `9999-12-31T23:59:59.999+08:00` is outside the \
+             years MUSE plans: from 1000-01-01T00:00:00Z up to 9000-01-01T00:00:00Z (the years \
+             1000 to 8999, UTC)"
         );
         assert!(err("r1,A,B,+999999999-01-01T00:00:00Z\n").starts_with(
             "r.csv: line 2: field `departure`: `+999999999-01-01T00:00:00Z` is out of the range \

@@ -5,7 +5,7 @@
 use std::collections::HashSet;
 
 use muse_airspace::closures::resolve;
-use muse_formats::plans::read_plans;
+use muse_formats::plans::read_listed_plans;
 use muse_model::{Instant, Millis};
 use muse_verify::recorded::Recorded;
 use muse_verify::verify;
@@ -111,8 +111,8 @@ pub fn check(
     acknowledged: &[u64],
 ) -> Result<Verification, LoadError> {
     const FILE: &str = "GET /v1/flights";
-    let records =
-        read_plans(plans, FILE, &world.airspace).map_err(|e| LoadError::bad_answer(FILE, e))?;
+    let records = read_listed_plans(plans, FILE, &world.airspace)
+        .map_err(|e| LoadError::bad_answer(FILE, e))?;
     let mut seen: HashSet<String> = HashSet::with_capacity(records.len());
     let mut duplicated: Vec<String> = Vec::new();
     let mut planned = Vec::with_capacity(records.len());

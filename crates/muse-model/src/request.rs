@@ -30,6 +30,27 @@ pub fn valid_id(id: &str) -> bool {
     !id.is_empty() && id.len() <= MAX_ID_LEN && id.bytes().all(is_id_byte)
 }
 
+/// The instants MUSE plans requests at: a request departs, and is submitted, from
+/// 1000-01-01T00:00:00Z up to (not including) 9000-01-01T00:00:00Z, the years 1000 to 8999 in
+/// UTC ([`PLANNED_RULE`] in words). Timestamps of other years are read, but a request of
+/// them is not planned: the zones' calendars are worked out a day and a trip either side of
+/// the requests, and these years leave room for that.
+///
+/// ```
+/// use muse_model::Instant;
+/// use muse_model::request::PLANNED;
+/// let t = |s: &str| Instant::parse_rfc3339(s).unwrap();
+/// assert_eq!(PLANNED, t("1000-01-01T00:00:00Z")..t("9000-01-01T00:00:00Z"));
+/// assert!(PLANNED.contains(&t("8999-12-31T23:59:59.999Z")));
+/// assert!(!PLANNED.contains(&t("9999-12-31T23:59:59Z")));
+/// ```
+pub const PLANNED: std::ops::Range<Instant> =
+    Instant(-30_610_224_000_000)..Instant(221_845_392_000_000);
+
+/// The years [`PLANNED`] holds, for messages and documentation.
+pub const PLANNED_RULE: &str = "from 1000-01-01T00:00:00Z up to 9000-01-01T00:00:00Z (the years \
+                                1000 to 8999, UTC)";
+
 /// A delivery request: fly from `origin` to `destination`, taking off no earlier than
 /// `departure`. Origin and destination are distinct stations (checked by the readers).
 #[derive(Clone, Debug, PartialEq, Eq)]

@@ -115,13 +115,14 @@ pub enum ServeError {
     /// The planner task stopped unexpectedly.
     #[error("{0}")]
     Stopped(String),
-    /// A network error.
-    #[error("{what}: {source}")]
+    /// A network error. (The error is part of the message, not a `source`: a chain would
+    /// print it twice.)
+    #[error("{what}: {error}")]
     Io {
         /// What was being done.
         what: &'static str,
         /// The error.
-        source: std::io::Error,
+        error: std::io::Error,
     },
 }
 
@@ -141,9 +142,9 @@ impl Serving {
         drop(app);
         let served = match server.await {
             Ok(Ok(())) => Ok(()),
-            Ok(Err(source)) => Err(ServeError::Io {
+            Ok(Err(error)) => Err(ServeError::Io {
                 what: "serving",
-                source,
+                error,
             }),
             Err(e) => Err(ServeError::Stopped(format!("the server task failed: {e}"))),
         };
@@ -186,16 +187,16 @@ pub async fn launch(
     options: Options,
     listener: tokio::net::TcpListener,
 ) -> Result<Launched, ServeError> {
-    let addr = listener.local_addr().map_err(|source| ServeError::Io {
+    let addr = listener.local_addr().map_err(|error| ServeError::Io {
         what: "reading the listening address",
-        source,
+        error,
     })?;
     if options.tokens.is_open() && !addr.ip().is_loopback() {
         return Err(ServeError::OpenNotLoopback(addr));
     }
     options.http.check().map_err(|message| ServeError::Io {
         what: "checking the HTTP limits",
-        source: std::io::Error::new(std::io::ErrorKind::InvalidInput, message),
+        error: std::io::Error::new(std::io::ErrorKind::InvalidInput, message),
     })?;
     let description = world.description();
     let legacy = world.legacy_fingerprint();
@@ -227,9 +228,9 @@ pub async fn launch(
         ready_tx,
         ended_tx,
     )
-    .map_err(|source| ServeError::Io {
+    .map_err(|error| ServeError::Io {
         what: "starting the planner thread",
-        source,
+        error,
     })?;
     let open = options.tokens.is_open();
     let app = Arc::new(App {

@@ -6,7 +6,9 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context as _, bail};
 
-use super::{Inputs, OLD, PARTIAL, STDOUT, clean_stale, is_run_file, kind, split, temp_of};
+use super::{
+    Inputs, OLD, PARTIAL, STDOUT, clean_stale, interrupt, is_run_file, kind, split, temp_of,
+};
 
 /// An output folder being written: files go into [`OutFolder::path`], a temporary folder
 /// `.NAME.partial-PID` beside it; [`OutFolder::commit`] puts it in place. Dropped without a
@@ -66,7 +68,11 @@ pub fn folder(option: &str, path: &Path, inputs: &Inputs) -> anyhow::Result<OutF
         std::fs::remove_dir_all(&staging)
             .with_context(|| format!("removing the stale {}", staging.display()))?;
     }
-    std::fs::create_dir(&staging).with_context(|| format!("creating {}", staging.display()))?;
+    interrupt::guard(&staging);
+    if let Err(e) = std::fs::create_dir(&staging) {
+        interrupt::release(&staging);
+        return Err(e).with_context(|| format!("creating {}", staging.display()));
+    }
     Ok(OutFolder {
         option: option.to_owned(),
         target: path.to_owned(),
@@ -96,23 +102,27 @@ impl OutFolder {
             }
         }
         let exists = survey(&self.option, &self.target)?;
-        if exists {
-            let (parent, name) = split(&self.target).context("the output folder has a name")?;
-            let old = parent.join(super::temp_name(&name, OLD));
-            std::fs::rename(&self.target, &old)
-                .with_context(|| format!("moving the earlier {shown} aside"))?;
-            if let Err(e) = std::fs::rename(&self.staging, &self.target) {
-                let _ = std::fs::rename(&old, &self.target);
-                return Err(e).with_context(|| format!("putting {shown} in place"));
+        let staging = self.staging.clone();
+        // An interruption waits until the folder is in place (or the commit failed).
+        interrupt::finish(&staging, || {
+            if exists {
+                let (parent, name) = split(&self.target).context("the output folder has a name")?;
+                let old = parent.join(super::temp_name(&name, OLD));
+                std::fs::rename(&self.target, &old)
+                    .with_context(|| format!("moving the earlier {shown} aside"))?;
+                if let Err(e) = std::fs::rename(&self.staging, &self.target) {
+                    let _ = std::fs::rename(&old, &self.target);
+                    return Err(e).with_context(|| format!("putting {shown} in place"));
+                }
+                self.committed = true;
+                carry_folders(&old, &self.target);
+            } else {
+                std::fs::rename(&self.staging, &self.target)
+                    .with_context(|| format!("putting {shown} in place"))?;
+                self.committed = true;
             }
-            self.committed = true;
-            carry_folders(&old, &self.target);
-        } else {
-            std::fs::rename(&self.staging, &self.target)
-                .with_context(|| format!("putting {shown} in place"))?;
-            self.committed = true;
-        }
-        Ok(())
+            Ok(())
+        })
     }
 }
 
@@ -121,6 +131,7 @@ impl Drop for OutFolder {
     fn drop(&mut self) {
         if !self.committed {
             let _ = std::fs::remove_dir_all(&self.staging);
+            interrupt::release(&self.staging);
         }
     }
 }

@@ -118,6 +118,8 @@ fn file_outputs_are_checked_before_the_run() {
     assert!(err(&dir.join("hard.csv")).contains("is the input --requests"));
     assert!(err(&dir.join("none/x.csv")).contains("its folder"));
     assert!(err(Path::new("/")).contains("give a file path"));
+    let folder_path = format!("{}/", dir.join("none").display());
+    assert!(err(Path::new(&folder_path)).contains("ends with /, a folder's path"));
     assert!(err(Path::new("/dev/null")).contains("is a character device"));
     assert!(file("--out", Path::new("-"), &inputs).unwrap().is_stdout());
     let a = file("--out", &dir.join("o.csv"), &inputs).unwrap();

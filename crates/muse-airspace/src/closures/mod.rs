@@ -22,7 +22,7 @@ pub mod windows;
 pub use geometry::closed_elements;
 pub use windows::{MAX_RANGE_DAYS, zone_windows};
 
-use muse_model::{Airspace, EdgeId, Instant, NodeId, Zone};
+use muse_model::{Airspace, EdgeId, Instant, NodeId, UtcOffset, Zone};
 
 use geometry::{Index, closed_with};
 use windows::check_range;
@@ -292,7 +292,11 @@ pub enum ClosureError {
         reason: String,
     },
     /// The time range to resolve is not usable.
-    #[error("cannot resolve zones over [{from} ms, {to} ms): {reason}")]
+    #[error(
+        "cannot resolve zones over [{}, {}): {reason}",
+        Instant(*from).to_rfc3339(UtcOffset(0)),
+        Instant(*to).to_rfc3339(UtcOffset(0))
+    )]
     BadRange {
         /// Start of the range, ms since the epoch.
         from: i64,
@@ -308,8 +312,8 @@ pub enum ClosureError {
 /// layers of its vertical band, [`closed_elements`]).
 ///
 /// Errors: an explicit node or edge id not in the airspace, an invalid area or schedule, or a
-/// range that ends before it starts, lies outside the years 1000–9000 or is longer than
-/// [`MAX_RANGE_DAYS`].
+/// range that ends before it starts, lies outside the years 0000–9998 (UTC) or is longer than
+/// [`MAX_RANGE_DAYS`] (no zones close nothing, over any range).
 ///
 /// ```
 /// use muse_airspace::closures::resolve;
@@ -343,6 +347,9 @@ pub fn resolve(
     from: Instant,
     to: Instant,
 ) -> Result<Closures, ClosureError> {
+    if zones.is_empty() {
+        return Ok(Closures::none(airspace));
+    }
     check_range(from, to)?;
     let index = zones
         .iter()

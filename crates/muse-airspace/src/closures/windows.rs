@@ -13,6 +13,13 @@ use super::{ClosureError, Window, merge};
 
 const DAY_MS: i64 = 86_400_000;
 
+/// The instants zones are resolved over: 0000-01-01T00:00:00Z to 9999-01-01T00:00:00Z, so
+/// that every local date a daily window is worked out on (a day either side, in any offset)
+/// is a calendar date. It holds the years MUSE plans ([`muse_model::request::PLANNED`]) with
+/// room for a day and a trip either side.
+const RESOLVED: std::ops::Range<Instant> =
+    Instant(-62_167_219_200_000)..Instant(253_370_764_800_000);
+
 /// The longest range [`resolve`](super::resolve) expands, in days (about 100 years).
 pub const MAX_RANGE_DAYS: i64 = 36_525;
 
@@ -54,21 +61,13 @@ pub(super) fn check_range(from: Instant, to: Instant) -> Result<(), ClosureError
         to: to.0,
         reason: reason.into(),
     };
-    let lo = Instant::at_local(
-        jiff::civil::date(1000, 1, 1),
-        Millis::ZERO,
-        muse_model::UtcOffset(0),
-    );
-    let hi = Instant::at_local(
-        jiff::civil::date(9000, 1, 1),
-        Millis::ZERO,
-        muse_model::UtcOffset(0),
-    );
     if to < from {
         return Err(bad("the end is before the start"));
     }
-    if from < lo || to > hi {
-        return Err(bad("outside the supported years 1000-9000"));
+    if from < RESOLVED.start || to > RESOLVED.end {
+        return Err(bad(
+            "outside the years 0000 to 9998 (UTC) over which zones are worked out",
+        ));
     }
     if (to - from).0 > MAX_RANGE_DAYS * DAY_MS {
         return Err(bad(&format!("longer than {MAX_RANGE_DAYS} days")));
@@ -315,6 +314,25 @@ mod tests {
             Err(ClosureError::BadRange { .. })
         ));
         assert!(zone_windows(&z, Instant(5), Instant(5)).unwrap().is_empty());
+        // The years zones are resolved over hold those MUSE plans, a day and a trip either side.
+        assert_eq!(
+            RESOLVED,
+            t("0000-01-01T00:00:00Z")..t("9999-01-01T00:00:00Z")
+        );
+        let planned = muse_model::request::PLANNED;
+        let week = Millis(7 * DAY_MS);
+        let edges = [planned.start - week, planned.end + week];
+        for at in edges {
+            assert!(zone_windows(&z, at, at + Millis(DAY_MS)).is_ok());
+        }
+        let year_10000 = Instant(253_402_300_800_000);
+        let e = zone_windows(&z, t("9998-01-01T00:00:00Z"), year_10000).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "cannot resolve zones over [9998-01-01T00:00:00.000+00:00, \
+             +010000-01-01T00:00:00.000+00:00): outside the years 0000 to 9998 (UTC) over \
+             which zones are worked out"
+        );
         let mut p = daily(&Weekday::ALL, "10:00", "12:00", "Z");
         p.daily[0].end = Millis(DAY_MS + 1);
         let bad = zone("B", None, vec![p]);

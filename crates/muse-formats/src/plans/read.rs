@@ -1,6 +1,7 @@
 //! Reading plans files: each line checked against the airspace, errors naming the line and
 //! the field.
 
+use std::collections::HashMap;
 use std::path::Path;
 
 use muse_model::plan::{CANCELLED_BY_OPERATOR, Change, Fate, FateKind, ZONE_ANNOUNCED};
@@ -9,32 +10,58 @@ use muse_model::{Airspace, Instant, Millis, NodeId, Plan, RejectReason, Stay};
 use super::legs::PlanFields;
 use super::line::LineReader;
 use super::{OperatorCancellation, PlanEntry, PlanItem, PlanLine, PlanRecord, StayLine};
-use crate::error::InputError;
+use crate::error::{InputError, Location};
 
 /// Reads the records of a plans JSON Lines file's text: every line that holds a request's
 /// answer (planned, rejected, or changed by zone announcements). A line of a flight its
 /// operator cancelled (a service listing) is read and checked like any other but, holding no
 /// answer that flies, is left out; [`read_plan_entries`] gives every line. Node ids are
 /// resolved against `airspace` (in a layered one, each stay's flat id at its `layer`); every
-/// error names the file, line and field.
+/// error names the file, line and field. A request id on two lines is an error (a plans file
+/// holds one line per request); [`read_listed_plans`] reads a listing that may repeat one.
 pub fn read_plans(
     text: &str,
     file: &str,
     airspace: &Airspace,
 ) -> Result<Vec<PlanRecord>, InputError> {
-    Ok(read_plan_entries(text, file, airspace)?
+    Ok(records(read_entries(text, file, airspace, Ids::Unique)?))
+}
+
+/// Reads the records of flights a service listed page after page, as [`read_plans`] reads a
+/// plans file's, except that a flight listed twice (a page boundary gone wrong) is read
+/// twice: the caller counts such repeats, and a listing may be empty. `source` names the
+/// listing in errors.
+pub fn read_listed_plans(
+    text: &str,
+    source: &str,
+    airspace: &Airspace,
+) -> Result<Vec<PlanRecord>, InputError> {
+    Ok(records(read_entries(
+        text,
+        source,
+        airspace,
+        Ids::MayRepeat,
+    )?))
+}
+
+/// The lines of `entries` that hold a request's answer.
+fn records(entries: Vec<PlanEntry>) -> Vec<PlanRecord> {
+    entries
         .into_iter()
         .filter_map(|e| match e.item {
             PlanItem::Record(r) => Some(r),
             PlanItem::CancelledByOperator(_) => None,
         })
-        .collect())
+        .collect()
 }
 
 /// Reads every line of a plans JSON Lines file's text (blank lines aside): the lines `muse
 /// plan` and `muse simulate` write, and those of a service listing saved one flight a line
 /// (`operator`, `cancelled_at` and flights cancelled by their operator included). Node ids
-/// are resolved against `airspace`; every error names the file, line and field.
+/// are resolved against `airspace`; every error names the file, line and field. A request id
+/// is given on one line only: a second line with it is an error naming both lines (a flight
+/// zone announcements changed keeps its first plan on its own line, in `original`). A file
+/// with no line (blank lines aside) is an error too.
 ///
 /// ```
 /// use muse_formats::plans::{PlanItem, read_plan_entries};
@@ -44,17 +71,45 @@ pub fn read_plans(
 ///   "takeoff": null, "landing": null, "airborne_s": null, "free_flow_s": 120.0,
 ///   "air_delay_s": null, "ground_delay_s": null, "distance_m": null, "expanded": 1,
 ///   "operator": "alpha", "cancelled_at": "2026-01-05T08:30:00.000+08:00"}"#;
-/// let entries = read_plan_entries(&line.replace('\n', ""), "p.jsonl", &air).unwrap();
+/// let line = line.replace('\n', "");
+/// let entries = read_plan_entries(&line, "p.jsonl", &air).unwrap();
 /// assert_eq!(entries[0].status(), "cancelled");
 /// assert_eq!(entries[0].operator.as_deref(), Some("alpha"));
 /// assert!(matches!(entries[0].item, PlanItem::CancelledByOperator(_)));
+/// let twice = format!("{line}\n{line}\n");
+/// let e = read_plan_entries(&twice, "p.jsonl", &air).unwrap_err();
+/// assert_eq!(
+///     e.to_string(),
+///     "p.jsonl: line 2: field `request`: duplicate request id `f1` (first on line 1): a plans \
+///      file holds one line per request"
+/// );
 /// ```
 pub fn read_plan_entries(
     text: &str,
     file: &str,
     airspace: &Airspace,
 ) -> Result<Vec<PlanEntry>, InputError> {
+    read_entries(text, file, airspace, Ids::Unique)
+}
+
+/// Whether a request id may be given on more than one line.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Ids {
+    /// A plans file: one line per request.
+    Unique,
+    /// A service's listing read page after page, whose repeats the caller counts.
+    MayRepeat,
+}
+
+/// Reads every line of `text` (see [`read_plan_entries`]), request ids unique or not.
+fn read_entries(
+    text: &str,
+    file: &str,
+    airspace: &Airspace,
+    ids: Ids,
+) -> Result<Vec<PlanEntry>, InputError> {
     let mut out = Vec::new();
+    let mut first_line: HashMap<String, usize> = HashMap::new();
     for (i, raw) in text.lines().enumerate() {
         if raw.trim().is_empty() {
             continue;
@@ -65,6 +120,18 @@ pub fn read_plan_entries(
             airspace,
         };
         let line = at.parse(raw)?;
+        if ids == Ids::Unique
+            && let Some(first) = first_line.insert(line.request.clone(), i + 1)
+        {
+            return Err(at.err(
+                Some("request"),
+                format!(
+                    "duplicate request id `{}` (first on line {first}): a plans file holds one \
+                     line per request",
+                    line.request
+                ),
+            ));
+        }
         let item = at.item(&line)?;
         out.push(PlanEntry {
             line: i + 1,
@@ -72,22 +139,53 @@ pub fn read_plan_entries(
             item,
         });
     }
+    if out.is_empty() && ids == Ids::Unique {
+        return Err(InputError::new(
+            file,
+            Location::Whole,
+            None,
+            "no plans: the file has no line (a plans file has one line per request)",
+        ));
+    }
     Ok(out)
 }
 
 impl LineReader<'_> {
     /// The JSON object of a line; an unknown field, a missing one or a value of the wrong
-    /// kind is named.
+    /// kind is named. A line that is not JSON is named as a whole; one that ends inside its
+    /// object, as cut short. Places are columns of the line (serde's "line 1" dropped: each
+    /// line is read alone).
     pub(super) fn parse(&self, raw: &str) -> Result<PlanLine, InputError> {
         let mut de = serde_json::Deserializer::from_str(raw);
         let line: PlanLine = serde_path_to_error::deserialize(&mut de).map_err(|e| {
             let path = e.path().to_string();
-            let field = (path != ".").then_some(path.as_str());
-            self.err(field, format!("not a plan record: {}", e.inner()))
+            let field = (path != "." && !e.inner().is_syntax() && !e.inner().is_eof())
+                .then_some(path.as_str());
+            self.json_err(field, e.inner())
         })?;
-        de.end()
-            .map_err(|e| self.err(None, format!("not a plan record: {e}")))?;
+        de.end().map_err(|e| self.json_err(None, &e))?;
         Ok(line)
+    }
+
+    /// The error of a line serde could not read: not JSON, cut short, or a JSON value that is
+    /// not a plan record (in `field`, if known).
+    fn json_err(&self, field: Option<&str>, e: &serde_json::Error) -> InputError {
+        let text = e.to_string();
+        let at = format!(" at line {} column {}", e.line(), e.column());
+        let what = match text.strip_suffix(&at) {
+            Some(what) => format!("{what} at column {} of the line", e.column()),
+            None => text,
+        };
+        let message = if e.is_eof() {
+            "the line is cut short: it ends before its JSON object does (not complete JSON; was \
+             the file truncated?)"
+                .to_owned()
+        } else if e.is_syntax() {
+            format!("not JSON: {what}")
+        } else {
+            format!("not a plan record: {what}")
+        };
+        self.err(field, message)
     }
 
     pub(super) fn time(&self, field: &str, text: &str) -> Result<Instant, InputError> {

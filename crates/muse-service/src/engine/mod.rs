@@ -144,9 +144,9 @@ fn run(
             .spawn_scoped(scope, move || {
                 writer::run(state, store, &received, &progress)
             })
-            .map_err(|source| StoreError::Io {
+            .map_err(|error| StoreError::Io {
                 what: "starting the store's writer thread".into(),
-                source,
+                error,
             })?;
         engine.pipe = Some(Pipe {
             batches,
@@ -168,7 +168,7 @@ fn run(
             Ok(Err(e)) => Err(e),
             Err(_) => Err(StoreError::Io {
                 what: "writing the store".into(),
-                source: std::io::Error::other("the writer thread panicked"),
+                error: std::io::Error::other("the writer thread panicked"),
             }),
         }
     })

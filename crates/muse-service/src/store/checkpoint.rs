@@ -26,9 +26,9 @@ pub(super) struct Checkpointer {
 impl Checkpointer {
     pub(super) fn start(db: &Path) -> Result<Checkpointer, StoreError> {
         // Checkpointing writes to the database file: this connection is not read-only.
-        let conn = rusqlite::Connection::open(db).map_err(|source| StoreError::Sql {
+        let conn = rusqlite::Connection::open(db).map_err(|error| StoreError::Sql {
             what: format!("opening {} for checkpoints", db.display()),
-            source,
+            error,
         })?;
         conn.execute_batch("PRAGMA busy_timeout = 10000; PRAGMA synchronous = FULL;")
             .map_err(super::sql("setting up the checkpointer"))?;
@@ -44,9 +44,9 @@ impl Checkpointer {
                     let _ = conn.execute_batch("PRAGMA wal_checkpoint(PASSIVE);");
                 }
             })
-            .map_err(|source| StoreError::Io {
+            .map_err(|error| StoreError::Io {
                 what: "starting the checkpoint thread".into(),
-                source,
+                error,
             })?;
         Ok(Checkpointer {
             stop,

@@ -31,17 +31,17 @@ pub(super) fn check(path: &Path) -> Result<(), StoreError> {
     };
     let mut header = [0u8; 100];
     let len = std::fs::metadata(path)
-        .map_err(|source| StoreError::Io {
+        .map_err(|error| StoreError::Io {
             what: format!("reading {label}"),
-            source,
+            error,
         })?
         .len();
     if len == 0 {
         return Err(damaged("the file is empty".into()));
     }
-    let mut f = std::fs::File::open(path).map_err(|source| StoreError::Io {
+    let mut f = std::fs::File::open(path).map_err(|error| StoreError::Io {
         what: format!("opening {label}"),
-        source,
+        error,
     })?;
     if len < 100 || f.read_exact(&mut header).is_err() {
         return Err(damaged(format!(

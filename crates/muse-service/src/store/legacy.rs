@@ -146,15 +146,15 @@ enum Next {
 impl LogReader {
     fn open(path: &Path) -> Result<LogReader, StoreError> {
         let label = path.display().to_string();
-        let file = File::open(path).map_err(|source| StoreError::Io {
+        let file = File::open(path).map_err(|error| StoreError::Io {
             what: format!("opening {label}"),
-            source,
+            error,
         })?;
         let len = file
             .metadata()
-            .map_err(|source| StoreError::Io {
+            .map_err(|error| StoreError::Io {
                 what: format!("reading {label}"),
-                source,
+                error,
             })?
             .len();
         let mut file = BufReader::with_capacity(1 << 20, file);
@@ -249,9 +249,9 @@ pub(super) fn retire(log: &Path) -> Result<PathBuf, StoreError> {
         to = dir.join(format!("{IMPORTED_FILE}.{k}"));
         k += 1;
     }
-    std::fs::rename(log, &to).map_err(|source| StoreError::Io {
+    std::fs::rename(log, &to).map_err(|error| StoreError::Io {
         what: format!("renaming {} to {}", log.display(), to.display()),
-        source,
+        error,
     })?;
     sync_dir(dir)?;
     Ok(to)
@@ -268,9 +268,9 @@ pub(super) fn import(
 ) -> Result<ImportReport, StoreError> {
     let tmp = db.with_extension("db.importing");
     let _ = std::fs::remove_file(&tmp);
-    let conn = Connection::open(&tmp).map_err(|source| StoreError::Sql {
+    let conn = Connection::open(&tmp).map_err(|error| StoreError::Sql {
         what: format!("creating {}", tmp.display()),
-        source,
+        error,
     })?;
     // A conversion that does not finish is started again from the log: no journal needed.
     conn.execute_batch(
@@ -316,19 +316,19 @@ pub(super) fn import(
     let mut report = import.report;
     conn.execute_batch("COMMIT; PRAGMA journal_mode = WAL;")
         .map_err(sql("finishing the conversion"))?;
-    conn.close().map_err(|(_, source)| StoreError::Sql {
+    conn.close().map_err(|(_, error)| StoreError::Sql {
         what: format!("closing {}", tmp.display()),
-        source,
+        error,
     })?;
     File::open(&tmp)
         .and_then(|f| f.sync_all())
-        .map_err(|source| StoreError::Io {
+        .map_err(|error| StoreError::Io {
             what: format!("syncing {}", tmp.display()),
-            source,
+            error,
         })?;
-    std::fs::rename(&tmp, db).map_err(|source| StoreError::Io {
+    std::fs::rename(&tmp, db).map_err(|error| StoreError::Io {
         what: format!("renaming {} to {}", tmp.display(), db.display()),
-        source,
+        error,
     })?;
     sync_dir(db.parent().unwrap_or(Path::new(".")))?;
     report.log = retire(log)?;

@@ -75,21 +75,22 @@ pub const LOCK_FILE: &str = "LOCK";
 /// Errors of the store.
 #[derive(Debug, thiserror::Error)]
 pub enum StoreError {
-    /// An I/O error, with what was being done.
-    #[error("{what}: {source}")]
+    /// An I/O error, with what was being done. (The error is part of the message, not a
+    /// `source`: a chain would print it twice.)
+    #[error("{what}: {error}")]
     Io {
         /// What was being done (names the file).
         what: String,
         /// The error.
-        source: std::io::Error,
+        error: std::io::Error,
     },
-    /// An error of the database.
-    #[error("{what}: {source}")]
+    /// An error of the database (part of the message, as for [`StoreError::Io`]).
+    #[error("{what}: {error}")]
     Sql {
         /// What was being done.
         what: String,
         /// The error.
-        source: rusqlite::Error,
+        error: rusqlite::Error,
     },
     /// Another process holds the folder.
     #[error(
@@ -134,15 +135,15 @@ pub enum StoreError {
 
 /// An error of the database while doing `what`.
 pub(crate) fn sql(what: &str) -> impl FnOnce(rusqlite::Error) -> StoreError + '_ {
-    move |source| StoreError::Sql {
+    move |error| StoreError::Sql {
         what: what.to_owned(),
-        source,
+        error,
     }
 }
 
 fn io(what: impl Into<String>) -> impl FnOnce(std::io::Error) -> StoreError {
     let what = what.into();
-    move |source| StoreError::Io { what, source }
+    move |error| StoreError::Io { what, error }
 }
 
 /// What a store is written for: `(name, value)` pairs in words (`("speed", "30 km/h")`), the
@@ -330,7 +331,7 @@ impl Store {
             .map_err(sql("checkpointing"))?;
         conn.close().map_err(|(_, e)| StoreError::Sql {
             what: "closing the store".into(),
-            source: e,
+            error: e,
         })
     }
 }

@@ -115,9 +115,9 @@ pub(crate) fn connect(path: &Path, write: bool) -> Result<Connection, StoreError
     } else {
         OpenFlags::SQLITE_OPEN_READ_ONLY | OpenFlags::SQLITE_OPEN_NO_MUTEX
     };
-    let conn = Connection::open_with_flags(path, flags).map_err(|source| StoreError::Sql {
+    let conn = Connection::open_with_flags(path, flags).map_err(|error| StoreError::Sql {
         what: format!("opening {}", path.display()),
-        source,
+        error,
     })?;
     // The writer's page cache: 8 MiB. The end of a write transaction can scan the whole
     // hash table of the page cache (`pcache1TruncateUnsafe`: 3–4 % of the service's time
@@ -132,9 +132,9 @@ pub(crate) fn connect(path: &Path, write: bool) -> Result<Connection, StoreError
         "PRAGMA busy_timeout = 10000; PRAGMA query_only = 1;"
     };
     conn.execute_batch(settings)
-        .map_err(|source| StoreError::Sql {
+        .map_err(|error| StoreError::Sql {
             what: format!("setting up {}", path.display()),
-            source,
+            error,
         })?;
     Ok(conn)
 }
@@ -144,16 +144,16 @@ fn create(path: &Path, world: &WorldMeta) -> Result<(), StoreError> {
     let tmp = path.with_extension("db.creating");
     let _ = std::fs::remove_file(&tmp);
     {
-        let conn = Connection::open(&tmp).map_err(|source| StoreError::Sql {
+        let conn = Connection::open(&tmp).map_err(|error| StoreError::Sql {
             what: format!("creating {}", tmp.display()),
-            source,
+            error,
         })?;
         write_schema(&conn, world)?;
         conn.execute_batch("PRAGMA journal_mode = WAL;")
             .map_err(sql("setting WAL mode"))?;
         conn.close().map_err(|(_, e)| StoreError::Sql {
             what: format!("closing {}", tmp.display()),
-            source: e,
+            error: e,
         })?;
     }
     File::open(&tmp)
