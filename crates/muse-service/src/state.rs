@@ -29,7 +29,7 @@ pub struct ServiceWorld {
     pub airspace: Airspace,
     /// The zones.
     pub zones: Vec<Zone>,
-    /// Their closures, resolved from a day before start to [`CALENDAR`] after it.
+    /// Their closures, resolved from a day before start to `CALENDAR` (366 days) after it.
     pub closures: Closures,
     /// The flight parameters.
     pub params: FlightParams,
@@ -68,7 +68,7 @@ impl ServiceWorld {
 
     /// The closures of a zone announced at `announced`: its calendar resolved from
     /// [`CALENDAR_BEFORE`] before the announcement to the end of the service's calendar.
-    pub fn announced_closures(
+    pub(crate) fn announced_closures(
         &self,
         zones: &[Zone],
         announced: Instant,

@@ -96,11 +96,6 @@ impl ZoneBook {
         self.announced.iter().find(|z| z.id == id)
     }
 
-    /// The zones announced, in announcement order.
-    pub fn announced(&self) -> &[AnnouncedZone] {
-        &self.announced
-    }
-
     /// Every zone as `GET /v1/zones` lists it: those known from the start, then the parts of
     /// the announced ones (withdrawn ones included), in announcement order.
     pub fn all(&self) -> impl Iterator<Item = &Zone> {

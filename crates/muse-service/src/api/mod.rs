@@ -42,11 +42,11 @@
 
 mod caller;
 mod error;
-pub mod events;
+mod events;
 mod flights;
 mod guard;
 mod info;
-pub mod zone_body;
+mod zone_body;
 mod zones;
 
 use std::sync::Arc;
@@ -90,8 +90,6 @@ pub const ROUTES: &[(&str, &str)] = &[
     ("get", "/healthz"),
     ("get", "/metrics"),
 ];
-
-pub use crate::flights::MAX_ID_LEN;
 
 /// What the handlers share.
 #[derive(Debug)]

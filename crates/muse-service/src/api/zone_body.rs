@@ -28,16 +28,6 @@ impl BodyError {
 
 /// Reads a `POST /v1/zones` body: one ED-318 feature, or a `FeatureCollection` of exactly
 /// one, without `announced`.
-///
-/// ```
-/// use muse_service::api::zone_body::parse_feature;
-/// let body = br#"{"type": "Feature", "properties": {"identifier": "Z", "nodes": ["B"]}, "geometry": null}"#;
-/// let zone = parse_feature(body).unwrap();
-/// assert_eq!((zone.id.as_str(), zone.zones[0].node_ids.as_slice()), ("Z", &["B".to_owned()][..]));
-/// let e = parse_feature(br#"{"type": "Feature", "properties": {"identifier": "Z", "nodes": ["B"],
-///     "announced": "2026-01-05T14:00:00+08:00"}}"#).unwrap_err();
-/// assert_eq!(e.field.as_deref(), Some("properties.announced"));
-/// ```
 pub fn parse_feature(body: &[u8]) -> Result<NewZone, BodyError> {
     let root: Value = serde_json::from_slice(body)
         .map_err(|e| BodyError::new(None, format!("the body is not valid JSON: {e}")))?;
@@ -118,6 +108,22 @@ pub fn parse_feature(body: &[u8]) -> Result<NewZone, BodyError> {
 mod tests {
     use super::*;
     use crate::zones::tests::ZONE;
+
+    #[test]
+    fn a_feature_is_read_and_an_announcement_instant_refused() {
+        let body = br#"{"type": "Feature", "properties": {"identifier": "Z", "nodes": ["B"]}, "geometry": null}"#;
+        let zone = parse_feature(body).unwrap();
+        assert_eq!(
+            (zone.id.as_str(), zone.zones[0].node_ids.as_slice()),
+            ("Z", &["B".to_owned()][..])
+        );
+        let e = parse_feature(
+            br#"{"type": "Feature", "properties": {"identifier": "Z", "nodes": ["B"],
+            "announced": "2026-01-05T14:00:00+08:00"}}"#,
+        )
+        .unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("properties.announced"));
+    }
 
     #[test]
     fn bodies_are_read_or_refused_with_the_field_at_fault() {

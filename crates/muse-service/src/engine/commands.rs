@@ -87,7 +87,7 @@ pub enum CancelReply {
     /// It has taken off: committed.
     TookOff(Arc<FlightEntry>),
     /// It was rejected: there is nothing to cancel.
-    NotPlanned(Arc<FlightEntry>),
+    NotPlanned,
     /// The service could not answer.
     Failed(String),
 }

@@ -48,7 +48,7 @@ use crate::store::{Opening, StoreError};
 use crate::zones::AnnouncedZone;
 
 pub use commands::{CancelReply, Command, PlanReply, Restored};
-pub use zones::{AnnounceReply, Announcement, WithdrawReply};
+pub use zones::{AnnounceReply, WithdrawReply};
 
 pub use batch::Batching;
 use commands::Pending;
@@ -401,7 +401,7 @@ impl Engine<'_> {
             Status::Cancelled => return CancelReply::Already(known),
             Status::Rejected => {
                 metrics.count_cancel(false);
-                return CancelReply::NotPlanned(known);
+                return CancelReply::NotPlanned;
             }
             // Airborne when a zone was announced: it took off.
             Status::Contingency => {

@@ -44,7 +44,7 @@ impl Default for Limits {
 }
 
 impl Limits {
-    /// Checks that every timeout is within [`MIN_TIMEOUT`]..=[`MAX_TIMEOUT`] and that at
+    /// Checks that every timeout is within `MIN_TIMEOUT..=MAX_TIMEOUT` and that at
     /// least one connection is allowed; the error names the field.
     pub fn check(&self) -> Result<(), String> {
         for (name, t) in [
@@ -69,7 +69,7 @@ impl Limits {
 }
 
 /// Parses a timeout given in seconds (`"10"`, `"2.5"`) as the command line takes it: a
-/// finite number within [`MIN_TIMEOUT`]..=[`MAX_TIMEOUT`].
+/// finite number within `MIN_TIMEOUT..=MAX_TIMEOUT` (0.1 s to a day).
 pub fn parse_timeout(text: &str) -> Result<Duration, String> {
     let bad = || {
         format!(
@@ -106,8 +106,8 @@ pub fn open_file_limit() -> Option<u64> {
 }
 
 /// How many connections the server takes at once when `requested` are asked for: at most
-/// the open-file limit (raised first, see [`open_file_limit`]) less [`FILE_RESERVE`], and at
-/// least one.
+/// the open-file limit (raised first, see [`open_file_limit`]) less `FILE_RESERVE` (64 open
+/// files kept for the store, the listening socket and refusals), and at least one.
 pub fn connection_cap(requested: usize) -> usize {
     match open_file_limit() {
         Some(files) => {

@@ -46,14 +46,11 @@ use tower_service::Service as _;
 
 mod limits;
 
-pub use limits::{
-    DEFAULT_BODY_TIMEOUT, DEFAULT_HEADER_TIMEOUT, DEFAULT_IDLE_TIMEOUT, DEFAULT_MAX_CONNECTIONS,
-    FILE_RESERVE, Limits, MAX_TIMEOUT, MIN_TIMEOUT, connection_cap, open_file_limit, parse_timeout,
-};
+pub use limits::{Limits, connection_cap, open_file_limit, parse_timeout};
 
 /// Connections above the cap being answered `503` at once: each is given up to
 /// [`REFUSAL_LINGER`] to read its answer; beyond this many the socket is closed right after
-/// the answer is written (part of [`FILE_RESERVE`]).
+/// the answer is written (part of [`limits::FILE_RESERVE`]).
 const REFUSING: usize = 32;
 /// How long a closed connection's unread input is drained so that the client reads the
 /// answer rather than a reset.
@@ -536,7 +533,7 @@ mod tests {
         let files = open_file_limit();
         let cap = connection_cap(usize::MAX);
         match files {
-            Some(f) => assert_eq!(cap as u64, f.saturating_sub(FILE_RESERVE).max(1)),
+            Some(f) => assert_eq!(cap as u64, f.saturating_sub(limits::FILE_RESERVE).max(1)),
             None => assert_eq!(cap, usize::MAX),
         }
         assert_eq!(connection_cap(3), 3.min(cap));
