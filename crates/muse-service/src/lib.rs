@@ -12,7 +12,9 @@
 //! - `engine`: the planner task, the only writer of the schedule and the store, fed by a
 //!   channel: each command decided, stored, then applied by one function;
 //! - `flights`: flights as the service knows them, and the index of those the schedule holds;
-//! - `zones`: zones announced during the day (SPEC §11): reading them, knowing them;
+//! - `zones`: zones announced during the day (SPEC §11), in one folder: the zones known,
+//!   reading an announcement, deciding what an announcement or a withdrawal does (the engine
+//!   stores and applies the decision; the HTTP routes are in `api`, with every other route);
 //! - `events`: the flights' change events, kept and streamed (`GET /v1/events`);
 //! - `api`: the HTTP routes (axum), input checks and answers;
 //! - `http`: the HTTP server itself: timeouts, connection cap, graceful stop;
@@ -224,7 +226,7 @@ pub async fn launch(
         phase: Phase::default(),
         metrics: metrics::Metrics::default(),
         clock: options.clock,
-        zones: RwLock::new(zones::ZoneBook::new(&world.zones)),
+        zones: RwLock::new(zones::book::ZoneBook::new(&world.zones)),
         events: events::Events::new(options.event_buffer),
         world,
     });

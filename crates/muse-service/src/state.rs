@@ -10,7 +10,7 @@ use crate::events::Events;
 use crate::flights::FlightIndex;
 use crate::metrics::Metrics;
 use crate::store::Reader;
-use crate::zones::ZoneBook;
+use crate::zones::book::ZoneBook;
 
 /// How far ahead zone calendars are expanded at start: a service that runs longer must be
 /// restarted to plan beyond it (bookings are limited to [`ServiceWorld::booking_horizon`]).

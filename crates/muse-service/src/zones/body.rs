@@ -4,8 +4,12 @@
 use muse_formats::zones::read_zones;
 use serde_json::Value;
 
+use super::book::NewZone;
 use crate::flights::{ID_RULE, valid_id};
-use crate::zones::NewZone;
+
+/// Largest `POST /v1/zones` body, bytes (zones may carry long polygons; only the authority
+/// may send one).
+pub const MAX_ZONE_BODY: usize = 1 << 20;
 
 /// Why a body is not a zone to announce: the field at fault (as `muse_formats` names it) and
 /// what is wrong.
@@ -107,7 +111,7 @@ pub fn parse_feature(body: &[u8]) -> Result<NewZone, BodyError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::zones::tests::ZONE;
+    use crate::zones::book::tests::ZONE;
 
     #[test]
     fn a_feature_is_read_and_an_announcement_instant_refused() {
