@@ -101,15 +101,15 @@ pub struct ServeArgs {
     burst: f64,
     /// Seconds a client has, from the first byte of a request, to send all its headers
     /// (slower clients are disconnected), from 0.1 to 86400.
-    #[arg(long, value_name = "S", default_value = "10", allow_negative_numbers = true, value_parser = muse_service::parse_timeout)]
+    #[arg(long, value_name = "S", default_value = "10", allow_negative_numbers = true, value_parser = ranges::http_timeout)]
     header_timeout_s: Duration,
     /// Seconds a client has, after the headers, to send the body of a POST (later: 408), from
     /// 0.1 to 86400.
-    #[arg(long, value_name = "S", default_value = "30", allow_negative_numbers = true, value_parser = muse_service::parse_timeout)]
+    #[arg(long, value_name = "S", default_value = "30", allow_negative_numbers = true, value_parser = ranges::http_timeout)]
     body_timeout_s: Duration,
     /// Seconds a connection may stay open with no request in progress (an event stream is a
     /// request in progress), from 0.1 to 86400.
-    #[arg(long, value_name = "S", default_value = "60", allow_negative_numbers = true, value_parser = muse_service::parse_timeout)]
+    #[arg(long, value_name = "S", default_value = "60", allow_negative_numbers = true, value_parser = ranges::http_timeout)]
     idle_timeout_s: Duration,
     /// Most connections open at once, from 1 to 1000000, lowered to what the open-file limit
     /// allows (the soft limit is raised to the hard one first); connections above it are

@@ -50,7 +50,7 @@ mod zones;
 pub use api::{OPENAPI, ROUTES};
 pub use auth::{KnownTokens, Tokens, TokensError};
 pub use engine::Restored;
-pub use http::{Limits, connection_cap, open_file_limit, parse_timeout};
+pub use http::{Limits, connection_cap, open_file_limit};
 pub use state::{Clock, ServiceWorld};
 pub use store::{Checked, DB_FILE, ImportReport, LOG_FILE, Opening, Store, StoreError};
 
