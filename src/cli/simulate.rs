@@ -99,12 +99,13 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
     };
     let run = args.optimize.plan(&world, params, demand.requests)?;
 
+    let day = &run.replay;
     let flights: Vec<Flight<'_>> = run
         .requests
         .iter()
-        .zip(&run.outcomes)
+        .zip(&day.outcomes)
         .enumerate()
-        .filter_map(|(i, (r, o))| Flight::last(&r.id, r, o.result.as_ref().ok(), run.fate(i)))
+        .filter_map(|(i, (r, o))| Flight::last(&r.id, r, o.result.as_ref().ok(), day.fate(i)))
         .collect();
     let violations = verify_known_in(&world.airspace, &run.zones, &params, &flights, world.offset);
 
@@ -174,10 +175,10 @@ fn write_maps(
     let features: Vec<FlightFeature<'_>> = run
         .requests
         .iter()
-        .zip(&run.outcomes)
+        .zip(&run.replay.outcomes)
         .enumerate()
         .filter_map(|(i, (r, o))| {
-            run.final_plan(i).map(|plan| FlightFeature {
+            run.replay.final_plan(i).map(|plan| FlightFeature {
                 request: &r.id,
                 plan,
                 requested_departure: r.departure,
