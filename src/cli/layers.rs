@@ -6,8 +6,8 @@ use muse_model::{HeadingRule, Layers, Metres};
 use muse_sim::metrics::recorded::LayersRecord;
 
 use super::common::World;
+use super::overrides::{Overridable, Summary, overridden};
 use super::ranges;
-use super::recorded::Summary;
 
 /// The layering of the airspace (SPEC §13).
 #[derive(Args, Debug, Clone)]
@@ -124,21 +124,14 @@ pub fn recorded_layers(
         Some(rec) => args_of(rec).with_context(|| format!("{name}: field `world.layers`"))?,
         None => LayersArgs::flat(),
     };
-    let mut merged = recorded.clone();
-    for id in LAYER_OPTIONS {
-        if !super::recorded::given(matches, id) {
-            continue;
-        }
-        let (theirs, mine) = (value(&recorded, id), value(cli, id));
-        let option = format!("--{} {mine}", id.replace('_', "-"));
-        notes.push(if theirs == mine {
-            format!("{option} given: as in {name}")
-        } else {
-            format!("{option} given: overrides {name}'s {theirs}")
-        });
-        set(&mut merged, cli, id);
-    }
-    Ok(merged)
+    Ok(overridden(
+        &recorded,
+        cli,
+        &LAYER_OPTIONS,
+        matches,
+        s,
+        notes,
+    ))
 }
 
 impl LayersArgs {
@@ -192,30 +185,31 @@ fn args_of(rec: &LayersRecord) -> anyhow::Result<LayersArgs> {
     Ok(args)
 }
 
-/// The value of option `id` in `a`, as the command line would write it.
-fn value(a: &LayersArgs, id: &str) -> String {
-    match id {
-        "layers" => a.layers.to_string(),
-        "base_altitude_m" => a.base_altitude_m.to_string(),
-        "layer_spacing_m" => a.layer_spacing_m.to_string(),
-        "climb_mps" => a.climb_mps.to_string(),
-        "heading_rule" => match a.heading_rule {
-            HeadingArg::None => "none".to_owned(),
-            HeadingArg::Sectors => "sectors".to_owned(),
-        },
-        _ => unreachable!("every id of LAYER_OPTIONS is listed"),
+/// The layering options by clap id ([`LAYER_OPTIONS`]).
+impl Overridable for LayersArgs {
+    fn value(&self, id: &str) -> String {
+        match id {
+            "layers" => self.layers.to_string(),
+            "base_altitude_m" => self.base_altitude_m.to_string(),
+            "layer_spacing_m" => self.layer_spacing_m.to_string(),
+            "climb_mps" => self.climb_mps.to_string(),
+            "heading_rule" => match self.heading_rule {
+                HeadingArg::None => "none".to_owned(),
+                HeadingArg::Sectors => "sectors".to_owned(),
+            },
+            _ => unreachable!("every id of LAYER_OPTIONS is listed"),
+        }
     }
-}
 
-/// Sets option `id` of `to` to its value in `from`.
-fn set(to: &mut LayersArgs, from: &LayersArgs, id: &str) {
-    match id {
-        "layers" => to.layers = from.layers,
-        "base_altitude_m" => to.base_altitude_m = from.base_altitude_m,
-        "layer_spacing_m" => to.layer_spacing_m = from.layer_spacing_m,
-        "climb_mps" => to.climb_mps = from.climb_mps,
-        "heading_rule" => to.heading_rule = from.heading_rule,
-        _ => unreachable!("every id of LAYER_OPTIONS is listed"),
+    fn set(&mut self, from: &LayersArgs, id: &str) {
+        match id {
+            "layers" => self.layers = from.layers,
+            "base_altitude_m" => self.base_altitude_m = from.base_altitude_m,
+            "layer_spacing_m" => self.layer_spacing_m = from.layer_spacing_m,
+            "climb_mps" => self.climb_mps = from.climb_mps,
+            "heading_rule" => self.heading_rule = from.heading_rule,
+            _ => unreachable!("every id of LAYER_OPTIONS is listed"),
+        }
     }
 }
 

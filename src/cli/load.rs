@@ -11,7 +11,7 @@ use muse_load::{Event, LoadConfig, Mode, OdChoice, Stop};
 use muse_model::Millis;
 
 use super::output;
-use super::ranges::{self, MAX_LEAD_MIN};
+use super::ranges;
 
 /// Origin–destination rule on the command line.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -115,12 +115,11 @@ fn seconds(name: &str, s: f64) -> anyhow::Result<Duration> {
         .with_context(|| format!("{name} must be a positive number of seconds, got {s}"))
 }
 
-/// `--lead-min A:B` (or `A`): minutes from 0 to [`MAX_LEAD_MIN`], `A <= B`.
+/// `--lead-min A:B` (or `A`): minutes from 0 to [`ranges::MAX_LEAD_MIN`], `A <= B`.
 fn parse_lead(text: &str) -> Result<(Millis, Millis), String> {
     let (a, b) = text.split_once(':').unwrap_or((text, text));
     let minutes = |v: &str| -> Result<Millis, String> {
-        let m = ranges::in_range(v, 0.0, MAX_LEAD_MIN, "a number of minutes")
-            .map_err(|e| format!("`{}`: {e}", v.trim()))?;
+        let m = ranges::lead_min(v).map_err(|e| format!("`{}`: {e}", v.trim()))?;
         Millis::from_secs_f64(m * 60.0).map_err(|e| e.to_string())
     };
     let (a, b) = (minutes(a)?, minutes(b)?);

@@ -11,6 +11,7 @@ mod layers;
 mod load;
 mod optimize;
 mod output;
+mod overrides;
 mod plan;
 mod progress;
 mod ranges;

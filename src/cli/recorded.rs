@@ -6,21 +6,13 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
 use clap::ArgMatches;
-use clap::parser::ValueSource;
 use muse_formats::params::Field;
 use muse_model::{EdgeRule, FlightParams};
 use muse_sim::metrics::ParamsRecord;
-use muse_sim::metrics::recorded::{Recorded, WorldRecord, read_recorded};
+use muse_sim::metrics::recorded::{WorldRecord, read_recorded};
 
 use super::common::{EdgeRuleArg, FlightArgs, LayoutArg, World, WorldArgs};
-
-/// A summary read: its path (as given, for messages) and what it records.
-pub struct Summary {
-    /// Its path.
-    pub path: PathBuf,
-    /// Its world and parameters.
-    pub recorded: Recorded,
-}
+use super::overrides::{Overridable, Summary, given, overridden};
 
 /// What a command reading the plans file `plans` reads, which its outputs must not overwrite:
 /// the plans, the world's files and the summary `found` (named `--summary` when `given`, else
@@ -81,11 +73,6 @@ pub fn find(plans: &Path, given: Option<&Path>) -> anyhow::Result<Option<Summary
         .with_context(|| format!("--summary: cannot read {}", path.display()))?;
     let recorded = read_recorded(&text, &path.display().to_string()).map_err(anyhow::Error::msg)?;
     Ok(Some(Summary { path, recorded }))
-}
-
-/// Whether the option with clap id `id` was given on the command line.
-pub fn given(matches: &ArgMatches, id: &str) -> bool {
-    matches.value_source(id) == Some(ValueSource::CommandLine)
 }
 
 /// The world arguments to load: the command line's `cli`, where it gives the airspace (or the
@@ -230,20 +217,7 @@ pub fn flight_params(
         }
         anyhow::anyhow!("{name}: {message}")
     })?;
-    let mut merged = recorded;
-    for id in FLIGHT_OPTIONS {
-        if !given(matches, id) {
-            continue;
-        }
-        let (theirs, mine) = (value(&recorded, id), value(cli, id));
-        let option = format!("--{} {mine}", id.replace('_', "-"));
-        if theirs == mine {
-            notes.push(format!("{option} given: as in {name}"));
-        } else {
-            notes.push(format!("{option} given: overrides {name}'s {theirs}"));
-        }
-        set(&mut merged, cli, id);
-    }
+    let mut merged = overridden(&recorded, cli, &FLIGHT_OPTIONS, matches, s, notes);
     // A rule given without its headway takes the rule's default, not the summary's headway.
     if given(matches, "edge_rule") && !given(matches, "headway_s") {
         merged.headway_s = None;
@@ -272,39 +246,40 @@ fn args_of(p: &ParamsRecord) -> FlightArgs {
     }
 }
 
-/// The value of option `id` in `a`, as the command line would write it (`none` when unset).
-fn value(a: &FlightArgs, id: &str) -> String {
-    let opt = |v: Option<f64>| v.map_or("none".to_owned(), |v| v.to_string());
-    match id {
-        "speed_kmh" => a.range.speed_kmh.to_string(),
-        "max_flight_min" => a.range.max_flight_min.to_string(),
-        "node_separation_s" => a.node_separation_s.to_string(),
-        "edge_rule" => match a.edge_rule {
-            EdgeRuleArg::Exclusive => "exclusive".to_owned(),
-            EdgeRuleArg::Headway => "headway".to_owned(),
-        },
-        "headway_s" => opt(a.headway_s),
-        "max_ground_delay_s" => a.max_ground_delay_s.to_string(),
-        "battery_swap_s" => opt(a.battery_swap_s),
-        "max_legs" => a.max_legs.map_or("none".to_owned(), |k| k.to_string()),
-        "max_trip_min" => opt(a.max_trip_min),
-        _ => unreachable!("every id of FLIGHT_OPTIONS is listed"),
+/// The flight options by clap id ([`FLIGHT_OPTIONS`]), `none` for an option left unset.
+impl Overridable for FlightArgs {
+    fn value(&self, id: &str) -> String {
+        let opt = |v: Option<f64>| v.map_or("none".to_owned(), |v| v.to_string());
+        match id {
+            "speed_kmh" => self.range.speed_kmh.to_string(),
+            "max_flight_min" => self.range.max_flight_min.to_string(),
+            "node_separation_s" => self.node_separation_s.to_string(),
+            "edge_rule" => match self.edge_rule {
+                EdgeRuleArg::Exclusive => "exclusive".to_owned(),
+                EdgeRuleArg::Headway => "headway".to_owned(),
+            },
+            "headway_s" => opt(self.headway_s),
+            "max_ground_delay_s" => self.max_ground_delay_s.to_string(),
+            "battery_swap_s" => opt(self.battery_swap_s),
+            "max_legs" => self.max_legs.map_or("none".to_owned(), |k| k.to_string()),
+            "max_trip_min" => opt(self.max_trip_min),
+            _ => unreachable!("every id of FLIGHT_OPTIONS is listed"),
+        }
     }
-}
 
-/// Sets option `id` of `to` to its value in `from`.
-fn set(to: &mut FlightArgs, from: &FlightArgs, id: &str) {
-    match id {
-        "speed_kmh" => to.range.speed_kmh = from.range.speed_kmh,
-        "max_flight_min" => to.range.max_flight_min = from.range.max_flight_min,
-        "node_separation_s" => to.node_separation_s = from.node_separation_s,
-        "edge_rule" => to.edge_rule = from.edge_rule,
-        "headway_s" => to.headway_s = from.headway_s,
-        "max_ground_delay_s" => to.max_ground_delay_s = from.max_ground_delay_s,
-        "battery_swap_s" => to.battery_swap_s = from.battery_swap_s,
-        "max_legs" => to.max_legs = from.max_legs,
-        "max_trip_min" => to.max_trip_min = from.max_trip_min,
-        _ => unreachable!("every id of FLIGHT_OPTIONS is listed"),
+    fn set(&mut self, from: &FlightArgs, id: &str) {
+        match id {
+            "speed_kmh" => self.range.speed_kmh = from.range.speed_kmh,
+            "max_flight_min" => self.range.max_flight_min = from.range.max_flight_min,
+            "node_separation_s" => self.node_separation_s = from.node_separation_s,
+            "edge_rule" => self.edge_rule = from.edge_rule,
+            "headway_s" => self.headway_s = from.headway_s,
+            "max_ground_delay_s" => self.max_ground_delay_s = from.max_ground_delay_s,
+            "battery_swap_s" => self.battery_swap_s = from.battery_swap_s,
+            "max_legs" => self.max_legs = from.max_legs,
+            "max_trip_min" => self.max_trip_min = from.max_trip_min,
+            _ => unreachable!("every id of FLIGHT_OPTIONS is listed"),
+        }
     }
 }
 

@@ -8,7 +8,7 @@
 //! `GET /v1/events` (the caller's flights' changes as server-sent events, resumable with
 //! `Last-Event-ID`); `GET /v1/airspace`, `/healthz`, `/metrics`.
 //!
-//! HTTP limits (see `muse_service::http`): `--header-timeout-s`, `--body-timeout-s`,
+//! HTTP limits (see `muse_service::Limits`): `--header-timeout-s`, `--body-timeout-s`,
 //! `--idle-timeout-s`, `--max-connections` (lowered to what the open-file limit allows, after
 //! raising the soft limit to the hard one). With `--tokens`, SIGHUP rereads the file.
 
@@ -21,10 +21,7 @@ use std::time::Duration;
 use anyhow::Context as _;
 use clap::Args;
 use muse_model::{Instant, Millis};
-use muse_service::auth::Tokens;
-use muse_service::http::{self, Limits};
-use muse_service::state::{Clock, ServiceWorld};
-use muse_service::{Options, launch};
+use muse_service::{Clock, Limits, Options, ServiceWorld, Tokens, launch};
 
 use super::common::{FlightArgs, WorldArgs};
 use super::layers::LayersArgs;
@@ -104,15 +101,15 @@ pub struct ServeArgs {
     burst: f64,
     /// Seconds a client has, from the first byte of a request, to send all its headers
     /// (slower clients are disconnected), from 0.1 to 86400.
-    #[arg(long, value_name = "S", default_value = "10", allow_negative_numbers = true, value_parser = http::parse_timeout)]
+    #[arg(long, value_name = "S", default_value = "10", allow_negative_numbers = true, value_parser = ranges::http_timeout)]
     header_timeout_s: Duration,
     /// Seconds a client has, after the headers, to send the body of a POST (later: 408), from
     /// 0.1 to 86400.
-    #[arg(long, value_name = "S", default_value = "30", allow_negative_numbers = true, value_parser = http::parse_timeout)]
+    #[arg(long, value_name = "S", default_value = "30", allow_negative_numbers = true, value_parser = ranges::http_timeout)]
     body_timeout_s: Duration,
     /// Seconds a connection may stay open with no request in progress (an event stream is a
     /// request in progress), from 0.1 to 86400.
-    #[arg(long, value_name = "S", default_value = "60", allow_negative_numbers = true, value_parser = http::parse_timeout)]
+    #[arg(long, value_name = "S", default_value = "60", allow_negative_numbers = true, value_parser = ranges::http_timeout)]
     idle_timeout_s: Duration,
     /// Most connections open at once, from 1 to 1000000, lowered to what the open-file limit
     /// allows (the soft limit is raised to the hard one first); connections above it are
@@ -168,7 +165,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
             .with_context(|| format!("listening on {}", args.listen))?;
         let started = std::time::Instant::now();
         let launched = launch(service_world, options, listener).await?;
-        let db = args.data.join(muse_service::store::DB_FILE);
+        let db = args.data.join(muse_service::DB_FILE);
         let mut out = std::io::stdout().lock();
         writeln!(out, "MUSE serve — {label}, {stations} stations")?;
         if let Some(log) = &launched.importing {
@@ -260,28 +257,27 @@ fn service_options(
 /// `muse serve --import-log`: converts the folder's log of an earlier version, then exits.
 fn import_log(data: &std::path::Path, world: &ServiceWorld) -> anyhow::Result<ExitCode> {
     let description = world.description();
-    let opening =
-        muse_service::store::Opening::open(data, &description, &world.legacy_fingerprint())?;
+    let opening = muse_service::Opening::open(data, &description, &world.legacy_fingerprint())?;
     let Some(log) = opening.imports().map(std::path::Path::to_path_buf) else {
         anyhow::bail!(
             "{} holds no log of an earlier version to convert ({} is missing, or was converted \
              already)",
             data.display(),
-            data.join(muse_service::store::legacy::LOG_FILE).display()
+            data.join(muse_service::LOG_FILE).display()
         );
     };
     println!("converting {} ...", log.display());
     let started = std::time::Instant::now();
     let (store, import) = opening.finish(&world.airspace, &description, &mut |_| {})?;
     store.close()?;
-    let restored = muse_service::engine::Restored {
+    let restored = muse_service::Restored {
         flights: import.as_ref().map_or(0, |i| i.flights),
         import,
         ..Default::default()
     };
     report(
         &mut std::io::stdout().lock(),
-        &data.join(muse_service::store::DB_FILE),
+        &data.join(muse_service::DB_FILE),
         &restored,
         started.elapsed().as_secs_f64(),
     )?;
@@ -291,8 +287,7 @@ fn import_log(data: &std::path::Path, world: &ServiceWorld) -> anyhow::Result<Ex
 /// `muse serve --check-store`: reads and checks every row of the store, then exits.
 fn check_store(data: &std::path::Path, world: &ServiceWorld) -> anyhow::Result<ExitCode> {
     let description = world.description();
-    let opening =
-        muse_service::store::Opening::open(data, &description, &world.legacy_fingerprint())?;
+    let opening = muse_service::Opening::open(data, &description, &world.legacy_fingerprint())?;
     if opening.imports().is_some() {
         anyhow::bail!(
             "{} holds a log of an earlier version, not yet converted: convert it first with \
@@ -306,7 +301,7 @@ fn check_store(data: &std::path::Path, world: &ServiceWorld) -> anyhow::Result<E
     store.close()?;
     println!(
         "{}: whole — {} flights, {} events and {} zones checked in {:.2} s",
-        data.join(muse_service::store::DB_FILE).display(),
+        data.join(muse_service::DB_FILE).display(),
         checked.flights,
         checked.events,
         checked.zones,
@@ -319,7 +314,7 @@ fn check_store(data: &std::path::Path, world: &ServiceWorld) -> anyhow::Result<E
 fn report(
     out: &mut impl std::io::Write,
     db: &std::path::Path,
-    r: &muse_service::engine::Restored,
+    r: &muse_service::Restored,
     secs: f64,
 ) -> std::io::Result<()> {
     if let Some(i) = &r.import {
@@ -377,8 +372,8 @@ fn world_label(world: &super::common::World) -> String {
 
 /// The start-up line about the HTTP limits, with the connection cap in force.
 fn limits_line(limits: &Limits) -> String {
-    let cap = http::connection_cap(limits.max_connections);
-    let files = http::open_file_limit().map_or_else(
+    let cap = muse_service::connection_cap(limits.max_connections);
+    let files = muse_service::open_file_limit().map_or_else(
         || "no open-file limit".to_owned(),
         |f| format!("open-file limit {f}"),
     );

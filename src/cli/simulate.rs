@@ -12,7 +12,7 @@ use muse_formats::plans::PlanRecord;
 use muse_formats::requests::{Demand, read_demand_file, write_demand, write_requests};
 use muse_model::Request;
 use muse_sim::day::DayRun;
-use muse_sim::demand::generate;
+use muse_sim::demand::{BookingLead, generate};
 use muse_sim::metrics::{Provenance, Summary};
 use muse_verify::{Flight, verify_known_in};
 
@@ -66,47 +66,16 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         None => inputs,
     };
     let out = output::folder("--out", &args.out, &inputs)?;
-    let (demand, source, seed, booking_lead) = if let Some(path) = &args.requests {
-        let day = LocalDay {
-            date: world.date,
-            offset: world.offset,
-        };
-        (
-            read_demand_file(path, &world.airspace, day)?,
-            path.display().to_string(),
-            None,
-            None,
-        )
-    } else {
-        let spec = args.demand.spec(&world, args.flight.range)?;
-        let reqs = generate(&world.airspace, &spec)?;
-        let od = match args.demand.od {
-            super::demand::OdArg::Uniform => "uniform",
-            super::demand::OdArg::InRange => "in-range",
-        };
-        let booked = args
-            .demand
-            .booking_note()
-            .map_or(String::new(), |b| format!(", {b}"));
-        let (from, to, day) = (&args.demand.from, &args.demand.to, world.day_note());
-        let source = format!(
-            "generated: {} requests, {from}–{to}{day}, {od} pairs, seed {}{booked}",
-            spec.count, spec.seed
-        );
-        let demand = Demand {
-            requests: reqs,
-            ..Demand::default()
-        };
-        (demand, source, Some(spec.seed), Some(spec.booking_lead))
-    };
+    let (demand, source, seed, booking_lead) = demand_of(args, &world)?;
     let run = args.optimize.plan(&world, params, demand.requests)?;
 
+    let day = &run.replay;
     let flights: Vec<Flight<'_>> = run
         .requests
         .iter()
-        .zip(&run.outcomes)
+        .zip(&day.outcomes)
         .enumerate()
-        .filter_map(|(i, (r, o))| Flight::last(&r.id, r, o.result.as_ref().ok(), run.fate(i)))
+        .filter_map(|(i, (r, o))| Flight::last(&r.id, r, o.result.as_ref().ok(), day.fate(i)))
         .collect();
     let violations = verify_known_in(&world.airspace, &run.zones, &params, &flights, world.offset);
 
@@ -163,6 +132,47 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
     })
 }
 
+/// The day's demand: the requests file's (`--requests`) or generated; with where it came from
+/// (for the summary), the seed and the booking lead of generated demand.
+fn demand_of(
+    args: &SimulateArgs,
+    world: &World,
+) -> anyhow::Result<(Demand, String, Option<u64>, Option<BookingLead>)> {
+    Ok(if let Some(path) = &args.requests {
+        let day = LocalDay {
+            date: world.date,
+            offset: world.offset,
+        };
+        (
+            read_demand_file(path, &world.airspace, day)?,
+            path.display().to_string(),
+            None,
+            None,
+        )
+    } else {
+        let spec = args.demand.spec(world, args.flight.range)?;
+        let reqs = generate(&world.airspace, &spec)?;
+        let od = match args.demand.od {
+            super::demand::OdArg::Uniform => "uniform",
+            super::demand::OdArg::InRange => "in-range",
+        };
+        let booked = args
+            .demand
+            .booking_note()
+            .map_or(String::new(), |b| format!(", {b}"));
+        let (from, to, day) = (&args.demand.from, &args.demand.to, world.day_note());
+        let source = format!(
+            "generated: {} requests, {from}–{to}{day}, {od} pairs, seed {}{booked}",
+            spec.count, spec.seed
+        );
+        let demand = Demand {
+            requests: reqs,
+            ..Demand::default()
+        };
+        (demand, source, Some(spec.seed), Some(spec.booking_lead))
+    })
+}
+
 /// Writes the day's drawings into `out`: `flights.geojson`, `map.svg` (corridor load; per
 /// layer when layered) and `view.html` (the page that plays the day).
 fn write_maps(
@@ -176,10 +186,10 @@ fn write_maps(
     let features: Vec<FlightFeature<'_>> = run
         .requests
         .iter()
-        .zip(&run.outcomes)
+        .zip(&run.replay.outcomes)
         .enumerate()
         .filter_map(|(i, (r, o))| {
-            run.final_plan(i).map(|plan| FlightFeature {
+            run.replay.final_plan(i).map(|plan| FlightFeature {
                 request: &r.id,
                 plan,
                 requested_departure: r.departure,

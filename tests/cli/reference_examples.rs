@@ -32,7 +32,7 @@
 //! | `summary` | json | the members of `summary.json` of `muse simulate OPTIONS` |
 //! | `flights` | geojson | the members of `flights.geojson` of `muse simulate OPTIONS` |
 //! | `flights-table`, `stays-table` | csv | the header `muse plan` writes in `flights.csv` and `stays.csv`, and as many cells in every row |
-//! | `tokens` | toml | `muse_service::auth::Tokens::parse` |
+//! | `tokens` | toml | `muse_service::Tokens::parse` |
 //! | `shard` | json | `muse_sim::experiment::ShardFile::read` |
 //! | `sweep-runs`, `sweep-summary`, `lead-runs`, `lead-summary` | csv | the header `muse sweep` writes, and as many cells in every row |
 //! | `flight-request`, `zone-announcement` | json | posted to a real `muse serve`: `201` |
@@ -526,7 +526,7 @@ fn check(scratch: &mut Scratch, example: &Example) -> Result<(), String> {
             let real = scratch.simulated(example, "flights.geojson")?;
             same_members(example, &[real])
         }
-        Kind::Tokens => muse_service::auth::Tokens::parse(&example.text, "example")
+        Kind::Tokens => muse_service::Tokens::parse(&example.text, "example")
             .map(drop)
             .map_err(|e| format!("{}: {e}", example.at())),
         Kind::Shard => {

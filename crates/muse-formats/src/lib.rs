@@ -17,7 +17,8 @@
 //! - [`flights_csv`]: one row per request, the plans file as a table;
 //! - [`stays_csv`]: one row per stay of every flight that flies;
 //! - [`params`]: the flight parameters in user units (summaries, `/healthz`, options);
-//! - [`ranges`]: the accepted range of each of them, and of the layering's.
+//! - [`ranges`]: the accepted range of each of them, of the layering's, and of every other
+//!   numeric option (one table: the command line, the Python package and the service).
 #![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
 pub mod airspace_geojson;

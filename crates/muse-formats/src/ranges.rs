@@ -1,7 +1,10 @@
-//! The accepted range of every flight-model and layering parameter in user units, and of a
-//! generated day's request count and seed, in one place: the command line's options
-//! (`--speed-kmh`, `--count`, …) and the Python package's keywords (`speed_kmh=`, `count=`, …)
-//! refuse the same values with the same words, `must be a speed in km/h from 1 to 1000`.
+//! The accepted range of every numeric parameter and option in user units, in one table:
+//! the command line's options (`--speed-kmh`, `--count`, `--header-timeout-s`, …), the Python
+//! package's keywords (`speed_kmh=`, …) and the planning service's HTTP timeouts refuse the
+//! same values with the same words, `must be a speed in km/h from 1 to 1000`. The command
+//! line's value parsers (`src/cli/ranges.rs`) and the libraries' own bounds
+//! (`muse_sim::demand::MAX_REQUESTS`, the synthetic airspace's node count and spacing) are
+//! read from here.
 //!
 //! ```
 //! use muse_formats::ranges::SPEED_KMH;
@@ -11,6 +14,7 @@
 
 use std::fmt::Display;
 use std::str::FromStr;
+use std::time::Duration;
 
 use crate::params::{Field, ParamsError, ParamsRecord};
 
@@ -64,26 +68,47 @@ impl<T: Number> Range<T> {
         self.check(x)
     }
 
-    fn message(&self) -> String {
+    /// What a value out of the range is told: `must be {what} from {lo} to {hi}`.
+    pub fn message(&self) -> String {
         format!("must be {} from {} to {}", self.what, self.lo, self.hi)
     }
 }
 
-/// The most requests of one day (generated, or read from a requests file).
-pub const MAX_REQUESTS: usize = 10_000_000;
+impl Range<f64> {
+    /// Whether `d` lies in the range, the range being seconds, compared as durations (to the
+    /// nanosecond a number of seconds rounds to).
+    pub fn contains_duration(&self, d: Duration) -> bool {
+        let lo = Duration::try_from_secs_f64(self.lo).unwrap_or(Duration::ZERO);
+        let hi = Duration::try_from_secs_f64(self.hi).unwrap_or(Duration::MAX);
+        (lo..=hi).contains(&d)
+    }
 
-/// Requests of a generated day (`--count`, Python's `count=`).
-pub const REQUESTS: Range<usize> = Range {
-    lo: 1,
-    hi: MAX_REQUESTS,
-    what: "a whole number of requests",
-};
-/// Seeds: any 64-bit number (`--seed`, Python's `seed=`).
-pub const SEED: Range<u64> = Range {
-    lo: 0,
-    hi: u64::MAX,
-    what: "a whole number",
-};
+    /// `text`, a number of seconds (`"10"`, `"2.5"`), read as a duration within the range
+    /// ([`Range::contains_duration`]); else the message of [`Range::check`].
+    ///
+    /// ```
+    /// use std::time::Duration;
+    /// use muse_formats::ranges::TIMEOUT_S;
+    /// assert_eq!(TIMEOUT_S.parse_seconds("2.5"), Ok(Duration::from_millis(2_500)));
+    /// assert_eq!(TIMEOUT_S.parse_seconds("0.01"), Err("must be a number of seconds from 0.1 to 86400".to_owned()));
+    /// ```
+    pub fn parse_seconds(&self, text: &str) -> Result<Duration, String> {
+        let secs: f64 = text.trim().parse().map_err(|_| self.message())?;
+        if !secs.is_finite() {
+            return Err(self.message());
+        }
+        let d = Duration::try_from_secs_f64(secs).map_err(|_| self.message())?;
+        if self.contains_duration(d) {
+            Ok(d)
+        } else {
+            Err(self.message())
+        }
+    }
+}
+
+// The flight model and the layering: the command line's options, the Python package's
+// keywords and a summary's recorded parameters.
+
 /// Cruise speed, km/h.
 pub const SPEED_KMH: Range<f64> = Range {
     lo: 1.0,
@@ -143,6 +168,208 @@ pub const CLIMB_MPS: Range<f64> = Range {
     lo: 0.001,
     hi: 100.0,
     what: "a number of metres per second",
+};
+
+// Demand, seeds and synthetic airspaces.
+
+/// Requests of one day (`--count`, `--counts`, `--requests`): at most ten million.
+pub const REQUESTS: Range<usize> = Range {
+    lo: 1,
+    hi: 10_000_000,
+    what: "a whole number of requests",
+};
+/// Requests `muse load` sends (`muse load --count`): as a day's.
+pub const LOAD_COUNT: Range<u64> = Range {
+    lo: REQUESTS.lo as u64,
+    hi: REQUESTS.hi as u64,
+    what: REQUESTS.what,
+};
+/// Seeds: any 64-bit number.
+pub const SEED: Range<u64> = Range {
+    lo: 0,
+    hi: u64::MAX,
+    what: "a whole number",
+};
+/// Nodes of a synthetic airspace (`--nodes`).
+pub const NODES: Range<usize> = Range {
+    lo: 2,
+    hi: 1_000_000,
+    what: "a whole number of nodes",
+};
+/// Spacing of a synthetic airspace, metres (`--spacing-m`).
+pub const SPACING_M: Range<f64> = Range {
+    lo: 1.0,
+    hi: 100_000.0,
+    what: "a number of metres",
+};
+/// Share of a synthetic airspace's nodes that are stations (`--station-share`).
+pub const STATION_SHARE: Range<f64> = Range {
+    lo: 0.001,
+    hi: 1.0,
+    what: "a share",
+};
+/// Longest corridor of an airspace built from pads, metres (`muse airspace build
+/// --max-corridor-m`): up to 1,000 km.
+pub const MAX_CORRIDOR_M: Range<f64> = Range {
+    lo: 1.0,
+    hi: 1_000_000.0,
+    what: "a number of metres",
+};
+/// The last mile, metres: a customer is served by its nearest pad within it
+/// (`--last-mile-m`): up to 100 km.
+pub const LAST_MILE_M: Range<f64> = Range {
+    lo: 0.0,
+    hi: 100_000.0,
+    what: "a number of metres",
+};
+/// Minutes of a lead or a swap time in a list option (`--leads`, `--swap-min`, booking and
+/// load leads): from 0 to 30 days.
+pub const LEAD_MIN: Range<f64> = Range {
+    lo: 0.0,
+    hi: 43_200.0,
+    what: "a number of minutes",
+};
+
+// Siting, sweeps, the optimiser, maps and threads.
+
+/// Pads `muse siting` adds (`--add`).
+pub const ADD_PADS: Range<usize> = Range {
+    lo: 1,
+    hi: 1_000,
+    what: "a whole number of pads",
+};
+/// Days `muse siting` simulates (`--days`).
+pub const SITING_DAYS: Range<usize> = Range {
+    lo: 1,
+    hi: 1_000,
+    what: "a whole number of days",
+};
+/// Repetitions of a sweep (`muse sweep --reps`).
+pub const REPS: Range<usize> = Range {
+    lo: 1,
+    hi: 10_000,
+    what: "a whole number of repetitions",
+};
+/// Threads (`--threads`).
+pub const THREADS: Range<usize> = Range {
+    lo: 1,
+    hi: 1_024,
+    what: "a whole number of threads",
+};
+/// Steps of the optimiser (`--iterations`).
+pub const ITERATIONS: Range<u64> = Range {
+    lo: 0,
+    hi: 1_000_000_000,
+    what: "a whole number of steps",
+};
+/// Time the optimiser may take, seconds (`--time-budget-s`): up to a day.
+pub const TIME_BUDGET_S: Range<f64> = Range {
+    lo: 0.001,
+    hi: 86_400.0,
+    what: "a number of seconds",
+};
+/// Orders the optimiser restarts from (`--restarts`).
+pub const RESTARTS: Range<u32> = Range {
+    lo: 0,
+    hi: 10_000,
+    what: "a whole number of orders",
+};
+/// Chance the optimiser keeps a worse order (`--anneal`).
+pub const ANNEAL: Range<f64> = Range {
+    lo: 0.0,
+    hi: 1.0,
+    what: "a chance",
+};
+/// Flights the optimiser moves at once (`--neighbourhood`).
+pub const NEIGHBOURHOOD: Range<usize> = Range {
+    lo: 1,
+    hi: 1_000,
+    what: "a whole number of flights",
+};
+/// Violations `muse verify` lists (`--max-listed`).
+pub const MAX_LISTED: Range<usize> = Range {
+    lo: 0,
+    hi: 1_000_000,
+    what: "a whole number of violations",
+};
+/// Width of a map, pixels (`muse airspace map --width`).
+pub const WIDTH_PX: Range<u32> = Range {
+    lo: 100,
+    hi: 20_000,
+    what: "a whole number of pixels",
+};
+
+// The planning service and its load generator.
+
+/// How far ahead bookings open, days (`muse serve --booking-horizon-days`): up to ten years.
+pub const BOOKING_HORIZON_DAYS: Range<u32> = Range {
+    lo: 1,
+    hi: 3_650,
+    what: "a whole number of days",
+};
+/// How long requests are gathered into one batch, milliseconds (`muse serve
+/// --batch-window-ms`): up to 10 s.
+pub const BATCH_WINDOW_MS: Range<u64> = Range {
+    lo: 0,
+    hi: 10_000,
+    what: "a whole number of milliseconds",
+};
+/// Largest request body, KiB (`muse serve --max-body-kib`): up to 1 MiB.
+pub const MAX_BODY_KIB: Range<usize> = Range {
+    lo: 1,
+    hi: 1_024,
+    what: "a whole number of KiB",
+};
+/// Requests per second per token (`muse serve --rate-limit`; 0: no limit).
+pub const RATE_LIMIT: Range<f64> = Range {
+    lo: 0.0,
+    hi: 1_000_000.0,
+    what: "a number of requests per second",
+};
+/// Burst above the rate (`muse serve --burst`).
+pub const BURST: Range<f64> = Range {
+    lo: 1.0,
+    hi: 1_000_000.0,
+    what: "a number of requests",
+};
+/// Connections open at once (`muse serve --max-connections`); the service itself takes any
+/// number from the least up.
+pub const MAX_CONNECTIONS: Range<usize> = Range {
+    lo: 1,
+    hi: 1_000_000,
+    what: "a whole number of connections",
+};
+/// The service's HTTP timeouts (`muse serve --header-timeout-s`, `--body-timeout-s`,
+/// `--idle-timeout-s`, checked again by the service) and `muse load --timeout`, seconds: up
+/// to a day.
+pub const TIMEOUT_S: Range<f64> = Range {
+    lo: 0.1,
+    hi: 86_400.0,
+    what: "a number of seconds",
+};
+/// Requests per second `muse load` sends (`--rate`).
+pub const LOAD_RATE: Range<f64> = Range {
+    lo: 0.01,
+    hi: 1_000_000.0,
+    what: "a number of requests per second",
+};
+/// Clients of `muse load` (`--clients`).
+pub const CLIENTS: Range<usize> = Range {
+    lo: 1,
+    hi: 100_000,
+    what: "a whole number of clients",
+};
+/// How long `muse load` runs, seconds (`--duration`): up to a day.
+pub const DURATION_S: Range<f64> = Range {
+    lo: 1.0,
+    hi: 86_400.0,
+    what: "a number of seconds",
+};
+/// Requests `muse load` keeps in flight at once (`--max-in-flight`).
+pub const MAX_IN_FLIGHT: Range<usize> = Range {
+    lo: 1,
+    hi: 1_000_000,
+    what: "a whole number of requests",
 };
 
 impl ParamsRecord {

@@ -7,8 +7,7 @@ use std::time::Duration;
 
 use muse_load::{Event, LoadConfig, LoadError, Mode, OdChoice, Stop};
 use muse_model::{FlightParams, Millis};
-use muse_service::state::{Clock, ServiceWorld};
-use muse_service::{Options, start};
+use muse_service::{Clock, Options, ServiceWorld, start};
 
 /// A fresh data folder for this test process.
 fn temp_dir(name: &str) -> PathBuf {

@@ -57,11 +57,13 @@ use crate::stations::uniform;
 /// The centre of every synthetic airspace: 103.82° E, 1.35° N.
 pub const CENTRE: LonLat = LonLat::new(103.82, 1.35);
 
-/// The largest number of nodes accepted.
-pub const MAX_NODES: usize = 1_000_000;
+/// The largest number of nodes accepted (the range of `--nodes`,
+/// [`muse_formats::ranges::NODES`]).
+pub const MAX_NODES: usize = muse_formats::ranges::NODES.hi;
 
-/// The smallest spacing accepted, metres (positions are kept to about 1 cm).
-pub const MIN_SPACING_M: f64 = 1.0;
+/// The smallest spacing accepted, metres (positions are kept to about 1 cm; the range of
+/// `--spacing-m`, [`muse_formats::ranges::SPACING_M`]).
+pub const MIN_SPACING_M: f64 = muse_formats::ranges::SPACING_M.lo;
 
 /// The largest side of the square a synthetic airspace may span, metres (2,000 km).
 pub const MAX_EXTENT_M: f64 = 2_000_000.0;

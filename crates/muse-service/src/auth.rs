@@ -101,7 +101,7 @@ pub enum TokensError {
 /// (`muse serve` keeps one to reload on `SIGHUP`, the service another to check callers).
 #[derive(Clone, Debug)]
 pub enum Tokens {
-    /// No tokens: everyone is [`OPEN_OPERATOR`] with the authority role.
+    /// No tokens: everyone is the operator `open` (`OPEN_OPERATOR`) with the authority role.
     Open,
     /// Bearer tokens and whom they name.
     Known(KnownTokens),
@@ -187,7 +187,7 @@ impl Tokens {
     }
 
     /// The caller an `Authorization` header value names, if any.
-    pub fn caller(&self, authorization: Option<&str>) -> Option<(String, Caller)> {
+    pub(crate) fn caller(&self, authorization: Option<&str>) -> Option<(String, Caller)> {
         match self {
             Tokens::Open => Some((
                 OPEN_OPERATOR.to_owned(),

@@ -15,7 +15,7 @@ use serde::Serialize;
 // The client id rule is shared with the requests file (`muse_model::request::valid_id`):
 // 1 to `MAX_ID_LEN` characters of letters, digits and `._~:-` (an id names the flight in a
 // URL path, and `#` is left for the store).
-pub use muse_model::request::{ID_RULE, MAX_ID_LEN, valid_id};
+pub use muse_model::request::{ID_RULE, valid_id};
 
 /// The reason given for a flight cancelled by its operator.
 pub const CANCELLED_BY_OPERATOR: &str = "cancelled_by_operator";
@@ -289,11 +289,6 @@ impl FlightIndex {
     /// Number of flights held.
     pub fn len(&self) -> usize {
         self.by_seq.len()
-    }
-
-    /// Whether no flight is held.
-    pub fn is_empty(&self) -> bool {
-        self.by_seq.is_empty()
     }
 
     /// Records a flight as it now stands: kept if it holds a reservation that ends at or after

@@ -1,23 +1,31 @@
 //! The MUSE planning service (SPEC §10): one live schedule behind a JSON API, planned against
 //! first come first served, every acknowledged change durable before it is answered.
 //!
-//! - [`store`]: the SQLite store (one transaction per group of decisions, checksummed rows,
+//! The public surface is small: [`launch`] (or [`start`]) a service on a [`ServiceWorld`] with
+//! [`Options`], then [`Running::serve`]; the pieces `muse serve` and the tests configure it
+//! with ([`Tokens`], [`Clock`], [`Limits`]); and, for `muse serve --import-log` and
+//! `--check-store`, the data folder's store opened without serving ([`Opening`], [`Store`]).
+//! Everything else is private, in one module per concept:
+//!
+//! - `store`: the SQLite store (one transaction per group of decisions, checksummed rows,
 //!   reads by index, one process per data folder, conversion of an earlier version's log);
-//! - [`engine`]: the planner task, the only writer of the schedule and the store, fed by a
+//! - `engine`: the planner task, the only writer of the schedule and the store, fed by a
 //!   channel: each command decided, stored, then applied by one function;
-//! - [`flights`]: flights as the service knows them, and the index of those the schedule holds;
-//! - [`zones`]: zones announced during the day (SPEC §11): reading them, knowing them;
-//! - [`events`]: the flights' change events, kept and streamed (`GET /v1/events`);
-//! - [`api`]: the HTTP routes (axum), input checks and answers;
-//! - [`http`]: the HTTP server itself: timeouts, connection cap, graceful stop;
-//! - [`auth`]: bearer tokens, operators and the authority, the rate limit;
-//! - [`metrics`]: the Prometheus exposition;
-//! - [`state`]: what is planned on (airspace, zones, parameters, clock).
+//! - `flights`: flights as the service knows them, and the index of those the schedule holds;
+//! - `zones`: zones announced during the day (SPEC §11), in one folder: the zones known,
+//!   reading an announcement, deciding what an announcement or a withdrawal does (the engine
+//!   stores and applies the decision; the HTTP routes are in `api`, with every other route);
+//! - `events`: the flights' change events, kept and streamed (`GET /v1/events`);
+//! - `api`: the HTTP routes (axum), input checks and answers;
+//! - `http`: the HTTP server itself: timeouts, connection cap, graceful stop;
+//! - `auth`: bearer tokens, operators and the authority, the rate limit;
+//! - `metrics`: the Prometheus exposition;
+//! - `state`: what is planned on (airspace, zones, parameters, clock).
 //!
 //! The planning itself is `muse_planner::Live`, the same planner and schedule as a batch day.
 //!
 //! ```no_run
-//! # async fn demo(world: muse_service::state::ServiceWorld) -> Result<(), muse_service::ServeError> {
+//! # async fn demo(world: muse_service::ServiceWorld) -> Result<(), muse_service::ServeError> {
 //! use muse_service::{Options, launch};
 //! let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
 //! // Serves at once (`/healthz` says `starting`), loads the store, then answers everything.
@@ -28,16 +36,23 @@
 //! ```
 #![cfg_attr(not(test), warn(unused_crate_dependencies))]
 
-pub mod api;
-pub mod auth;
-pub mod engine;
-pub mod events;
-pub mod flights;
-pub mod http;
-pub mod metrics;
-pub mod state;
-pub mod store;
-pub mod zones;
+mod api;
+mod auth;
+mod engine;
+mod events;
+mod flights;
+mod http;
+mod metrics;
+mod state;
+mod store;
+mod zones;
+
+pub use api::{OPENAPI, ROUTES};
+pub use auth::{KnownTokens, Tokens, TokensError};
+pub use engine::Restored;
+pub use http::{Limits, connection_cap, open_file_limit};
+pub use state::{Clock, ServiceWorld};
+pub use store::{Checked, DB_FILE, ImportReport, LOG_FILE, Opening, Store, StoreError};
 
 use std::net::SocketAddr;
 use std::path::PathBuf;
@@ -47,11 +62,11 @@ use std::time::Duration;
 use tokio::sync::{mpsc, oneshot, watch};
 
 use crate::api::{App, router};
-use crate::auth::{RateLimiter, Tokens};
-use crate::engine::{Ended, Restored};
+use crate::auth::RateLimiter;
+use crate::engine::Ended;
 use crate::flights::FlightIndex;
-use crate::state::{Clock, Phase, ServiceWorld, State};
-use crate::store::{DB_FILE, Opening, Reader, StoreError};
+use crate::state::{Phase, State};
+use crate::store::Reader;
 
 /// How a service runs, besides what it plans on.
 #[derive(Debug)]
@@ -69,12 +84,12 @@ pub struct Options {
     /// Burst allowed above the rate.
     pub burst: f64,
     /// Events an event-stream listener may fall behind the live ones by before it reads the
-    /// store instead ([`events::LIVE_CAPACITY`] by default).
+    /// store instead ([`Options::new`] sets the default).
     pub event_buffer: usize,
     /// The page served at `GET /` (the live viewer, built by the caller), if any.
     pub page: Option<String>,
-    /// The HTTP server's timeouts and connection cap (see [`http`]).
-    pub http: http::Limits,
+    /// The HTTP server's timeouts and connection cap (see [`Limits`]).
+    pub http: Limits,
     /// How long the planner waits, after a request arrives, for others to plan with it as one
     /// batch (SPEC §14); zero plans each request first come, first served.
     pub batch_window: std::time::Duration,
@@ -94,7 +109,7 @@ impl Options {
             burst: 40_000.0,
             event_buffer: events::LIVE_CAPACITY,
             page: None,
-            http: http::Limits::default(),
+            http: Limits::default(),
             batch_window: std::time::Duration::ZERO,
         }
     }
@@ -212,7 +227,7 @@ pub async fn launch(
         phase: Phase::default(),
         metrics: metrics::Metrics::default(),
         clock: options.clock,
-        zones: RwLock::new(zones::ZoneBook::new(&world.zones)),
+        zones: RwLock::new(zones::book::ZoneBook::new(&world.zones)),
         events: events::Events::new(options.event_buffer),
         world,
     });

@@ -10,7 +10,7 @@ use crate::events::Events;
 use crate::flights::FlightIndex;
 use crate::metrics::Metrics;
 use crate::store::Reader;
-use crate::zones::ZoneBook;
+use crate::zones::book::ZoneBook;
 
 /// How far ahead zone calendars are expanded at start: a service that runs longer must be
 /// restarted to plan beyond it (bookings are limited to [`ServiceWorld::booking_horizon`]).
@@ -29,7 +29,7 @@ pub struct ServiceWorld {
     pub airspace: Airspace,
     /// The zones.
     pub zones: Vec<Zone>,
-    /// Their closures, resolved from a day before start to [`CALENDAR`] after it.
+    /// Their closures, resolved from a day before start to `CALENDAR` (366 days) after it.
     pub closures: Closures,
     /// The flight parameters.
     pub params: FlightParams,
@@ -68,7 +68,7 @@ impl ServiceWorld {
 
     /// The closures of a zone announced at `announced`: its calendar resolved from
     /// [`CALENDAR_BEFORE`] before the announcement to the end of the service's calendar.
-    pub fn announced_closures(
+    pub(crate) fn announced_closures(
         &self,
         zones: &[Zone],
         announced: Instant,

@@ -5,13 +5,12 @@ use std::time::Duration;
 
 use muse_airspace::announced::KnownZones;
 use muse_airspace::closures::{ClosureError, Closures};
-use muse_model::plan::{Change, Fate};
 use muse_model::request::sort_for_planning;
-use muse_model::{Airspace, FlightParams, Instant, Millis, Plan, Request, Zone};
+use muse_model::{Airspace, FlightParams, Instant, Millis, Request, Zone};
 use muse_planner::ZoneError;
 use muse_planner::{Outcome, Planner, Schedule, Scratch, plan_day};
 
-use crate::replay::{Announcement, Replay, replay};
+use crate::replay::{Replay, replay};
 
 /// Errors of a planning run.
 #[derive(Debug, thiserror::Error)]
@@ -49,25 +48,15 @@ pub enum Planning {
     Optimized(muse_optimize::Options),
 }
 
-/// The result of planning a day.
+/// The result of planning a day: its requests, what planning made of them (a [`Replay`]),
+/// the zones planned against, and the optimiser's report.
 #[derive(Debug)]
 pub struct DayRun {
     /// The requests in planning order `(submitted, id)`.
     pub requests: Vec<Request>,
-    /// The first answer to each request, in the same order.
-    pub outcomes: Vec<Outcome>,
-    /// What zone announcements did to each request's flight, in order (same indexing; all
-    /// empty when no zone is announced).
-    pub changes: Vec<Vec<Change>>,
-    /// What the last of them made of each request's flight, with its plan; `None` if none
-    /// changed it (same indexing).
-    pub fates: Vec<Option<Fate>>,
-    /// The zones announced during the day, in order.
-    pub announcements: Vec<Announcement>,
-    /// Wall time of the planning loop alone (no I/O, no zone resolution), replanning included.
-    pub planner_wall: Duration,
-    /// Search effort of replanning, labels expanded (not in the outcomes' counts).
-    pub replan_expanded: u64,
+    /// What planning made of each request, in the same order: its first answer, what zone
+    /// announcements did to its flight since, and the planning loop's time.
+    pub replay: Replay,
     /// The zones planned against: known from the start, and announced.
     pub zones: KnownZones,
     /// What the optimiser did, when the day was planned as a batch (SPEC §14).
@@ -83,46 +72,16 @@ impl DayRun {
         planner_wall: Duration,
         zones: KnownZones,
     ) -> Self {
-        let n = requests.len();
-        DayRun {
-            requests,
-            outcomes,
-            changes: vec![Vec::new(); n],
-            fates: vec![None; n],
-            announcements: Vec::new(),
-            planner_wall,
-            replan_expanded: 0,
-            zones,
-            optimizer: None,
-        }
+        DayRun::replayed(requests, Replay::unchanged(outcomes, planner_wall), zones)
     }
 
     /// A day replayed with its announcements ([`replay`]).
-    pub fn replayed(requests: Vec<Request>, run: Replay, zones: KnownZones) -> Self {
+    pub fn replayed(requests: Vec<Request>, replay: Replay, zones: KnownZones) -> Self {
         DayRun {
             requests,
-            outcomes: run.outcomes,
-            changes: run.changes,
-            fates: run.fates,
-            announcements: run.announcements,
-            planner_wall: run.planner_wall,
-            replan_expanded: run.replan_expanded,
+            replay,
             zones,
             optimizer: None,
-        }
-    }
-
-    /// The last fate of request `i`'s flight, if an announcement changed it.
-    pub fn fate(&self, i: usize) -> Option<&Fate> {
-        self.fates[i].as_ref()
-    }
-
-    /// The final plan of request `i`, if its flight lands somewhere: its first plan, or the plan
-    /// the last announcement replanned or diverted it to.
-    pub fn final_plan(&self, i: usize) -> Option<&Plan> {
-        match self.fate(i) {
-            None => self.outcomes[i].result.as_ref().ok(),
-            Some(f) => f.plan(),
         }
     }
 }
@@ -257,7 +216,7 @@ mod tests {
         let mut v: Vec<_> = run
             .requests
             .iter()
-            .zip(&run.outcomes)
+            .zip(&run.replay.outcomes)
             .map(|(r, o)| {
                 (
                     r.id.clone(),
@@ -300,7 +259,7 @@ mod tests {
         .unwrap();
         let report = optimized.optimizer.as_ref().unwrap();
         assert!(report.result >= report.fcfs);
-        assert_eq!(optimized.outcomes.len(), optimized.requests.len());
+        assert_eq!(optimized.replay.outcomes.len(), optimized.requests.len());
     }
 
     #[test]

@@ -123,8 +123,8 @@ pub enum DemandError {
 
 /// The most requests [`generate`] makes for one day (ten million: far beyond what any of the
 /// built-in airspaces can land in a day, and a few gigabytes of plans): more is refused before
-/// anything is allocated. The range table's ([`muse_formats::ranges::MAX_REQUESTS`]).
-pub const MAX_REQUESTS: usize = muse_formats::ranges::MAX_REQUESTS;
+/// anything is allocated. The range of `--count` ([`muse_formats::ranges::REQUESTS`]).
+pub const MAX_REQUESTS: usize = muse_formats::ranges::REQUESTS.hi;
 
 /// The ordered station pairs a rule allows, in a fixed order (origin, then destination index).
 pub fn allowed_pairs(airspace: &Airspace, od: OdRule) -> Vec<(NodeId, NodeId)> {

@@ -69,10 +69,10 @@ pub struct DayOutputs {
 pub fn day_outputs(run: &DayRun, context: DayContext<'_>) -> DayOutputs {
     let a = context.airspace;
     let mut records = Vec::with_capacity(run.requests.len());
-    for (i, (r, o)) in run.requests.iter().zip(&run.outcomes).enumerate() {
+    for (i, (r, o)) in run.requests.iter().zip(&run.replay.outcomes).enumerate() {
         records.push(PlanRecord {
-            changes: run.changes[i].clone(),
-            fate: run.fate(i).cloned(),
+            changes: run.replay.changes[i].clone(),
+            fate: run.replay.fate(i).cloned(),
             ..PlanRecord::first(
                 r.id.clone(),
                 a.node(r.origin).id.clone(),
@@ -99,15 +99,20 @@ pub fn day_outputs(run: &DayRun, context: DayContext<'_>) -> DayOutputs {
     let items = run
         .requests
         .iter()
-        .zip(&run.outcomes)
+        .zip(&run.replay.outcomes)
         .map(|(r, o)| RunItem {
             departure: r.departure,
             result: &o.result,
             free_flow: o.free_flow,
             expanded: o.expanded,
         });
-    let mut summary = Summary::compute(items, context.params, run.planner_wall, context.provenance)
-        .with_world(context.world);
+    let mut summary = Summary::compute(
+        items,
+        context.params,
+        run.replay.planner_wall,
+        context.provenance,
+    )
+    .with_world(context.world);
     if let Some(lead) = context.booking_lead {
         summary = summary.with_booking_lead(lead);
     }
@@ -115,7 +120,7 @@ pub fn day_outputs(run: &DayRun, context: DayContext<'_>) -> DayOutputs {
         summary = summary.with_unserved(unserved.len());
     }
     if !run.zones.announced.is_empty() {
-        summary = summary.with_replanning(ReplanSummary::of(run, context.offset));
+        summary = summary.with_replanning(ReplanSummary::of(&run.replay, context.offset));
     }
     if let Some(report) = &run.optimizer {
         summary = summary.with_optimizer(OptimizerSummary::of(report, &run.requests));

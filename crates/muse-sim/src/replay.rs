@@ -13,7 +13,7 @@ use std::time::{Duration, Instant as WallInstant};
 
 use muse_airspace::announced::KnownZones;
 use muse_model::plan::{Change, Fate};
-use muse_model::{Instant, Request};
+use muse_model::{Instant, Plan, Request};
 use muse_planner::ZoneError;
 use muse_planner::{FlightId, Live, Outcome, Planner};
 
@@ -28,23 +28,56 @@ pub struct Announcement {
     pub affected: usize,
 }
 
-/// The result of replaying a day.
+/// What planning a day made of its requests: the first answer to each, what the zones
+/// announced during the day did to their flights since (nothing when none is announced), and
+/// the time it took. [`replay`] makes one; a day planned against zones all known from the
+/// start is [`Replay::unchanged`].
 #[derive(Debug)]
 pub struct Replay {
     /// The first answer to each request (plan or rejection), as planned at submission, in
     /// planning order (the order of `requests` given).
     pub outcomes: Vec<Outcome>,
-    /// What announcements did to each request's flight since, in order (same indexing).
+    /// What announcements did to each request's flight since, in order (same indexing; all
+    /// empty when no zone is announced).
     pub changes: Vec<Vec<Change>>,
     /// What the last of them made of each request's flight, with its plan; `None` if none
     /// changed it (same indexing).
     pub fates: Vec<Option<Fate>>,
     /// The zones announced, in order.
     pub announcements: Vec<Announcement>,
-    /// Wall time of planning and replanning (no I/O).
+    /// Wall time of the planning loop alone (no I/O, no zone resolution), replanning included.
     pub planner_wall: Duration,
-    /// Search effort of replanning, labels expanded.
+    /// Search effort of replanning, labels expanded (not in the outcomes' counts).
     pub replan_expanded: u64,
+}
+
+impl Replay {
+    /// A day no zone announcement changed: `outcomes`, planned in `planner_wall`.
+    pub fn unchanged(outcomes: Vec<Outcome>, planner_wall: Duration) -> Self {
+        let n = outcomes.len();
+        Replay {
+            outcomes,
+            changes: vec![Vec::new(); n],
+            fates: vec![None; n],
+            announcements: Vec::new(),
+            planner_wall,
+            replan_expanded: 0,
+        }
+    }
+
+    /// The last fate of request `i`'s flight, if an announcement changed it.
+    pub fn fate(&self, i: usize) -> Option<&Fate> {
+        self.fates[i].as_ref()
+    }
+
+    /// The final plan of request `i`, if its flight lands somewhere: its first plan, or the
+    /// plan the last announcement replanned or diverted it to.
+    pub fn final_plan(&self, i: usize) -> Option<&Plan> {
+        match self.fate(i) {
+            None => self.outcomes[i].result.as_ref().ok(),
+            Some(f) => f.plan(),
+        }
+    }
 }
 
 /// Replays `requests` (in planning order, `(submitted, id)`) against `zones`: those known

@@ -43,6 +43,16 @@ fn parsers_refuse_what_lies_outside_with_the_range() {
     assert!(speed_kmh("-30").unwrap_err().ends_with("from 1 to 1000"));
 }
 
+#[test]
+fn timeouts_parse_and_are_bounded() {
+    assert_eq!(http_timeout("10"), Ok(Duration::from_secs(10)));
+    assert_eq!(http_timeout("2.5"), Ok(Duration::from_millis(2_500)));
+    for bad in ["0", "-1", "NaN", "inf", "", "ten", "0.01", "1e9"] {
+        let e = http_timeout(bad).unwrap_err();
+        assert!(e.contains("seconds from 0.1 to 86400"), "{bad}: {e}");
+    }
+}
+
 /// Every command, as the words that name it, with its definition.
 fn commands(cmd: &Command, path: &[String], out: &mut Vec<(Vec<String>, Command)>) {
     for sub in cmd.get_subcommands() {

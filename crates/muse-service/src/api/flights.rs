@@ -329,7 +329,7 @@ pub(super) async fn cancel(
                 e.span().0.to_rfc3339(offset)
             ),
         )),
-        CancelReply::NotPlanned(_) => Err(ApiError::new(
+        CancelReply::NotPlanned => Err(ApiError::new(
             StatusCode::CONFLICT,
             "not_planned",
             format!("flight `{id}` was rejected; there is nothing to cancel"),

@@ -15,7 +15,8 @@ use axum::response::{IntoResponse, Response};
 use crate::http::BodyDeadline;
 use crate::metrics::PlanOutcome;
 
-use super::{ApiError, App, MAX_ZONE_BODY};
+use super::{ApiError, App};
+use crate::zones::body::MAX_ZONE_BODY;
 
 /// The largest body the route at `path` takes, bytes.
 pub(super) fn body_limit(max_body: usize, path: &str) -> usize {

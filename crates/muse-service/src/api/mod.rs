@@ -29,8 +29,9 @@
 //!
 //! The handlers are grouped by concept: `error` (the error answer and JSON bodies),
 //! `caller` (who calls: token and rate limit), `flights` (the flight routes and their
-//! input checks), `zones` (announce, withdraw, list: SPEC §11), [`events`] (the event
-//! stream) and `info` (airspace, the API description, health and metrics).
+//! input checks), `zones` (the zone routes: announce, withdraw, list, closures; SPEC §11;
+//! the zones themselves, reading a body and deciding, are in [`crate::zones`]), [`events`]
+//! (the event stream) and `info` (airspace, the API description, health and metrics).
 //!
 //! Zones: `POST /v1/zones` takes one ED-318 feature (or a `FeatureCollection` of one)
 //! without `announced`: the service announces it at its clock's now. `422` names the field
@@ -42,11 +43,10 @@
 
 mod caller;
 mod error;
-pub mod events;
+mod events;
 mod flights;
 mod guard;
 mod info;
-pub mod zone_body;
 mod zones;
 
 use std::sync::Arc;
@@ -67,7 +67,6 @@ pub use caller::Authed;
 pub use error::ApiError;
 use flights::{cancel, create, list, read};
 use info::{airspace, healthz, metrics, openapi, page};
-pub use zones::MAX_ZONE_BODY;
 
 /// The `OpenAPI` description of this API.
 pub const OPENAPI: &str = include_str!("openapi.json");
@@ -91,8 +90,6 @@ pub const ROUTES: &[(&str, &str)] = &[
     ("get", "/metrics"),
 ];
 
-pub use crate::flights::MAX_ID_LEN;
-
 /// What the handlers share.
 #[derive(Debug)]
 pub struct App {
@@ -108,7 +105,7 @@ pub struct App {
     pub airspace_geojson: String,
     /// `GET /`: the live viewer page, if the service was given one.
     pub page: Option<String>,
-    /// Largest request body, bytes (zone bodies: [`MAX_ZONE_BODY`]).
+    /// Largest request body, bytes (zone bodies: [`MAX_ZONE_BODY`](crate::zones::body::MAX_ZONE_BODY)).
     pub max_body: usize,
     /// Set when the service stops: event streams end then.
     pub stopping: watch::Sender<bool>,

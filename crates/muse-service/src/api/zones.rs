@@ -1,4 +1,7 @@
-//! The zone routes (SPEC §11): announce and withdraw (the authority only), list.
+//! The zone routes (SPEC §11): announce and withdraw (the authority only), list, and what
+//! each zone closes. Only the HTTP face of zones is here, beside every other route: reading
+//! a body, the zones known and deciding an announcement or a withdrawal are in
+//! [`crate::zones`].
 
 use std::sync::Arc;
 
@@ -9,19 +12,15 @@ use serde::Serialize;
 use tokio::sync::oneshot;
 
 use crate::auth::{Caller, Role};
-use crate::engine::{AnnounceReply, Command, WithdrawReply};
+use crate::engine::Command;
 use crate::flights::FlightView;
-use crate::zones::AnnouncedZone;
-
-use super::zone_body::parse_feature;
+use crate::zones::body::parse_feature;
+use crate::zones::book::AnnouncedZone;
+use crate::zones::decide::{AnnounceReply, WithdrawReply};
 
 use super::error::json;
 use super::guard::JsonBody;
 use super::{ApiError, App, Authed};
-
-/// Largest `POST /v1/zones` body, bytes (zones may carry long polygons; only the authority
-/// may send one).
-pub const MAX_ZONE_BODY: usize = 1 << 20;
 
 fn authority_only(caller: &Caller) -> Result<(), ApiError> {
     if caller.role == Role::Authority {

@@ -10,7 +10,7 @@ use muse_planner::FlightId;
 
 use super::{Engine, ZoneChange};
 use crate::flights::FlightEntry;
-use crate::zones::AnnouncedZone;
+use crate::zones::book::AnnouncedZone;
 
 /// A change decided (and stored) that the state must now reflect.
 pub(super) enum Change {

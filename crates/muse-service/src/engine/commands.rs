@@ -6,11 +6,11 @@ use std::sync::Arc;
 use muse_model::Request;
 use tokio::sync::oneshot;
 
-use super::zones::{AnnounceReply, WithdrawReply};
 use crate::auth::Caller;
 use crate::flights::FlightEntry;
 use crate::store::ImportReport;
-use crate::zones::NewZone;
+use crate::zones::book::NewZone;
+use crate::zones::decide::{AnnounceReply, WithdrawReply};
 
 /// A change asked of the planner task.
 #[derive(Debug)]
@@ -87,7 +87,7 @@ pub enum CancelReply {
     /// It has taken off: committed.
     TookOff(Arc<FlightEntry>),
     /// It was rejected: there is nothing to cancel.
-    NotPlanned(Arc<FlightEntry>),
+    NotPlanned,
     /// The service could not answer.
     Failed(String),
 }

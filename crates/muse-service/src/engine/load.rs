@@ -12,7 +12,7 @@ use std::sync::Arc;
 use super::apply::Change;
 use super::{Engine, Restored};
 use crate::store::{Store, StoreError};
-use crate::zones::{AnnouncedZone, read_stored};
+use crate::zones::book::{AnnouncedZone, read_stored};
 
 impl Engine<'_> {
     /// Loads the store into the schedule, the index and the zones; returns what it found.

@@ -15,7 +15,8 @@
 //!
 //! So nothing is acknowledged before it is durable, planning is serialized against one
 //! schedule (no double booking under any interleaving), and reads never wait for planning. A
-//! zone announcement or withdrawal (SPEC §11, in the `zones` submodule) is a group of its own.
+//! zone announcement or withdrawal (SPEC §11) is a group of its own: decided by
+//! [`crate::zones::decide`], then stored and applied here like any command.
 //!
 //! If the store fails, the schedule may hold what the store does not: the task answers the
 //! group's commands with an error, stops, and reports the failure to [`crate::Running`],
@@ -27,7 +28,6 @@ mod batch;
 mod commands;
 mod load;
 mod writer;
-mod zones;
 
 use std::collections::HashMap;
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -45,10 +45,10 @@ use crate::flights::{FlightEntry, Status};
 use crate::metrics::PlanOutcome;
 use crate::state::State;
 use crate::store::{Opening, StoreError};
-use crate::zones::AnnouncedZone;
+use crate::zones::book::{AnnouncedZone, NewZone};
+use crate::zones::decide::{self, AnnounceReply, Announcement, WithdrawReply};
 
 pub use commands::{CancelReply, Command, PlanReply, Restored};
-pub use zones::{AnnounceReply, Announcement, WithdrawReply};
 
 pub use batch::Batching;
 use commands::Pending;
@@ -401,7 +401,7 @@ impl Engine<'_> {
             Status::Cancelled => return CancelReply::Already(known),
             Status::Rejected => {
                 metrics.count_cancel(false);
-                return CancelReply::NotPlanned(known);
+                return CancelReply::NotPlanned;
             }
             // Airborne when a zone was announced: it took off.
             Status::Contingency => {
@@ -442,6 +442,55 @@ impl Engine<'_> {
         self.emit(EventKind::Cancelled, at, None, &entry);
         self.apply(Change::Flights(vec![Arc::clone(&entry)]));
         CancelReply::Done(entry)
+    }
+
+    /// Announces `zone` now: decided on a copy of the schedule ([`decide::announcement`]),
+    /// then the zone, every changed flight and its event stored with the group, and it all
+    /// applied.
+    fn announce(&mut self, zone: NewZone) -> AnnounceReply {
+        let decided = match decide::announcement(self.state, &mut self.live, zone) {
+            Ok(decided) => decided,
+            Err(reply) => return reply,
+        };
+        let (id, n) = (decided.zone.id.clone(), decided.zone.announced);
+        self.group.writes.push(writer::Write::Zone(decided.stored));
+        for (kind, entry) in &decided.changed {
+            self.group
+                .writes
+                .push(writer::Write::Flight(Arc::clone(entry), false));
+            self.emit(*kind, n, Some(&id), entry);
+        }
+        let affected: Vec<Arc<FlightEntry>> = decided.changed.into_iter().map(|(_, e)| e).collect();
+        self.apply(Change::Zone {
+            zone: decided.zone,
+            closures: Some(decided.closures),
+        });
+        self.apply(Change::Flights(affected.clone()));
+        self.state.metrics.count_zone(true);
+        AnnounceReply::Done(Announcement {
+            zone: id,
+            announced: n,
+            affected,
+        })
+    }
+
+    /// Withdraws the announced zone `id` now ([`decide::withdrawal`]; nothing is replanned):
+    /// stores it, applies it.
+    fn withdraw(&mut self, id: &str) -> WithdrawReply {
+        let zone = match decide::withdrawal(self.state, &self.live, id) {
+            Ok(zone) => zone,
+            Err(reply) => return reply,
+        };
+        let at = self.live.now();
+        self.group
+            .writes
+            .push(writer::Write::Withdrawal(id.to_owned(), at));
+        self.apply(Change::Withdrawal {
+            id: id.to_owned(),
+            at,
+        });
+        self.state.metrics.count_zone(false);
+        WithdrawReply::Done(zone)
     }
 
     /// Numbers a change of a flight and writes it with the group, which publishes it.

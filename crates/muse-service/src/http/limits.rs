@@ -1,7 +1,12 @@
-//! What the server allows a client: the timeouts and the connection cap, their defaults and
-//! bounds, reading them from the command line, and the cap the open-file limit leaves room for.
+//! What the server allows a client: the timeouts and the connection cap, their defaults, the
+//! check of their bounds, and the cap the open-file limit leaves room for. The bounds are
+//! those of the command line's options, in the one range table
+//! ([`muse_formats::ranges::TIMEOUT_S`], [`muse_formats::ranges::MAX_CONNECTIONS`]), which
+//! `muse serve` reads its options through.
 
 use std::time::Duration;
+
+use muse_formats::ranges::{MAX_CONNECTIONS, TIMEOUT_S};
 
 /// Default [`Limits::header_timeout`].
 pub const DEFAULT_HEADER_TIMEOUT: Duration = Duration::from_secs(10);
@@ -14,10 +19,6 @@ pub const DEFAULT_MAX_CONNECTIONS: usize = 10_000;
 /// Open files kept back from the connection cap for everything else the process opens: the
 /// store's log and lock, the listening socket, connections being refused.
 pub const FILE_RESERVE: u64 = 64;
-/// Shortest timeout accepted.
-pub const MIN_TIMEOUT: Duration = Duration::from_millis(100);
-/// Longest timeout accepted (a day).
-pub const MAX_TIMEOUT: Duration = Duration::from_hours(24);
 
 /// The limits of the HTTP server (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -44,49 +45,31 @@ impl Default for Limits {
 }
 
 impl Limits {
-    /// Checks that every timeout is within [`MIN_TIMEOUT`]..=[`MAX_TIMEOUT`] and that at
-    /// least one connection is allowed; the error names the field.
+    /// Checks that every timeout is within [`TIMEOUT_S`] (0.1 s to a day) and that at least
+    /// one connection is allowed (no more is asked: [`connection_cap`] lowers a larger number
+    /// to what the process can open); the error names the field.
     pub fn check(&self) -> Result<(), String> {
         for (name, t) in [
             ("header_timeout", self.header_timeout),
             ("body_timeout", self.body_timeout),
             ("idle_timeout", self.idle_timeout),
         ] {
-            if !(MIN_TIMEOUT..=MAX_TIMEOUT).contains(&t) {
+            if !TIMEOUT_S.contains_duration(t) {
                 return Err(format!(
                     "{name} must be between {} and {} seconds, got {}",
-                    MIN_TIMEOUT.as_secs_f64(),
-                    MAX_TIMEOUT.as_secs_f64(),
+                    TIMEOUT_S.lo,
+                    TIMEOUT_S.hi,
                     t.as_secs_f64()
                 ));
             }
         }
-        if self.max_connections == 0 {
-            return Err("max_connections must be at least 1".into());
+        if self.max_connections < MAX_CONNECTIONS.lo {
+            return Err(format!(
+                "max_connections must be at least {}",
+                MAX_CONNECTIONS.lo
+            ));
         }
         Ok(())
-    }
-}
-
-/// Parses a timeout given in seconds (`"10"`, `"2.5"`) as the command line takes it: a
-/// finite number within [`MIN_TIMEOUT`]..=[`MAX_TIMEOUT`].
-pub fn parse_timeout(text: &str) -> Result<Duration, String> {
-    let bad = || {
-        format!(
-            "must be a number of seconds from {} to {}",
-            MIN_TIMEOUT.as_secs_f64(),
-            MAX_TIMEOUT.as_secs_f64()
-        )
-    };
-    let secs: f64 = text.trim().parse().map_err(|_| bad())?;
-    if !secs.is_finite() {
-        return Err(bad());
-    }
-    let t = Duration::try_from_secs_f64(secs).map_err(|_| bad())?;
-    if (MIN_TIMEOUT..=MAX_TIMEOUT).contains(&t) {
-        Ok(t)
-    } else {
-        Err(bad())
     }
 }
 
@@ -106,8 +89,8 @@ pub fn open_file_limit() -> Option<u64> {
 }
 
 /// How many connections the server takes at once when `requested` are asked for: at most
-/// the open-file limit (raised first, see [`open_file_limit`]) less [`FILE_RESERVE`], and at
-/// least one.
+/// the open-file limit (raised first, see [`open_file_limit`]) less `FILE_RESERVE` (64 open
+/// files kept for the store, the listening socket and refusals), and at least one.
 pub fn connection_cap(requested: usize) -> usize {
     match open_file_limit() {
         Some(files) => {
@@ -115,5 +98,36 @@ pub fn connection_cap(requested: usize) -> usize {
             requested.min(room).max(1)
         }
         None => requested.max(1),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn limits_are_checked() {
+        assert_eq!(Limits::default().check(), Ok(()));
+        let zero = Limits {
+            idle_timeout: Duration::ZERO,
+            ..Limits::default()
+        };
+        assert!(zero.check().unwrap_err().starts_with("idle_timeout "));
+        let none = Limits {
+            max_connections: 0,
+            ..Limits::default()
+        };
+        assert!(none.check().unwrap_err().starts_with("max_connections "));
+    }
+
+    #[test]
+    fn the_cap_leaves_room_for_files() {
+        let files = open_file_limit();
+        let cap = connection_cap(usize::MAX);
+        match files {
+            Some(f) => assert_eq!(cap as u64, f.saturating_sub(FILE_RESERVE).max(1)),
+            None => assert_eq!(cap, usize::MAX),
+        }
+        assert_eq!(connection_cap(3), 3.min(cap));
     }
 }

@@ -46,14 +46,11 @@ use tower_service::Service as _;
 
 mod limits;
 
-pub use limits::{
-    DEFAULT_BODY_TIMEOUT, DEFAULT_HEADER_TIMEOUT, DEFAULT_IDLE_TIMEOUT, DEFAULT_MAX_CONNECTIONS,
-    FILE_RESERVE, Limits, MAX_TIMEOUT, MIN_TIMEOUT, connection_cap, open_file_limit, parse_timeout,
-};
+pub use limits::{Limits, connection_cap, open_file_limit};
 
 /// Connections above the cap being answered `503` at once: each is given up to
 /// [`REFUSAL_LINGER`] to read its answer; beyond this many the socket is closed right after
-/// the answer is written (part of [`FILE_RESERVE`]).
+/// the answer is written (part of [`limits::FILE_RESERVE`]).
 const REFUSING: usize = 32;
 /// How long a closed connection's unread input is drained so that the client reads the
 /// answer rather than a reset.
@@ -505,42 +502,6 @@ impl http_body::Body for Answer {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn timeouts_parse_and_are_bounded() {
-        assert_eq!(parse_timeout("10"), Ok(Duration::from_secs(10)));
-        assert_eq!(parse_timeout("2.5"), Ok(Duration::from_millis(2_500)));
-        for bad in ["0", "-1", "NaN", "inf", "", "ten", "0.01", "1e9"] {
-            let e = parse_timeout(bad).unwrap_err();
-            assert!(e.contains("seconds from 0.1 to 86400"), "{bad}: {e}");
-        }
-    }
-
-    #[test]
-    fn limits_are_checked() {
-        assert_eq!(Limits::default().check(), Ok(()));
-        let zero = Limits {
-            idle_timeout: Duration::ZERO,
-            ..Limits::default()
-        };
-        assert!(zero.check().unwrap_err().starts_with("idle_timeout "));
-        let none = Limits {
-            max_connections: 0,
-            ..Limits::default()
-        };
-        assert!(none.check().unwrap_err().starts_with("max_connections "));
-    }
-
-    #[test]
-    fn the_cap_leaves_room_for_files() {
-        let files = open_file_limit();
-        let cap = connection_cap(usize::MAX);
-        match files {
-            Some(f) => assert_eq!(cap as u64, f.saturating_sub(FILE_RESERVE).max(1)),
-            None => assert_eq!(cap, usize::MAX),
-        }
-        assert_eq!(connection_cap(3), 3.min(cap));
-    }
 
     #[test]
     fn the_busy_answer_is_complete() {

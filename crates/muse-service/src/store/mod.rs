@@ -39,12 +39,12 @@
 
 mod checkpoint;
 mod file;
-pub mod legacy;
+mod legacy;
 mod open;
 mod queries;
 mod reader;
 mod rows;
-pub mod schema;
+mod schema;
 mod writes;
 
 use std::fs::File;
@@ -53,7 +53,7 @@ use std::path::{Path, PathBuf};
 use muse_model::{Airspace, Instant};
 use rusqlite::Connection;
 
-pub use legacy::ImportReport;
+pub use legacy::{ImportReport, LOG_FILE};
 pub use open::Opening;
 pub(crate) use open::{connect, sync_dir, write_schema};
 pub use queries::Checked;
@@ -182,7 +182,7 @@ pub struct Store {
 
 impl Store {
     /// The database's path.
-    pub fn path(&self) -> &Path {
+    pub(crate) fn path(&self) -> &Path {
         &self.path
     }
 
@@ -202,7 +202,7 @@ impl Store {
     }
 
     /// Writes a flight as it now stands: a new one (`new`) or a change of a stored one.
-    pub fn put_flight(
+    pub(crate) fn put_flight(
         &mut self,
         airspace: &Airspace,
         entry: &FlightEntry,
@@ -215,7 +215,7 @@ impl Store {
     }
 
     /// Writes an event.
-    pub fn put_event(&mut self, event: &Event) -> Result<(), StoreError> {
+    pub(crate) fn put_event(&mut self, event: &Event) -> Result<(), StoreError> {
         self.begin()?;
         write_event(&self.conn, event)?;
         self.written += 1;
@@ -223,7 +223,7 @@ impl Store {
     }
 
     /// Writes an announced zone: a new one, or the withdrawal of a stored one.
-    pub fn put_zone(&mut self, zone: &StoredZone) -> Result<(), StoreError> {
+    pub(crate) fn put_zone(&mut self, zone: &StoredZone) -> Result<(), StoreError> {
         self.begin()?;
         write_zone(&self.conn, zone)?;
         self.written += 1;
@@ -231,7 +231,7 @@ impl Store {
     }
 
     /// Writes the withdrawal of the stored zone `id` at `at`.
-    pub fn put_zone_withdrawn(&mut self, id: &str, at: Instant) -> Result<(), StoreError> {
+    pub(crate) fn put_zone_withdrawn(&mut self, id: &str, at: Instant) -> Result<(), StoreError> {
         let mut zone = self
             .zones()?
             .into_iter()
@@ -246,7 +246,7 @@ impl Store {
 
     /// Makes everything written since the last commit durable (one transaction, synced). Only
     /// after this returns may the answers it holds be sent. Returns the rows committed.
-    pub fn commit(&mut self) -> Result<usize, StoreError> {
+    pub(crate) fn commit(&mut self) -> Result<usize, StoreError> {
         if !self.in_transaction {
             return Ok(0);
         }
@@ -265,7 +265,7 @@ impl Store {
     /// frame copied: so now and then the writer finishes the copy itself (the frames since
     /// the thread's last pass, and one sync of the database file), and the next write starts
     /// the WAL afresh. Without this the WAL grows for as long as writes keep coming.
-    pub fn tidy(&mut self) {
+    pub(crate) fn tidy(&mut self) {
         if self.in_transaction || self.last_wal_restart.elapsed() < WAL_RESTART {
             return;
         }
@@ -275,18 +275,18 @@ impl Store {
     }
 
     /// Every announced zone, in announcement order.
-    pub fn zones(&self) -> Result<Vec<StoredZone>, StoreError> {
+    pub(crate) fn zones(&self) -> Result<Vec<StoredZone>, StoreError> {
         queries::zones(&self.conn, &self.label())
     }
 
     /// How many flights hold a reservation that ends at or after `now`.
-    pub fn count_holding(&self, now: Instant) -> Result<u64, StoreError> {
+    pub(crate) fn count_holding(&self, now: Instant) -> Result<u64, StoreError> {
         queries::count_holding(&self.conn, now)
     }
 
     /// The flights holding a reservation that ends at or after `now` (checked), in answer
     /// order; `progress` is told how many were read so far.
-    pub fn holding(
+    pub(crate) fn holding(
         &self,
         airspace: &Airspace,
         now: Instant,
@@ -306,7 +306,7 @@ impl Store {
     }
 
     /// The last sequence number and the last event id stored (0: none).
-    pub fn last_keys(&self) -> Result<(u64, u64), StoreError> {
+    pub(crate) fn last_keys(&self) -> Result<(u64, u64), StoreError> {
         Ok((
             queries::max_key(&self.conn, "flights", "seq")?,
             queries::max_key(&self.conn, "events", "id")?,
@@ -314,7 +314,7 @@ impl Store {
     }
 
     /// Bytes on disk: the database and its WAL.
-    pub fn bytes(&self) -> u64 {
+    pub(crate) fn bytes(&self) -> u64 {
         let size = |p: PathBuf| std::fs::metadata(p).map_or(0, |m| m.len());
         size(self.path.clone()) + size(self.path.with_extension("db-wal"))
     }

@@ -11,9 +11,7 @@ use std::time::Duration;
 
 use muse_model::testing::{joined, station};
 use muse_model::{Airspace, FlightParams, Millis, UtcOffset, Zone};
-use muse_service::auth::Tokens;
-use muse_service::state::{Clock, ServiceWorld};
-use muse_service::{Options, start};
+use muse_service::{Clock, Options, ServiceWorld, Tokens, start};
 use serde_json::{Value, json};
 
 fn airspace() -> Airspace {
@@ -716,7 +714,7 @@ async fn state_survives_a_restart_on_the_same_folder() {
 #[tokio::test]
 async fn every_listed_route_is_served() {
     let s = Service::start("routes", |_| {}).await;
-    for (method, path) in muse_service::api::ROUTES {
+    for (method, path) in muse_service::ROUTES {
         let method = reqwest::Method::from_bytes(method.to_uppercase().as_bytes()).unwrap();
         let path = path.replace("{id}", "some-id");
         if path == "/v1/events" {
@@ -738,7 +736,7 @@ async fn every_listed_route_is_served() {
 
 #[test]
 fn openapi_describes_every_route() {
-    let doc: Value = serde_json::from_str(muse_service::api::OPENAPI).unwrap();
+    let doc: Value = serde_json::from_str(muse_service::OPENAPI).unwrap();
     let mut described = Vec::new();
     for (path, item) in doc["paths"].as_object().unwrap() {
         for method in item.as_object().unwrap().keys() {
@@ -746,7 +744,7 @@ fn openapi_describes_every_route() {
         }
     }
     described.sort();
-    let mut routes: Vec<(String, String)> = muse_service::api::ROUTES
+    let mut routes: Vec<(String, String)> = muse_service::ROUTES
         .iter()
         .map(|(m, p)| ((*m).to_owned(), (*p).to_owned()))
         .collect();

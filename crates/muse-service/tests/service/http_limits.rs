@@ -11,10 +11,7 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use muse_model::{Airspace, FlightParams, Millis, UtcOffset};
-use muse_service::auth::Tokens;
-use muse_service::http::Limits;
-use muse_service::state::{Clock, ServiceWorld};
-use muse_service::{Options, start};
+use muse_service::{Clock, Limits, Options, ServiceWorld, Tokens, start};
 use serde_json::{Value, json};
 use tokio::io::{AsyncReadExt as _, AsyncWriteExt as _};
 use tokio::net::TcpStream;

@@ -5,8 +5,7 @@
 use std::io::Write as _;
 
 use muse_model::{Airspace, FlightParams, Instant, Millis, UtcOffset};
-use muse_service::state::{Clock, ServiceWorld};
-use muse_service::{Options, start};
+use muse_service::{Clock, Options, ServiceWorld, start};
 use serde_json::{Value, json};
 
 /// `A — B — C`, 1 km apart.

@@ -5,7 +5,7 @@ use muse_model::{Millis, Plan, UtcOffset};
 use serde::Serialize;
 
 use super::distribution::Distribution;
-use crate::day::DayRun;
+use crate::replay::Replay;
 
 /// One announced zone, as reported.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
@@ -54,8 +54,8 @@ pub struct ReplanSummary {
 }
 
 impl ReplanSummary {
-    /// The section for `run`, instants written in `offset`.
-    pub fn of(run: &DayRun, offset: UtcOffset) -> Self {
+    /// The section for the day `run` planned, instants written in `offset`.
+    pub fn of(run: &Replay, offset: UtcOffset) -> Self {
         let mut s = ReplanSummary {
             zones_announced: run.announcements.len(),
             zones: run
@@ -122,7 +122,7 @@ mod tests {
         // opens again (nine minutes late); the one booked at 09:30 plans around the zone.
         let run = plan_requests(&airspace(), &[zone()], params(), requests(), |_| {}).unwrap();
         assert_ne!(run.zones, KnownZones::default());
-        let s = ReplanSummary::of(&run, UtcOffset::SINGAPORE);
+        let s = ReplanSummary::of(&run.replay, UtcOffset::SINGAPORE);
         assert_eq!(s.zones_announced, 1);
         assert_eq!(s.zones[0].announced, "1970-01-01T17:00:00.000+08:00");
         assert_eq!((s.flights_affected, s.airborne_affected), (1, 0));

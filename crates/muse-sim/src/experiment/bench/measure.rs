@@ -72,13 +72,13 @@ pub fn measure(
         out_of_range: 0,
         unreachable: 0,
         no_feasible_plan: 0,
-        planner_s: run.planner_wall.as_secs_f64(),
+        planner_s: run.replay.planner_wall.as_secs_f64(),
         expanded: 0,
         demand_s,
         rss_before_planning_bytes,
         peak_rss_bytes: None,
     };
-    for o in &run.outcomes {
+    for o in &run.replay.outcomes {
         result.expanded += o.expanded;
         match o.result {
             Ok(_) => result.planned += 1,

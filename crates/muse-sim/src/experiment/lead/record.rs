@@ -63,14 +63,19 @@ impl LeadRecord {
         booking_lead: BookingLead,
         run: &DayRun,
     ) -> Self {
-        let s = ReplanSummary::of(run, UtcOffset(0));
+        let s = ReplanSummary::of(&run.replay, UtcOffset(0));
         LeadRecord {
             case,
             count: run.requests.len(),
             rep,
             seed,
             booking_lead,
-            planned_at_booking: run.outcomes.iter().filter(|o| o.result.is_ok()).count(),
+            planned_at_booking: run
+                .replay
+                .outcomes
+                .iter()
+                .filter(|o| o.result.is_ok())
+                .count(),
             delivered: s.delivered,
             delivery_rate: s.delivery_rate,
             affected: s.flights_affected,
@@ -80,8 +85,8 @@ impl LeadRecord {
             cancelled: s.cancelled,
             contingency: s.contingency,
             mean_extra_delay_s: (s.replanned > 0).then_some(s.extra_delay_s.mean),
-            planner_ms: run.planner_wall.as_secs_f64() * 1e3,
-            replan_expanded: run.replan_expanded,
+            planner_ms: run.replay.planner_wall.as_secs_f64() * 1e3,
+            replan_expanded: run.replay.replan_expanded,
         }
     }
 }

@@ -4,8 +4,12 @@
 use muse_formats::zones::read_zones;
 use serde_json::Value;
 
+use super::book::NewZone;
 use crate::flights::{ID_RULE, valid_id};
-use crate::zones::NewZone;
+
+/// Largest `POST /v1/zones` body, bytes (zones may carry long polygons; only the authority
+/// may send one).
+pub const MAX_ZONE_BODY: usize = 1 << 20;
 
 /// Why a body is not a zone to announce: the field at fault (as `muse_formats` names it) and
 /// what is wrong.
@@ -28,16 +32,6 @@ impl BodyError {
 
 /// Reads a `POST /v1/zones` body: one ED-318 feature, or a `FeatureCollection` of exactly
 /// one, without `announced`.
-///
-/// ```
-/// use muse_service::api::zone_body::parse_feature;
-/// let body = br#"{"type": "Feature", "properties": {"identifier": "Z", "nodes": ["B"]}, "geometry": null}"#;
-/// let zone = parse_feature(body).unwrap();
-/// assert_eq!((zone.id.as_str(), zone.zones[0].node_ids.as_slice()), ("Z", &["B".to_owned()][..]));
-/// let e = parse_feature(br#"{"type": "Feature", "properties": {"identifier": "Z", "nodes": ["B"],
-///     "announced": "2026-01-05T14:00:00+08:00"}}"#).unwrap_err();
-/// assert_eq!(e.field.as_deref(), Some("properties.announced"));
-/// ```
 pub fn parse_feature(body: &[u8]) -> Result<NewZone, BodyError> {
     let root: Value = serde_json::from_slice(body)
         .map_err(|e| BodyError::new(None, format!("the body is not valid JSON: {e}")))?;
@@ -117,7 +111,23 @@ pub fn parse_feature(body: &[u8]) -> Result<NewZone, BodyError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::zones::tests::ZONE;
+    use crate::zones::book::tests::ZONE;
+
+    #[test]
+    fn a_feature_is_read_and_an_announcement_instant_refused() {
+        let body = br#"{"type": "Feature", "properties": {"identifier": "Z", "nodes": ["B"]}, "geometry": null}"#;
+        let zone = parse_feature(body).unwrap();
+        assert_eq!(
+            (zone.id.as_str(), zone.zones[0].node_ids.as_slice()),
+            ("Z", &["B".to_owned()][..])
+        );
+        let e = parse_feature(
+            br#"{"type": "Feature", "properties": {"identifier": "Z", "nodes": ["B"],
+            "announced": "2026-01-05T14:00:00+08:00"}}"#,
+        )
+        .unwrap_err();
+        assert_eq!(e.field.as_deref(), Some("properties.announced"));
+    }
 
     #[test]
     fn bodies_are_read_or_refused_with_the_field_at_fault() {

@@ -1,12 +1,6 @@
-//! Zones announced during the day (SPEC §11): what the service knows of the zones announced
-//! so far (for `GET /v1/zones`, for refusing an id twice, and for withdrawals). How a
-//! `POST /v1/zones` body becomes a [`NewZone`] is the API's business (`api::zone_body`).
-//!
-//! An announced zone is one ED-318 feature. The service sets its announcement instant (its
-//! clock's now when the planner takes it); a body that gives one is refused. Its id is the
-//! feature's identifier (a feature that reads as several zones, `ID#1`, `ID#2`, … — several
-//! circles, say — is announced and withdrawn as one, under `ID`). An id is never reused: not
-//! that of a zone known from the start, nor that of a zone announced before, withdrawn or not.
+//! The zones the service knows: those known from the start and those announced so far (for
+//! `GET /v1/zones`, for refusing an id twice, and for withdrawals), and a stored zone read
+//! back. How a `POST /v1/zones` body becomes a [`NewZone`] is in the sibling `body`.
 
 use std::collections::HashSet;
 
@@ -20,7 +14,7 @@ pub struct NewZone {
     pub id: String,
     /// The ED-318 feature as received, as compact JSON (what the store keeps).
     pub feature: String,
-    /// The zones it reads as (one, or one per area: see the module docs), without
+    /// The zones it reads as (one, or one per area: see [`crate::zones`]), without
     /// announcement instant.
     pub zones: Vec<Zone>,
 }
@@ -94,11 +88,6 @@ impl ZoneBook {
     /// The announced zone `id`.
     pub fn get(&self, id: &str) -> Option<&AnnouncedZone> {
         self.announced.iter().find(|z| z.id == id)
-    }
-
-    /// The zones announced, in announcement order.
-    pub fn announced(&self) -> &[AnnouncedZone] {
-        &self.announced
     }
 
     /// Every zone as `GET /v1/zones` lists it: those known from the start, then the parts of
