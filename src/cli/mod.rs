@@ -13,6 +13,7 @@ mod optimize;
 mod output;
 mod overrides;
 mod plan;
+mod plans_run;
 mod progress;
 mod ranges;
 mod recorded;

@@ -20,6 +20,7 @@ use muse_sim::demand::BookingLead;
 use muse_sim::experiment::Shard;
 use muse_siting::baselines::{kmeans_sites, max_coverage};
 use muse_siting::greedy::{BATCH, first_round, lazy_greedy_from};
+use muse_siting::shard::{FILE, ShardFile};
 use muse_siting::{Evaluation, Siting, SitingInput};
 
 use super::common::{FlightArgs, SINGAPORE_HDB, customers_file, read_customers};
@@ -451,14 +452,14 @@ fn run_shard(
     let took = started.elapsed().as_secs_f64();
     let n = first.evaluations.len() + 1;
     let shown = files.shown().to_owned();
-    files.write_shard(&shards::shard_json(problem, shard, siting, &first))?;
+    files.write_shard(&ShardFile::new(problem, shard, siting, &first).to_json())?;
     eprintln!(
         "  shard         {}/{}: {n} evaluations in {took:.1} s ({:.1} per second); wrote \
          {shown}/{}; finish with --from-shards and every shard's folder",
         shard.index,
         shard.of,
         n as f64 / took.max(1e-9),
-        shards::FILE
+        FILE
     );
     Ok(ExitCode::SUCCESS)
 }

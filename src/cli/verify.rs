@@ -1,40 +1,41 @@
 //! `muse verify`: check a plans file against the rules, independently of the planner.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{ArgMatches, Args};
-use muse_formats::plans::{PlanEntry, PlanItem, read_plan_entries_file};
+use muse_formats::plans::{PlanEntry, PlanItem};
 use muse_model::RejectReason;
 use muse_verify::recorded::{Recorded, zones_for};
 use muse_verify::verify_known_in;
 
-use super::common::{FlightArgs, WorldArgs};
-use super::layers::LayersArgs;
-use super::recorded;
+use super::common::FlightArgs;
+use super::plans_run::RunArgs;
 
 /// Arguments of `muse verify`.
 #[derive(Debug, Args)]
+#[command(
+    mut_arg("plans", |a| a.help(PLANS_HELP)),
+    mut_arg("summary", |a| a.help(SUMMARY_HELP))
+)]
 pub struct VerifyArgs {
-    /// Plans file (JSON Lines, as written by `muse plan`, or a `muse serve` listing saved one
-    /// flight a line).
-    #[arg(long, value_name = "FILE")]
-    plans: PathBuf,
-    /// The run's summary, whose world and parameters to check with (each option given here
-    /// overrides its own). Default: `summary.json` beside the plans file, if there is one.
-    #[arg(long, value_name = "FILE")]
-    summary: Option<PathBuf>,
     #[command(flatten)]
-    world: WorldArgs,
-    #[command(flatten)]
-    layers: LayersArgs,
+    run: RunArgs,
     #[command(flatten)]
     flight: FlightArgs,
     /// Print at most this many violations (all are counted), from 0 to 1000000.
     #[arg(long, default_value_t = 50, allow_negative_numbers = true, value_parser = super::ranges::max_listed)]
     max_listed: usize,
 }
+
+/// The help of `--plans` here.
+const PLANS_HELP: &str = "Plans file (JSON Lines, as written by `muse plan`, or a `muse serve` \
+                          listing saved one flight a line)";
+
+/// The help of `--summary` here.
+const SUMMARY_HELP: &str = "The run's summary, whose world and parameters to check with (each \
+                            option given here overrides its own). Default: `summary.json` \
+                            beside the plans file, if there is one";
 
 /// The statuses a plans file's lines may have, in the order the summary counts them.
 const STATUSES: [&str; 6] = [
@@ -51,25 +52,16 @@ const STATUSES: [&str; 6] = [
 /// simulate`, and those of a service listing saved one flight a line (flights cancelled by
 /// their operator and rejected requests are read and counted, and fly nothing).
 pub fn run(args: &VerifyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
-    let summary = recorded::find(&args.plans, args.summary.as_deref())?;
-    let (world, params) = recorded::world_of_run(
-        &args.plans,
-        summary.as_ref(),
-        &args.world,
-        &args.layers,
-        Some(&args.flight),
-        matches,
-    )?;
-    let params = params.expect("the flight parameters were asked for");
+    let (run, params) = args.run.files()?.open_with_flight(&args.flight, matches)?;
+    let (world, entries) = (&run.world, &run.entries);
     let a = &world.airspace;
-    let entries = read_plan_entries_file(&args.plans, a)?;
     let records = entries.iter().filter_map(|e| e.record().cloned()).collect();
     let recorded =
-        Recorded::new(records, a).map_err(|e| anyhow::anyhow!("{}: {e}", args.plans.display()))?;
+        Recorded::new(records, a).map_err(|e| anyhow::anyhow!("{}: {e}", run.plans.display()))?;
     let flights = recorded.flights();
     let zones = zones_for(a, &world.zones, &flights)?;
     let violations = verify_known_in(a, &zones, &params, &flights, world.offset);
-    let read = lines_read(&entries);
+    let read = lines_read(entries);
     let mut report = String::new();
     let code = if violations.is_empty() {
         let changed = entries.iter().filter(|e| !e.changes().is_empty()).count();

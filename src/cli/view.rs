@@ -6,60 +6,49 @@ use std::process::ExitCode;
 
 use anyhow::Context as _;
 use clap::{ArgMatches, Args};
-use muse_formats::plans::{OperatorCancellation, PlanItem, PlanRecord, read_plan_entries_file};
+use muse_formats::plans::{OperatorCancellation, PlanItem, PlanRecord};
 use muse_model::{Instant, Millis};
 
-use super::common::{World, WorldArgs};
-use super::layers::LayersArgs;
-use super::output::write_atomically;
-use super::{output, recorded};
+use super::common::World;
+use super::output::{self, write_atomically};
+use super::plans_run::RunArgs;
 
 /// Arguments of `muse view`.
 #[derive(Debug, Args)]
+#[command(
+    mut_arg("plans", |a| a.help(PLANS_HELP)),
+    mut_arg("summary", |a| a.help(SUMMARY_HELP))
+)]
 pub struct ViewArgs {
-    /// Plans file (JSON Lines, as written by `muse simulate` or `muse plan`).
-    #[arg(long, value_name = "FILE")]
-    plans: PathBuf,
-    /// The day's summary: shown beside the map, and its world drawn (each option given here
-    /// overrides its own). Default: `summary.json` beside the plans file, if there is one.
-    #[arg(long, value_name = "FILE")]
-    summary: Option<PathBuf>,
     #[command(flatten)]
-    world: WorldArgs,
-    #[command(flatten)]
-    layers: LayersArgs,
+    run: RunArgs,
     /// Output file (`-`: standard output).
     #[arg(long, value_name = "FILE", default_value = "view.html")]
     out: PathBuf,
 }
 
+/// The help of `--plans` here.
+const PLANS_HELP: &str = "Plans file (JSON Lines, as written by `muse simulate` or `muse plan`)";
+
+/// The help of `--summary` here.
+const SUMMARY_HELP: &str = "The day's summary: shown beside the map, and its world drawn (each \
+                            option given here overrides its own). Default: `summary.json` \
+                            beside the plans file, if there is one";
+
 /// Runs `muse view`.
 pub fn run(args: &ViewArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
-    let found = recorded::find(&args.plans, args.summary.as_deref())?;
-    let inputs = recorded::plans_inputs(
-        &args.plans,
-        found.as_ref(),
-        args.summary.is_some(),
-        &args.world,
-    );
-    let out = output::file("--out", &args.out, &inputs)?;
-    let (world, _) = recorded::world_of_run(
-        &args.plans,
-        found.as_ref(),
-        &args.world,
-        &args.layers,
-        None,
-        matches,
-    )?;
+    let files = args.run.files()?;
+    let out = output::file("--out", &args.out, &files.inputs())?;
+    let run = files.open(matches)?;
     let mut records = Vec::new();
     let mut cancelled = Vec::new();
-    for entry in read_plan_entries_file(&args.plans, &world.airspace)? {
+    for entry in run.entries {
         match entry.item {
             PlanItem::Record(r) => records.push(r),
             PlanItem::CancelledByOperator(c) => cancelled.push(c),
         }
     }
-    let summary = match &found {
+    let summary = match &run.summary {
         Some(s) => {
             let text = std::fs::read_to_string(&s.path)
                 .with_context(|| format!("reading {}", s.path.display()))?;
@@ -70,7 +59,7 @@ pub fn run(args: &ViewArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
         }
         None => None,
     };
-    let (html, drawn) = view_page(&world, &records, &cancelled, summary)?;
+    let (html, drawn) = view_page(&run.world, &records, &cancelled, summary)?;
     out.write(&html)?;
     output::say(
         out.is_stdout(),
@@ -78,7 +67,7 @@ pub fn run(args: &ViewArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
             "wrote {out} ({:.1} MB): {drawn} flights of {} requests{}; open it in a browser, no network needed",
             html.len() as f64 / 1e6,
             records.len() + cancelled.len(),
-            found.map_or(String::new(), |s| format!(
+            run.summary.map_or(String::new(), |s| format!(
                 ", summary from {}",
                 s.path.display()
             ))

@@ -5,6 +5,8 @@
 //! - [`ids`]: dense node and edge indices;
 //! - [`time`]: integer-millisecond instants and durations, RFC 3339 at the edges;
 //! - [`coords`]: WGS84 and SVY21 (EPSG:3414) coordinates and geodesic lengths;
+//! - [`frame`]: metres per degree at a latitude, and the local metric frame (metres east and
+//!   north of an origin) built on them;
 //! - [`units`]: cruise speed and the exact edge traversal time `w(e)`; lengths and heights
 //!   exact to the micrometre;
 //! - [`airspace`]: the airspace graph with a compact adjacency layout;
@@ -19,6 +21,7 @@
 
 pub mod airspace;
 pub mod coords;
+pub mod frame;
 pub mod ids;
 pub mod layers;
 pub mod params;
@@ -32,6 +35,7 @@ pub mod zone;
 
 pub use airspace::{Adjacent, Airspace, AirspaceError, Edge, EdgeKind, Node, NodeKind};
 pub use coords::{LonLat, SVY21_PROJ, Svy21, WGS84_PROJ};
+pub use frame::{LocalFrame, MetresPer};
 pub use ids::{EdgeId, NodeId};
 pub use layers::{HeadingRule, Layers, LayersError};
 pub use params::{BatterySwap, EdgeRule, FlightParams};

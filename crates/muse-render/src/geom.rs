@@ -5,18 +5,11 @@
 
 use geo::Simplify;
 use geo_types::{Coord, LineString, Polygon};
-
-/// Metres per degree of latitude and of longitude at latitude `lat_deg` on WGS84
-/// (the usual series expansion; exact to well under a metre per degree).
-pub(crate) fn metres_per_degree(lat_deg: f64) -> (f64, f64) {
-    let phi = lat_deg.to_radians();
-    let lat = 111_132.954 - 559.822 * (2.0 * phi).cos() + 1.175 * (4.0 * phi).cos();
-    let lon = 111_412.84 * phi.cos() - 93.5 * (3.0 * phi).cos();
-    (lat, lon)
-}
+use muse_model::MetresPer;
 
 /// Equirectangular projection with the longitude axis scaled by the ratio of metres per
-/// degree at the mean latitude (≈ cos φ), so that distances look right on a small map.
+/// degree at the mean latitude (≈ cos φ), so that distances look right on a small map. The
+/// metres per degree are [`MetresPer::degree_by_series`], the maps' approximation.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Projection {
     /// West edge of the extent, degrees.
@@ -105,8 +98,8 @@ impl Extent {
 
     /// Width over height once projected (metres over metres).
     pub fn aspect(self) -> f64 {
-        let (m_lat, m_lon) = metres_per_degree(self.mid_lat());
-        ((self.lon1 - self.lon0) * m_lon) / ((self.lat1 - self.lat0) * m_lat)
+        let m = MetresPer::degree_by_series(self.mid_lat());
+        ((self.lon1 - self.lon0) * m.lon) / ((self.lat1 - self.lat0) * m.lat)
     }
 
     pub fn mid_lat(self) -> f64 {
@@ -117,9 +110,9 @@ impl Extent {
 impl Projection {
     /// Maps `extent` onto a box `width_px` wide whose top-left corner is at (`x0`, `y0`).
     pub fn fit(extent: Extent, x0: f64, y0: f64, width_px: f64) -> Projection {
-        let (m_lat, m_lon) = metres_per_degree(extent.mid_lat());
+        let m = MetresPer::degree_by_series(extent.mid_lat());
         let kx = width_px / (extent.lon1 - extent.lon0);
-        let ky = kx * m_lat / m_lon;
+        let ky = kx * m.lat / m.lon;
         Projection {
             lon0: extent.lon0,
             lat1: extent.lat1,
@@ -127,7 +120,7 @@ impl Projection {
             ky,
             x0,
             y0,
-            px_per_km: ky * 1_000.0 / m_lat,
+            px_per_km: ky * 1_000.0 / m.lat,
         }
     }
 

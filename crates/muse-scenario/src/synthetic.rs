@@ -27,9 +27,9 @@
 //!   (up to 31 km there) that collinear joining does not remove.
 //! - **Positions:** a point `(x, y)` metres east and north of [`CENTRE`] is at latitude
 //!   `φ₀ + y / M` and longitude `λ₀ + x / (N cos φ₀)`, with `M`, `N` the WGS84 meridian and
-//!   prime-vertical radii of curvature at `φ₀` (an equirectangular plane; at 1.35° N its
-//!   scale error is below 0.1 % within a few hundred kilometres), rounded to 7 decimals
-//!   (about 1 cm) like the Singapore stations.
+//!   prime-vertical radii of curvature at `φ₀` ([`MetresPer::radian`]; an equirectangular
+//!   plane; at 1.35° N its scale error is below 0.1 % within a few hundred kilometres),
+//!   rounded to 7 decimals (about 1 cm) like the Singapore stations.
 //! - **Stations:** `max(2, round(station_share · n))` of the nodes, the first of a
 //!   Fisher–Yates shuffle of `0..n` (from the last index down, swapping `i` with
 //!   `⌊u64 · (i + 1) / 2⁶⁴⌋`) driven by the same generator, after the points for
@@ -46,7 +46,7 @@ use std::fmt;
 
 use muse_airspace::builder::{BuildOptions, build_airspace};
 use muse_airspace::plane::Plane as BuildPlane;
-use muse_model::{Airspace, Edge, LonLat, Node, NodeId, NodeKind};
+use muse_model::{Airspace, Edge, LonLat, MetresPer, Node, NodeId, NodeKind};
 use rand_chacha::ChaCha8Rng;
 use rand_chacha::rand_core::{Rng, SeedableRng};
 
@@ -205,32 +205,16 @@ fn below(rng: &mut ChaCha8Rng, bound: usize) -> usize {
     ((u128::from(rng.next_u64()) * bound as u128) >> 64) as usize
 }
 
-/// Metres east and north of [`CENTRE`] to WGS84 degrees (equirectangular, see the module
-/// documentation), rounded to 7 decimals.
-struct Plane {
-    metres_per_rad_lat: f64,
-    metres_per_rad_lon: f64,
-}
-
-impl Plane {
-    fn new() -> Self {
-        const A: f64 = 6_378_137.0;
-        const F: f64 = 1.0 / 298.257_223_563;
-        let e2 = F * (2.0 - F);
-        let phi = CENTRE.lat.to_radians();
-        let w = (1.0 - e2 * phi.sin().powi(2)).sqrt();
-        Plane {
-            metres_per_rad_lat: A * (1.0 - e2) / (w * w * w),
-            metres_per_rad_lon: A / w * phi.cos(),
-        }
-    }
-
-    fn to_lon_lat(&self, x: f64, y: f64) -> LonLat {
-        LonLat::new(
-            round_to_decimals(CENTRE.lon + (x / self.metres_per_rad_lon).to_degrees()),
-            round_to_decimals(CENTRE.lat + (y / self.metres_per_rad_lat).to_degrees()),
-        )
-    }
+/// The point `x` metres east and `y` north of [`CENTRE`] (equirectangular, see the module
+/// documentation; `per_radian` is [`MetresPer::radian`] at the centre's latitude), its degrees
+/// rounded to 7 decimals. Metres become radians, then degrees: the order every synthetic
+/// airspace was made in (a division by metres per degree differs in the last bit, which the
+/// rounding can show).
+fn to_lon_lat(per_radian: MetresPer, x: f64, y: f64) -> LonLat {
+    LonLat::new(
+        round_to_decimals(CENTRE.lon + (x / per_radian.lon).to_degrees()),
+        round_to_decimals(CENTRE.lat + (y / per_radian.lat).to_degrees()),
+    )
 }
 
 fn node_id(i: usize) -> String {
@@ -253,7 +237,7 @@ fn node_id(i: usize) -> String {
 pub fn synthetic(spec: &SyntheticSpec) -> Result<Airspace, ScenarioError> {
     spec.validate()?;
     let mut rng = ChaCha8Rng::seed_from_u64(spec.seed);
-    let plane = Plane::new();
+    let per_radian = MetresPer::radian(CENTRE.lat);
     let n = spec.nodes;
     let node = |i: usize, pos: LonLat| Node {
         id: node_id(i),
@@ -273,7 +257,10 @@ pub fn synthetic(spec: &SyntheticSpec) -> Result<Airspace, ScenarioError> {
             let nodes: Vec<Node> = (0..n)
                 .map(|i| {
                     let (r, c) = (i / cols, i % cols);
-                    node(i, plane.to_lon_lat(x0 + c as f64 * s, y0 - r as f64 * s))
+                    node(
+                        i,
+                        to_lon_lat(per_radian, x0 + c as f64 * s, y0 - r as f64 * s),
+                    )
                 })
                 .collect();
             let mut edges = Vec::with_capacity(2 * n);
@@ -301,7 +288,7 @@ pub fn synthetic(spec: &SyntheticSpec) -> Result<Airspace, ScenarioError> {
             while nodes.len() < n {
                 let x = (uniform(&mut rng) - 0.5) * side;
                 let y = (uniform(&mut rng) - 0.5) * side;
-                let pos = plane.to_lon_lat(x, y);
+                let pos = to_lon_lat(per_radian, x, y);
                 let key = (
                     (pos.lon * 1e7).round() as i64,
                     (pos.lat * 1e7).round() as i64,

@@ -13,7 +13,9 @@
 //! - [`evaluate`](mod@evaluate): one pad set's deliveries, day by day ([`Evaluation`]);
 //! - [`greedy`]: lazy greedy by exact simulation, pick by pick with the marginal gain and its
 //!   confidence interval;
-//! - [`baselines`]: the coverage models it is compared with: maximum coverage and k-means.
+//! - [`baselines`]: the coverage models it is compared with: maximum coverage and k-means;
+//! - [`shard`]: the greedy's first round cut into shards, each a file (`shard.json`), and the
+//!   files merged back.
 //!
 //! ```
 //! use muse_siting::{Siting, SitingInput};
@@ -32,6 +34,7 @@ pub mod error;
 pub mod evaluate;
 pub mod greedy;
 pub mod problem;
+pub mod shard;
 
 pub use error::SitingError;
 pub use evaluate::Evaluation;

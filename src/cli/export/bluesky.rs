@@ -6,27 +6,19 @@ use std::process::ExitCode;
 
 use clap::{ArgMatches, Args};
 use muse_export::bluesky::{Flight, Options, scenario};
-use muse_formats::plans::read_plan_entries_file;
 
-use super::super::common::{FlightArgs, WorldArgs};
-use super::super::layers::LayersArgs;
-use super::super::{output, recorded};
+use super::super::common::FlightArgs;
+use super::super::output;
+use super::super::plans_run::RunArgs;
 
 /// Arguments of `muse export bluesky`.
 #[derive(Debug, Args)]
+#[command(mut_arg("summary", |a| a.help(SUMMARY_HELP)))]
 pub struct BlueskyArgs {
-    /// Plans file (JSON Lines, as written by `muse plan` or `muse simulate`).
-    #[arg(long, value_name = "FILE")]
-    plans: PathBuf,
-    /// The run's summary, whose world and cruise speed to write with (each option given here
-    /// overrides its own). Default: `summary.json` beside the plans file, if there is one.
-    #[arg(long, value_name = "FILE")]
-    summary: Option<PathBuf>,
-    // Boxed: the world's options are large, and `muse export`'s formats share one enum.
+    // Boxed: the run's and flight options are large, and `muse export`'s formats share one
+    // enum.
     #[command(flatten)]
-    world: Box<WorldArgs>,
-    #[command(flatten)]
-    layers: Box<LayersArgs>,
+    run: Box<RunArgs>,
     #[command(flatten)]
     flight: Box<FlightArgs>,
     /// BlueSky aircraft type of every flight: an OpenAP rotorcraft such as `M600` (DJI Matrice
@@ -38,37 +30,22 @@ pub struct BlueskyArgs {
     out: PathBuf,
 }
 
+/// The help of `--summary` here.
+const SUMMARY_HELP: &str = "The run's summary, whose world and cruise speed to write with (each \
+                            option given here overrides its own). Default: `summary.json` \
+                            beside the plans file, if there is one";
+
 /// Runs `muse export bluesky`: every flight that flies (planned, replanned or diverted: its
 /// final plan) becomes BlueSky commands; rejected, unserved and cancelled requests write
 /// nothing.
 pub fn run(args: &BlueskyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
-    let found = recorded::find(&args.plans, args.summary.as_deref())?;
-    let inputs = recorded::plans_inputs(
-        &args.plans,
-        found.as_ref(),
-        args.summary.is_some(),
-        &args.world,
-    );
-    let out = output::file("--out", &args.out, &inputs)?;
-    let (world, params) = recorded::world_of_run(
-        &args.plans,
-        found.as_ref(),
-        &args.world,
-        &args.layers,
-        Some(&args.flight),
-        matches,
-    )?;
-    let params = params.expect("the flight parameters were asked for");
-    let entries = read_plan_entries_file(&args.plans, &world.airspace)?;
-    let records: Vec<_> = entries.iter().filter_map(|e| e.record()).collect();
-    let flights: Vec<Flight<'_>> = records
-        .iter()
-        .filter_map(|r| {
-            r.final_plan().map(|plan| Flight {
-                request: &r.request,
-                plan,
-            })
-        })
+    let files = args.run.files()?;
+    let out = output::file("--out", &args.out, &files.inputs())?;
+    let (run, params) = files.open_with_flight(&args.flight, matches)?;
+    let (world, entries) = (&run.world, &run.entries);
+    let flights: Vec<Flight<'_>> = run
+        .flown()
+        .map(|(request, plan)| Flight { request, plan })
         .collect();
     let options = Options {
         aircraft_type: args.aircraft_type.clone(),
@@ -79,7 +56,7 @@ pub fn run(args: &BlueskyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode>
         if matches!(e, muse_export::bluesky::BlueskyError::Type(_)) {
             anyhow::anyhow!("--type: {e}")
         } else {
-            anyhow::anyhow!("{}: {e}", args.plans.display())
+            anyhow::anyhow!("{}: {e}", run.plans.display())
         }
     })?;
     out.write(&written.text)?;

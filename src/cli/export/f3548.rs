@@ -9,13 +9,11 @@ use clap::{ArgMatches, Args};
 use muse_export::f3548::{
     self, F3548Error, Flight, IntentEntry, MAX_BUFFER_M, MIN_VERTICAL_BUFFER_M, Options, intersect,
 };
-use muse_formats::plans::{PlanItem, read_plan_entries_file};
 use muse_model::Instant;
 
-use crate::cli::common::WorldArgs;
-use crate::cli::layers::LayersArgs;
+use crate::cli::output;
+use crate::cli::plans_run::RunArgs;
 use crate::cli::ranges::in_range;
-use crate::cli::{output, recorded};
 
 /// `--buffer-m`: from 0 to 1 km.
 fn buffer_m(text: &str) -> Result<f64, String> {
@@ -35,18 +33,9 @@ fn vertical_buffer_m(text: &str) -> Result<f64, String> {
 /// Arguments of `muse export f3548`.
 #[derive(Debug, Args)]
 pub struct F3548Args {
-    /// Plans file (JSON Lines, as written by `muse plan` or `muse simulate`).
-    #[arg(long, value_name = "FILE")]
-    plans: PathBuf,
-    /// The day's summary, whose world the plans were made on (each option given here
-    /// overrides its own). Default: `summary.json` beside the plans file, if there is one.
-    #[arg(long, value_name = "FILE")]
-    summary: Option<PathBuf>,
-    // Boxed: the world's options are large, and `muse export`'s formats share one enum.
+    // Boxed: the run's options are large, and `muse export`'s formats share one enum.
     #[command(flatten)]
-    world: Box<WorldArgs>,
-    #[command(flatten)]
-    layers: Box<LayersArgs>,
+    run: Box<RunArgs>,
     /// Horizontal buffer B, metres, from 0 to 1000: each stay is a circle of radius B around
     /// its node, each corridor traversal the corridor widened by B on every side (0 is
     /// written as 1 cm, the standard's intersection precision).
@@ -99,14 +88,8 @@ fn file_text(args: &F3548Args, intents: &[IntentEntry]) -> anyhow::Result<String
 
 /// Runs `muse export f3548`.
 pub fn run(args: &F3548Args, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
-    let found = recorded::find(&args.plans, args.summary.as_deref())?;
-    let inputs = recorded::plans_inputs(
-        &args.plans,
-        found.as_ref(),
-        args.summary.is_some(),
-        &args.world,
-    );
-    let out = output::file("--out", &args.out, &inputs)?;
+    let files = args.run.files()?;
+    let out = output::file("--out", &args.out, &files.inputs())?;
     let shared_at = args
         .shared_at
         .as_deref()
@@ -128,43 +111,24 @@ pub fn run(args: &F3548Args, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
         };
         anyhow::anyhow!("{option}: {e}")
     })?;
-    let (world, _) = recorded::world_of_run(
-        &args.plans,
-        found.as_ref(),
-        &args.world,
-        &args.layers,
-        None,
-        matches,
-    )?;
-    let entries = read_plan_entries_file(&args.plans, &world.airspace)?;
-    let requests = entries.len();
-    let records: Vec<_> = entries
-        .into_iter()
-        .filter_map(|e| match e.item {
-            PlanItem::Record(r) => Some(r),
-            PlanItem::CancelledByOperator(_) => None,
-        })
+    let run = files.open(matches)?;
+    let requests = run.entries.len();
+    let flights: Vec<Flight<'_>> = run
+        .flown()
+        .map(|(request, plan)| Flight { request, plan })
         .collect();
-    let flights: Vec<Flight<'_>> = records
-        .iter()
-        .filter_map(|r| {
-            r.final_plan().map(|plan| Flight {
-                request: &r.request,
-                plan,
-            })
-        })
-        .collect();
-    let intents = f3548::operational_intents(&world.airspace, &flights, &options).map_err(|e| {
-        let option = if matches!(e, F3548Error::Horizon { .. }) {
-            " (--shared-at)"
-        } else {
-            ""
-        };
-        anyhow::anyhow!(
-            "{}: exporting its flights{option}: {e}",
-            args.plans.display()
-        )
-    })?;
+    let intents =
+        f3548::operational_intents(&run.world.airspace, &flights, &options).map_err(|e| {
+            let option = if matches!(e, F3548Error::Horizon { .. }) {
+                " (--shared-at)"
+            } else {
+                ""
+            };
+            anyhow::anyhow!(
+                "{}: exporting its flights{option}: {e}",
+                run.plans.display()
+            )
+        })?;
     let ois: Vec<_> = intents
         .iter()
         .map(|e| e.operational_intent.clone())

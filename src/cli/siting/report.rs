@@ -36,7 +36,7 @@ impl Files {
 
     /// Writes a shard's `shard.json` alone and puts the folder in place.
     pub fn write_shard(self, text: &str) -> anyhow::Result<()> {
-        output::write_atomically(&self.folder.path().join(super::shards::FILE), text)?;
+        output::write_atomically(&self.folder.path().join(muse_siting::shard::FILE), text)?;
         self.folder.commit()
     }
 

@@ -8,9 +8,9 @@
 //! - Circles: a node is inside when its geodesic (WGS84) distance to the centre is at most the
 //!   radius. An edge is closed when an end node is inside or when the point of its segment
 //!   closest to the centre is within the radius, measured in a local metric plane around the
-//!   centre (longitude and latitude scaled by the WGS84 radii of curvature at the centre's
-//!   latitude). Good at city scale (radii of a few tens of kilometres); longitudes are taken
-//!   modulo 360° around the centre.
+//!   centre ([`LocalFrame`]: longitude and latitude scaled by the WGS84 radii of curvature at
+//!   the centre's latitude). Good at city scale (radii of a few tens of kilometres);
+//!   longitudes are taken modulo 360° around the centre.
 //! - Explicit ids (`Zone::node_ids`, `Zone::edge_ids`) close those elements; an edge may be
 //!   named by its id or as `FROM-TO` with its end nodes' ids in either order. An id not in the
 //!   airspace is an error naming the zone and the id.
@@ -22,11 +22,9 @@
 //!   flat airspace (one layer) the band is not used: a zone closes what it covers at any
 //!   height (SPEC §13: one layer is exactly §2–§12).
 
-use std::f64::consts::PI;
-
 use geo::{BoundingRect, Intersects};
 use geo_types::{Line, MultiPolygon, Point};
-use muse_model::{Airspace, EdgeId, LonLat, NodeId, Zone, ZoneArea};
+use muse_model::{Airspace, EdgeId, LocalFrame, LonLat, NodeId, Zone, ZoneArea};
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{AABB, RTree};
 
@@ -87,7 +85,7 @@ enum Shape<'z> {
     Circle {
         centre: LonLat,
         radius_m: f64,
-        plane: LocalPlane,
+        plane: LocalFrame,
     },
 }
 
@@ -129,7 +127,7 @@ impl<'z> Shape<'z> {
                 Ok(Some(Shape::Circle {
                     centre: *centre,
                     radius_m: *radius_m,
-                    plane: LocalPlane::at(*centre),
+                    plane: LocalFrame::at(*centre),
                 }))
             }
         }
@@ -152,12 +150,13 @@ impl<'z> Shape<'z> {
                 radius_m,
                 plane,
             } => {
+                let k = plane.metres_per_degree();
                 // Beyond city scale, or near the poles or the antimeridian: no envelope (scan).
-                if *radius_m > 100_000.0 || plane.kx < 1_000.0 {
+                if *radius_m > 100_000.0 || k.lon < 1_000.0 {
                     return None;
                 }
-                let dlon = radius_m * 1.01 / plane.kx + MARGIN_DEG;
-                let dlat = radius_m * 1.01 / plane.ky + MARGIN_DEG;
+                let dlon = radius_m * 1.01 / k.lon + MARGIN_DEG;
+                let dlat = radius_m * 1.01 / k.lat + MARGIN_DEG;
                 let env = [
                     centre.lon - dlon,
                     centre.lat - dlat,
@@ -184,55 +183,27 @@ impl<'z> Shape<'z> {
             Shape::Circle {
                 radius_m, plane, ..
             } => {
-                self.contains(a) || self.contains(b) || plane.distance_to_segment(a, b) <= *radius_m
+                self.contains(a)
+                    || self.contains(b)
+                    || distance_to_segment(plane, a, b) <= *radius_m
             }
         }
     }
 }
 
-/// A local metric plane around an origin: metres east and north.
-struct LocalPlane {
-    origin: LonLat,
-    /// Metres per degree of longitude at the origin.
-    kx: f64,
-    /// Metres per degree of latitude at the origin.
-    ky: f64,
-}
-
-impl LocalPlane {
-    fn at(origin: LonLat) -> Self {
-        const A: f64 = 6_378_137.0;
-        const F: f64 = 1.0 / 298.257_223_563;
-        let e2 = F * (2.0 - F);
-        let phi = origin.lat.to_radians();
-        let w = (1.0 - e2 * phi.sin() * phi.sin()).sqrt();
-        let n = A / w; // prime vertical radius of curvature
-        let m = A * (1.0 - e2) / (w * w * w); // meridional radius of curvature
-        LocalPlane {
-            origin,
-            kx: n * phi.cos() * PI / 180.0,
-            ky: m * PI / 180.0,
-        }
-    }
-
-    fn project(&self, p: LonLat) -> (f64, f64) {
-        let dlon = (p.lon - self.origin.lon + 540.0).rem_euclid(360.0) - 180.0;
-        (dlon * self.kx, (p.lat - self.origin.lat) * self.ky)
-    }
-
-    /// Distance from the origin to the segment `a`–`b`, metres.
-    fn distance_to_segment(&self, a: LonLat, b: LonLat) -> f64 {
-        let (ax, ay) = self.project(a);
-        let (bx, by) = self.project(b);
-        let (dx, dy) = (bx - ax, by - ay);
-        let len2 = dx * dx + dy * dy;
-        let t = if len2 > 0.0 {
-            (-(ax * dx + ay * dy) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        (ax + t * dx).hypot(ay + t * dy)
-    }
+/// Distance from the origin of `plane` to the segment `a`–`b`, metres, longitudes taken
+/// modulo 360° around the origin.
+fn distance_to_segment(plane: &LocalFrame, a: LonLat, b: LonLat) -> f64 {
+    let (ax, ay) = plane.to_xy_wrapped(a);
+    let (bx, by) = plane.to_xy_wrapped(b);
+    let (dx, dy) = (bx - ax, by - ay);
+    let len2 = dx * dx + dy * dy;
+    let t = if len2 > 0.0 {
+        (-(ax * dx + ay * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (ax + t * dx).hypot(ay + t * dy)
 }
 
 /// R-trees over node positions and edge envelopes (longitude/latitude degrees).

@@ -1,7 +1,8 @@
-//! Plane geometry for the volumes: a local metric frame on the WGS84 ellipsoid, and the
-//! outline of a corridor buffered by a distance.
+//! Plane geometry for the volumes, in the local metric frame ([`LocalFrame`]) around the
+//! airspace: points back to rounded degrees, and the outline of a corridor buffered by a
+//! distance.
 
-use muse_model::LonLat;
+use muse_model::LocalFrame;
 
 use super::model::LatLngPoint;
 
@@ -12,77 +13,13 @@ pub const CAP_VERTICES: usize = 8;
 /// resolves, and short, reproducible numbers.
 const DEGREE_SCALE: f64 = 1e9;
 
-/// WGS84 semi-major axis, metres.
-const WGS84_A: f64 = 6_378_137.0;
-/// WGS84 flattening.
-const WGS84_F: f64 = 1.0 / 298.257_223_563;
-
-/// A local east/north frame in metres around an origin: the plane tangent to the WGS84
-/// ellipsoid there, scaled by the ellipsoid's meridional and prime-vertical radii. Over a
-/// city (tens of kilometres near one latitude) its distances are within a few parts in
-/// 10⁵ of the geodesic ones.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LocalFrame {
-    origin: LonLat,
-    metres_per_degree_lat: f64,
-    metres_per_degree_lon: f64,
-}
-
-impl LocalFrame {
-    /// The frame whose origin is `origin`.
-    ///
-    /// ```
-    /// use muse_export::f3548::LocalFrame;
-    /// use muse_model::LonLat;
-    /// let frame = LocalFrame::at(LonLat::new(103.8, 1.3));
-    /// let (x, y) = frame.to_xy(LonLat::new(103.81, 1.3));
-    /// assert!((x - 1_112.9).abs() < 0.1 && y == 0.0);
-    /// ```
-    pub fn at(origin: LonLat) -> Self {
-        let e2 = WGS84_F * (2.0 - WGS84_F);
-        let (sin, cos) = origin.lat.to_radians().sin_cos();
-        let w = (1.0 - e2 * sin * sin).sqrt();
-        let meridional = WGS84_A * (1.0 - e2) / (w * w * w);
-        let prime_vertical = WGS84_A / w;
-        let per_radian = std::f64::consts::PI / 180.0;
-        LocalFrame {
-            origin,
-            metres_per_degree_lat: meridional * per_radian,
-            metres_per_degree_lon: prime_vertical * cos * per_radian,
-        }
-    }
-
-    /// The frame at the centre of the bounding box of `points` (the origin when there are
-    /// none).
-    pub fn around(points: impl IntoIterator<Item = LonLat>) -> Self {
-        let mut bounds: Option<(LonLat, LonLat)> = None;
-        for p in points {
-            let (lo, hi) = bounds.get_or_insert((p, p));
-            *lo = LonLat::new(lo.lon.min(p.lon), lo.lat.min(p.lat));
-            *hi = LonLat::new(hi.lon.max(p.lon), hi.lat.max(p.lat));
-        }
-        let (lo, hi) = bounds.unwrap_or_default();
-        LocalFrame::at(LonLat::new(
-            f64::midpoint(lo.lon, hi.lon),
-            f64::midpoint(lo.lat, hi.lat),
-        ))
-    }
-
-    /// East and north of the origin, metres.
-    pub fn to_xy(&self, p: LonLat) -> (f64, f64) {
-        (
-            (p.lon - self.origin.lon) * self.metres_per_degree_lon,
-            (p.lat - self.origin.lat) * self.metres_per_degree_lat,
-        )
-    }
-
-    /// The point `x` metres east and `y` north of the origin, its degrees rounded to 9
-    /// decimals.
-    pub fn to_lat_lng(&self, (x, y): (f64, f64)) -> LatLngPoint {
-        LatLngPoint {
-            lat: round_degrees(self.origin.lat + y / self.metres_per_degree_lat),
-            lng: round_degrees(self.origin.lon + x / self.metres_per_degree_lon),
-        }
+/// The point `x` metres east and `y` north of the origin of `frame`, its degrees rounded to 9
+/// decimals.
+pub fn to_lat_lng(frame: &LocalFrame, xy: (f64, f64)) -> LatLngPoint {
+    let p = frame.to_lon_lat(xy);
+    LatLngPoint {
+        lat: round_degrees(p.lat),
+        lng: round_degrees(p.lon),
     }
 }
 
@@ -126,6 +63,8 @@ pub fn corridor_outline(a: (f64, f64), b: (f64, f64), r: f64) -> Option<Vec<(f64
 
 #[cfg(test)]
 mod tests {
+    use muse_model::LonLat;
+
     use super::*;
 
     /// Distance from `p` to the segment `a`–`b`.
@@ -188,7 +127,7 @@ mod tests {
     fn the_frame_round_trips_and_matches_the_geodesic() {
         let frame = LocalFrame::around([LonLat::new(103.6, 1.2), LonLat::new(104.0, 1.5)]);
         let p = LonLat::new(103.93, 1.41);
-        let back = frame.to_lat_lng(frame.to_xy(p));
+        let back = to_lat_lng(&frame, frame.to_xy(p));
         assert!((back.lat - p.lat).abs() < 1e-9 && (back.lng - p.lon).abs() < 1e-9);
         let q = LonLat::new(103.95, 1.43);
         let (a, b) = (frame.to_xy(p), frame.to_xy(q));

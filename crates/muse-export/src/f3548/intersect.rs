@@ -21,9 +21,8 @@
 use std::collections::HashSet;
 
 use geo::{Coord, Distance, Euclidean, Intersects, LineString, Point, Polygon};
-use muse_model::{Instant, LonLat};
+use muse_model::{Instant, LocalFrame, LonLat};
 
-use super::geometry::LocalFrame;
 use super::model::{OperationalIntent, Volume4D};
 
 /// The result of [`intersecting_pairs`].

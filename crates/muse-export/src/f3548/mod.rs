@@ -36,9 +36,11 @@ mod model;
 
 use std::collections::HashSet;
 
-use muse_model::{Airspace, EdgeKind, Instant, Layers, Millis, NodeId, Plan, UtcOffset};
+use muse_model::{
+    Airspace, EdgeKind, Instant, Layers, LocalFrame, Millis, NodeId, Plan, UtcOffset,
+};
 
-pub use geometry::{CAP_VERTICES, LocalFrame, corridor_outline};
+pub use geometry::{CAP_VERTICES, corridor_outline};
 pub use model::{
     Altitude, Circle, IntentEntry, LatLngPoint, OperationalIntent, OperationalIntentDetails,
     OperationalIntentReference, Polygon, Radius, Time, Volume3D, Volume4D,
@@ -482,7 +484,7 @@ impl<'a> Builder<'a> {
                             outline_polygon: Some(Polygon {
                                 vertices: xy
                                     .into_iter()
-                                    .map(|p| self.frame.to_lat_lng(p))
+                                    .map(|p| geometry::to_lat_lng(&self.frame, p))
                                     .collect(),
                             }),
                             ..self.band(layer, 0)
