@@ -200,12 +200,14 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         let token_hint = if running.open { "" } else { "?token=YOUR_TOKEN" };
         writeln!(out, "  viewer     http://{}/{token_hint}", running.addr)?;
         let stop = shutdown_signal();
+        // SIGHUP is listened for before the service says it listens: a hang-up that came
+        // before the listening task first ran would otherwise end the process.
+        if let Some(path) = &args.tokens {
+            reload_on_hangup(tokens, path.clone());
+        }
         writeln!(out, "listening on http://{}", running.addr)?;
         out.flush()?;
         drop(out);
-        if let Some(path) = &args.tokens {
-            tokio::spawn(reload_on_hangup(tokens, path.clone()));
-        }
         running.serve_until(stop).await?;
         anyhow::Ok(())
     })?;
@@ -397,8 +399,10 @@ fn limits_line(limits: &Limits) -> String {
 /// Rereads the tokens file on each SIGHUP: one line on stdout when the new tokens are in
 /// force, the error on stderr (naming the file) when the file is refused and the tokens in
 /// force are kept.
+/// The signal is registered when this is called (inside the runtime), the rereading runs as
+/// a task.
 #[cfg(unix)]
-async fn reload_on_hangup(tokens: Tokens, path: PathBuf) {
+fn reload_on_hangup(tokens: Tokens, path: PathBuf) {
     use tokio::signal::unix::{SignalKind, signal};
     let mut hangups = match signal(SignalKind::hangup()) {
         Ok(s) => s,
@@ -409,13 +413,15 @@ async fn reload_on_hangup(tokens: Tokens, path: PathBuf) {
             return;
         }
     };
-    while hangups.recv().await.is_some() {
-        reload(&tokens, &path);
-    }
+    tokio::spawn(async move {
+        while hangups.recv().await.is_some() {
+            reload(&tokens, &path);
+        }
+    });
 }
 
 #[cfg(not(unix))]
-async fn reload_on_hangup(_tokens: Tokens, _path: PathBuf) {}
+fn reload_on_hangup(_tokens: Tokens, _path: PathBuf) {}
 
 fn reload(tokens: &Tokens, path: &Path) {
     match tokens.reload(path) {

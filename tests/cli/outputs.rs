@@ -545,7 +545,7 @@ fn an_interrupted_run_removes_its_temporary_folder() {
         ),
         (
             &[
-                "sweep", "--counts", "300000", "--reps", "1", "--out", "sweep",
+                "sweep", "--counts", "300000", "--reps", "50", "--out", "sweep",
             ],
             "TERM",
             143,

@@ -11,9 +11,8 @@
 //!
 //! A file may also carry the map's outline: `Polygon` or `MultiPolygon` features with
 //! `"kind": "land"` (`muse airspace build --pads … --land L.geojson`). They are not part of
-//! the graph; [`read_land`](crate::land::read_land) reads them, for maps and the viewer. And it
-//! may carry the day its airspace is planned on ([`crate::day`]); [`AirspaceFile`] reads all
-//! three.
+//! the graph: [`AirspaceFile`] reads them, for maps and the viewer, with the day the airspace
+//! is planned on ([`crate::day`]), which a file may carry too.
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
