@@ -4,7 +4,6 @@
 
 use std::path::PathBuf;
 
-use muse_formats::day::LocalDay;
 use muse_formats::flights_csv::write_flights_csv;
 use muse_formats::plans::write_plan_line;
 use muse_formats::requests::{Demand, read_demand};
@@ -15,12 +14,13 @@ use muse_sim::day::{Planning, plan_requests_by};
 use muse_sim::demand::{BookingLead, DemandSpec, OdRule, generate};
 use muse_sim::metrics::Provenance;
 use muse_sim::outputs::{DayContext, day_outputs};
+use muse_sim::world::World;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::airspace::Airspace;
 use crate::options::{options, whole};
-use crate::world::{World, Zones, world};
+use crate::world::world;
 use crate::{MuseError, error};
 
 /// Plans the requests CSV `requests` (named `source` in messages; columns as SPEC §5, and
@@ -39,17 +39,8 @@ pub fn plan<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts = options(kwargs)?;
     let world = world_of(airspace.as_deref(), zones, &opts.layers)?;
-    let day = LocalDay {
-        date: world.date,
-        offset: world.offset,
-    };
-    let demand = read_demand(requests, source, &world.airspace, day).map_err(error)?;
-    let provenance = Provenance {
-        airspace: world.source.clone(),
-        zones: world.zones.iter().map(|z| z.id.clone()).collect(),
-        requests: source.to_owned(),
-        seed: None,
-    };
+    let demand = read_demand(requests, source, &world.airspace, world.day()).map_err(error)?;
+    let provenance = world.provenance(source.to_owned(), None);
     let texts = py.detach(|| run_day(&world, opts.params, demand, provenance, None))?;
     texts_dict(py, &texts)
 }
@@ -110,12 +101,10 @@ pub fn simulate<'py>(
         booking_lead: BookingLead::NONE,
     };
     let requests: Vec<Request> = generate(&world.airspace, &spec).map_err(error)?;
-    let provenance = Provenance {
-        airspace: world.source.clone(),
-        zones: world.zones.iter().map(|z| z.id.clone()).collect(),
-        requests: format!("generated: {count} requests, {start}–{end}, {od} pairs, seed {seed}"),
-        seed: Some(seed),
-    };
+    let provenance = world.provenance(
+        format!("generated: {count} requests, {start}–{end}, {od} pairs, seed {seed}"),
+        Some(seed),
+    );
     let demand = Demand {
         requests,
         ..Demand::default()
@@ -138,9 +127,8 @@ fn world_of(
     zones: Option<Vec<PathBuf>>,
     layers: &muse_model::Layers,
 ) -> PyResult<World> {
-    let zones = zones.map_or(Zones::Own, Zones::Files);
-    let world = world(airspace, &zones, layers).map_err(error)?;
-    if let Some(z) = world.zones.iter().find(|z| z.withdrawn.is_some()) {
+    let world = world(airspace, zones, layers)?;
+    if let Some(z) = world.withdrawn_zone() {
         return Err(error(format!(
             "zones: zone `{}` was withdrawn (`withdrawn`): a day cannot be planned with a \
              withdrawn zone; leave it out",

@@ -5,7 +5,6 @@ use std::process::ExitCode;
 
 use anyhow::Context as _;
 use clap::Args;
-use muse_formats::day::LocalDay;
 use muse_formats::flights_csv::write_flights_csv;
 use muse_formats::plans::{PlanRecord, write_plan_line};
 use muse_formats::requests::{UnservedRequest, read_demand_file};
@@ -16,8 +15,8 @@ use muse_sim::demand::BookingLead;
 use muse_sim::metrics::{Provenance, ReplanSummary, Summary};
 use muse_sim::outputs::{DayContext, DayOutputs, day_outputs};
 
-use super::common::{FlightArgs, World, WorldArgs};
-use super::layers::LayersArgs;
+use super::common::{FlightArgs, World, WorldArgs, refuse_withdrawn};
+use super::layers::{LayersArgs, layered};
 use super::optimize::{OptimizeArgs, report_lines};
 use super::output;
 use super::output::write_atomically;
@@ -49,12 +48,8 @@ pub struct PlanArgs {
 /// Runs `muse plan`.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     let params = args.flight.params()?;
-    let world = args.world.load()?.layered(&args.layers)?;
-    world.refuse_withdrawn("plan")?;
-    let day = LocalDay {
-        date: world.date,
-        offset: world.offset,
-    };
+    let world = layered(args.world.load()?, &args.layers)?;
+    refuse_withdrawn(&world, "plan")?;
     let out = output::folder(
         "--out",
         &args.out,
@@ -62,14 +57,9 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
             .add("--requests", &args.requests)
             .world(&args.world),
     )?;
-    let demand = read_demand_file(&args.requests, &world.airspace, day)?;
+    let demand = read_demand_file(&args.requests, &world.airspace, world.day())?;
     let run = args.optimize.plan(&world, params, demand.requests)?;
-    let provenance = Provenance {
-        airspace: world.airspace_source.clone(),
-        zones: world.zones.iter().map(|z| z.id.clone()).collect(),
-        requests: args.requests.display().to_string(),
-        seed: None,
-    };
+    let provenance = world.provenance(args.requests.display().to_string(), None);
     let tables = !args.no_csv;
     let (summary, _) = write_outputs(
         &world,
