@@ -5,15 +5,12 @@ use std::process::ExitCode;
 
 use anyhow::Context as _;
 use clap::Args;
-use muse_formats::flights_csv::write_flights_csv;
-use muse_formats::plans::{PlanRecord, write_plan_line};
+use muse_formats::plans::PlanRecord;
 use muse_formats::requests::{UnservedRequest, read_demand_file};
-use muse_formats::stays_csv::write_stays_csv;
-use muse_model::{Instant, Millis};
 use muse_sim::day::DayRun;
 use muse_sim::demand::BookingLead;
 use muse_sim::metrics::{Provenance, ReplanSummary, Summary};
-use muse_sim::outputs::{DayContext, DayOutputs, day_outputs};
+use muse_sim::outputs::{DayContext, DayFiles, day_outputs};
 
 use super::common::{FlightArgs, World, WorldArgs, refuse_withdrawn};
 use super::layers::{LayersArgs, layered};
@@ -111,38 +108,20 @@ pub fn write_outputs(
     tables: bool,
     out: &std::path::Path,
 ) -> anyhow::Result<(Summary, Vec<PlanRecord>)> {
-    let a = &world.airspace;
-    let DayOutputs { records, summary } = day_outputs(
+    let outputs = day_outputs(
         run,
         DayContext {
-            airspace: a,
-            offset: world.offset,
-            params,
-            provenance,
-            world: world.record.clone(),
             booking_lead,
             unserved,
+            ..DayContext::on(world, params, provenance)
         },
     );
-    let mut text = String::with_capacity(records.len() * 400);
-    for record in &records {
-        write_plan_line(&mut text, a, world.offset, record);
-    }
+    let files = DayFiles::of(&outputs, &world.airspace, world.day(), tables);
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    write_atomically(&out.join("plans.jsonl"), &text)?;
-    write_atomically(&out.join("summary.json"), &summary.to_json())?;
-    if tables {
-        let midnight = Instant::at_local(world.date, Millis::ZERO, world.offset);
-        write_atomically(
-            &out.join("flights.csv"),
-            &write_flights_csv(&records, a, world.offset, midnight),
-        )?;
-        write_atomically(
-            &out.join("stays.csv"),
-            &write_stays_csv(&records, a, world.offset, midnight),
-        )?;
+    for (name, text) in files.iter() {
+        write_atomically(&out.join(name), text)?;
     }
-    Ok((summary, records))
+    Ok((outputs.summary, outputs.records))
 }
 
 /// One line on what zone announcements did, for the terminal.
