@@ -5,10 +5,10 @@ use std::path::PathBuf;
 
 use muse_airspace::builder::{BuildError, BuildOptions, build_airspace};
 use muse_airspace::plane::Plane;
-use muse_formats::airspace_geojson::AirspaceFile;
 use muse_formats::day::FileDay;
 use muse_formats::exclusions::Exclusions;
 use muse_model::NodeKind;
+use muse_sim::world::{AirspaceSpec, LoadedAirspace};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -17,18 +17,9 @@ use crate::error;
 /// An airspace: nodes (stations and waypoints) joined by corridors.
 #[pyclass(module = "muse._muse", frozen)]
 pub struct Airspace {
-    /// The graph (flat: layers are applied when a day is planned).
-    pub graph: muse_model::Airspace,
-    /// The built-in scenario it is, if it is one (its zones are the default zones).
-    pub scenario: Option<&'static muse_scenario::Scenario>,
-    /// The file it was read from, as an absolute path, if it was read from one.
-    pub file: Option<String>,
-    /// Where it came from, for messages and the summary's provenance.
-    pub source: String,
-    /// The land outline it carries (drawn on maps), if any.
-    pub land: Vec<geo_types::Polygon<f64>>,
-    /// The day it carries (date, UTC offset, time zone), if any; else the default's.
-    pub day: Option<FileDay>,
+    /// The graph (flat: layers are applied when a day is planned) and where it came from: a
+    /// built-in scenario (whose zones are the default zones), a file, or pads.
+    pub inner: LoadedAirspace,
 }
 
 #[pymethods]
@@ -38,33 +29,17 @@ impl Airspace {
     #[staticmethod]
     #[pyo3(signature = (name = "singapore-77"))]
     fn scenario(name: &str) -> PyResult<Self> {
-        let s = muse_scenario::by_name(name).map_err(error)?;
-        Ok(Airspace {
-            graph: s.airspace.clone(),
-            scenario: Some(s),
-            file: None,
-            source: format!("embedded {}", s.name),
-            land: Vec::new(),
-            day: None,
-        })
+        let inner = AirspaceSpec::Scenario(name.to_owned())
+            .load()
+            .map_err(error)?;
+        Ok(Airspace { inner })
     }
 
     /// An airspace GeoJSON file (SPEC §2), with the land outline and the day it may carry.
     #[staticmethod]
     fn read(path: PathBuf) -> PyResult<Self> {
-        let read = AirspaceFile::read(&path).map_err(error)?;
-        let file = std::fs::canonicalize(&path)
-            .unwrap_or_else(|_| path.clone())
-            .display()
-            .to_string();
-        Ok(Airspace {
-            graph: read.airspace,
-            scenario: None,
-            file: Some(file),
-            source: path.display().to_string(),
-            land: read.land,
-            day: read.day,
-        })
+        let inner = AirspaceSpec::File(path).load().map_err(error)?;
+        Ok(Airspace { inner })
     }
 
     /// The airspace built from pads by the rule of SPEC §15, as `muse airspace build --pads`
@@ -106,25 +81,21 @@ impl Airspace {
             }
             e => error(format!("building the airspace of {source}: {e}")),
         })?;
+        let source = format!("built from the pads of {source}");
         Ok(Airspace {
-            graph,
-            scenario: None,
-            file: None,
-            source: format!("built from the pads of {source}"),
-            land: Vec::new(),
-            day,
+            inner: LoadedAirspace::built(graph, source, day),
         })
     }
 
     /// Where the airspace came from.
     #[getter]
     fn source(&self) -> &str {
-        &self.source
+        &self.inner.source
     }
 
     /// The nodes as columns: `id`, `kind` (`station` or `waypoint`), `name`, `lon`, `lat`.
     fn node_columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let nodes = self.graph.nodes();
+        let nodes = self.inner.airspace.nodes();
         let columns = PyDict::new(py);
         columns.set_item(
             "id",
@@ -149,7 +120,7 @@ impl Airspace {
 
     /// The corridors as columns: `id`, `from`, `to`, `length_m`.
     fn edge_columns<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        let a = &self.graph;
+        let a = &self.inner.airspace;
         let edges = a.edges();
         let columns = PyDict::new(py);
         columns.set_item(
@@ -172,25 +143,27 @@ impl Airspace {
     /// Number of stations (pads).
     #[getter]
     fn station_count(&self) -> usize {
-        self.graph.stations().count()
+        self.inner.airspace.stations().count()
     }
 
     /// The airspace as GeoJSON (SPEC §2), as `muse airspace build` writes it.
     fn to_geojson(&self) -> String {
+        let a = &self.inner;
         muse_formats::airspace_geojson::write_airspace_file(
-            &self.graph,
-            &self.land,
-            self.day.as_ref(),
+            &a.airspace,
+            &a.land_outline,
+            a.file_day.as_ref(),
         )
     }
 
     fn __repr__(&self) -> String {
+        let a = &self.inner;
         format!(
             "Airspace({}: {} nodes, {} stations, {} corridors)",
-            self.source,
-            self.graph.node_count(),
-            self.graph.stations().count(),
-            self.graph.edge_count()
+            a.source,
+            a.airspace.node_count(),
+            a.airspace.stations().count(),
+            a.airspace.edge_count()
         )
     }
 }

@@ -12,7 +12,7 @@ use pyo3::types::PyDict;
 use crate::airspace::Airspace;
 use crate::error;
 use crate::options::options;
-use crate::world::{Zones, world};
+use crate::world::world;
 
 /// Checks the plans JSON Lines `plans` (named `source` in messages) on `airspace` with
 /// `zones`, under the flight parameters and layers of the keywords. Returns `ok`, `flights`
@@ -29,8 +29,7 @@ pub fn verify<'py>(
     kwargs: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts = options(kwargs)?;
-    let zones = zones.map_or(Zones::Own, Zones::Files);
-    let world = world(airspace.as_deref(), &zones, &opts.layers).map_err(error)?;
+    let world = world(airspace.as_deref(), zones, &opts.layers)?;
     let a = &world.airspace;
     let entries = read_plan_entries(plans, source, a).map_err(error)?;
     let records = entries.iter().filter_map(|e| e.record().cloned()).collect();

@@ -4,23 +4,20 @@
 
 use std::path::PathBuf;
 
-use muse_formats::day::LocalDay;
-use muse_formats::flights_csv::write_flights_csv;
-use muse_formats::plans::write_plan_line;
 use muse_formats::requests::{Demand, read_demand};
-use muse_formats::stays_csv::write_stays_csv;
 use muse_model::time::parse_clock;
-use muse_model::{FlightParams, Instant, Millis, Request};
+use muse_model::{FlightParams, Instant, Request};
 use muse_sim::day::{Planning, plan_requests_by};
 use muse_sim::demand::{BookingLead, DemandSpec, OdRule, generate};
 use muse_sim::metrics::Provenance;
-use muse_sim::outputs::{DayContext, day_outputs};
+use muse_sim::outputs::{DayContext, DayFiles, day_outputs};
+use muse_sim::world::World;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::airspace::Airspace;
 use crate::options::{options, whole};
-use crate::world::{World, Zones, world};
+use crate::world::world;
 use crate::{MuseError, error};
 
 /// Plans the requests CSV `requests` (named `source` in messages; columns as SPEC §5, and
@@ -39,17 +36,8 @@ pub fn plan<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts = options(kwargs)?;
     let world = world_of(airspace.as_deref(), zones, &opts.layers)?;
-    let day = LocalDay {
-        date: world.date,
-        offset: world.offset,
-    };
-    let demand = read_demand(requests, source, &world.airspace, day).map_err(error)?;
-    let provenance = Provenance {
-        airspace: world.source.clone(),
-        zones: world.zones.iter().map(|z| z.id.clone()).collect(),
-        requests: source.to_owned(),
-        seed: None,
-    };
+    let demand = read_demand(requests, source, &world.airspace, world.day()).map_err(error)?;
+    let provenance = world.provenance(source.to_owned(), None);
     let texts = py.detach(|| run_day(&world, opts.params, demand, provenance, None))?;
     texts_dict(py, &texts)
 }
@@ -110,12 +98,10 @@ pub fn simulate<'py>(
         booking_lead: BookingLead::NONE,
     };
     let requests: Vec<Request> = generate(&world.airspace, &spec).map_err(error)?;
-    let provenance = Provenance {
-        airspace: world.source.clone(),
-        zones: world.zones.iter().map(|z| z.id.clone()).collect(),
-        requests: format!("generated: {count} requests, {start}–{end}, {od} pairs, seed {seed}"),
-        seed: Some(seed),
-    };
+    let provenance = world.provenance(
+        format!("generated: {count} requests, {start}–{end}, {od} pairs, seed {seed}"),
+        Some(seed),
+    );
     let demand = Demand {
         requests,
         ..Demand::default()
@@ -138,9 +124,8 @@ fn world_of(
     zones: Option<Vec<PathBuf>>,
     layers: &muse_model::Layers,
 ) -> PyResult<World> {
-    let zones = zones.map_or(Zones::Own, Zones::Files);
-    let world = world(airspace, &zones, layers).map_err(error)?;
-    if let Some(z) = world.zones.iter().find(|z| z.withdrawn.is_some()) {
+    let world = world(airspace, zones, layers)?;
+    if let Some(z) = world.withdrawn_zone() {
         return Err(error(format!(
             "zones: zone `{}` was withdrawn (`withdrawn`): a day cannot be planned with a \
              withdrawn zone; leave it out",
@@ -150,14 +135,6 @@ fn world_of(
     Ok(world)
 }
 
-/// The texts of a planned day's files.
-struct Texts {
-    plans: String,
-    summary: String,
-    flights: String,
-    stays: String,
-}
-
 /// Plans `demand` on `world` and writes its files' texts.
 fn run_day(
     world: &World,
@@ -165,10 +142,9 @@ fn run_day(
     demand: Demand,
     provenance: Provenance,
     booking_lead: Option<BookingLead>,
-) -> PyResult<Texts> {
-    let a = &world.airspace;
+) -> PyResult<DayFiles> {
     let run = plan_requests_by(
-        a,
+        &world.airspace,
         &world.zones,
         params,
         demand.requests,
@@ -177,37 +153,23 @@ fn run_day(
     )
     .map_err(|e| MuseError::new_err(e.to_string()))?;
     let unserved = demand.rows.is_some().then_some(demand.unserved.as_slice());
-    let day = day_outputs(
+    let outputs = day_outputs(
         &run,
         DayContext {
-            airspace: a,
-            offset: world.offset,
-            params: &params,
-            provenance,
-            world: world.record.clone(),
             booking_lead,
             unserved,
+            ..DayContext::on(world, &params, provenance)
         },
     );
-    let mut plans = String::with_capacity(day.records.len() * 400);
-    for record in &day.records {
-        write_plan_line(&mut plans, a, world.offset, record);
-    }
-    let midnight = Instant::at_local(world.date, Millis::ZERO, world.offset);
-    Ok(Texts {
-        plans,
-        summary: day.summary.to_json(),
-        flights: write_flights_csv(&day.records, a, world.offset, midnight),
-        stays: write_stays_csv(&day.records, a, world.offset, midnight),
-    })
+    Ok(DayFiles::of(&outputs, &world.airspace, world.day(), true))
 }
 
-/// The texts as a dict.
-fn texts_dict<'py>(py: Python<'py>, texts: &Texts) -> PyResult<Bound<'py, PyDict>> {
+/// The texts as a dict: `plans`, `summary`, `flights` and `stays`.
+fn texts_dict<'py>(py: Python<'py>, files: &DayFiles) -> PyResult<Bound<'py, PyDict>> {
     let out = PyDict::new(py);
-    out.set_item("plans", &texts.plans)?;
-    out.set_item("summary", &texts.summary)?;
-    out.set_item("flights", &texts.flights)?;
-    out.set_item("stays", &texts.stays)?;
+    out.set_item("plans", &files.plans)?;
+    out.set_item("summary", &files.summary)?;
+    out.set_item("flights", &files.flights_csv)?;
+    out.set_item("stays", &files.stays_csv)?;
     Ok(out)
 }

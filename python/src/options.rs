@@ -2,23 +2,18 @@
 //! members of a summary's `parameters` (`speed_kmh`, `max_flight_min`, …), and the layers
 //! (SPEC §13) by the command line's option names (`layers`, `heading_rule`, …).
 
+use muse_formats::layer_params::{LayerField, LayerParams};
 use muse_formats::params::{Field, ParamsRecord};
 use muse_formats::ranges::{BASE_ALTITUDE_M, CLIMB_MPS, LAYER_SPACING_M, LAYERS, Number, Range};
-use muse_model::{FlightParams, HeadingRule, Layers, Metres};
+use muse_model::{FlightParams, HeadingRule, Layers};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
 use serde_json::Value;
 
 use crate::error;
 
-/// The layering keywords and what each sets.
-const LAYER_KEYS: [&str; 5] = [
-    "layers",
-    "base_altitude_m",
-    "layer_spacing_m",
-    "climb_mps",
-    "heading_rule",
-];
+/// The layering keywords: the command line's option names.
+const LAYER_KEYS: [&str; 5] = LayerField::NAMES;
 
 /// The flight-parameter keywords: the members of a summary's `parameters`.
 const FLIGHT_KEYS: [&str; 9] = Field::NAMES;
@@ -39,14 +34,13 @@ pub struct Options {
 pub fn options(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Options> {
     let mut record =
         serde_json::to_value(ParamsRecord::from(&FlightParams::default())).map_err(error)?;
-    let mut layers = Layers::default();
-    let mut climb_mps = f64::from(layers.climb_mm_per_s) / 1e3;
+    let mut layers = LayerParams::default();
     if let Some(kwargs) = kwargs {
         for (key, value) in kwargs.iter() {
             let key: String = key.extract()?;
             let json = to_json(&key, &value)?;
             if LAYER_KEYS.contains(&key.as_str()) {
-                set_layer(&mut layers, &mut climb_mps, &key, &json)?;
+                set_layer(&mut layers, &key, &json)?;
             } else if FLIGHT_KEYS.contains(&key.as_str()) {
                 record[key.as_str()] = json;
             } else {
@@ -61,16 +55,7 @@ pub fn options(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<Options> {
     let record: ParamsRecord = serde_json::from_value(record).map_err(error)?;
     record.check_ranges().map_err(error)?;
     let params = record.to_params().map_err(error)?;
-    let mm = climb_mps * 1_000.0;
-    if (mm - mm.round()).abs() > 1e-6 {
-        return Err(error(format!(
-            "climb_mps {climb_mps}: give whole millimetres per second (at most 3 decimals)"
-        )));
-    }
-    layers.climb_mm_per_s = mm.round() as u32;
-    layers
-        .validate()
-        .map_err(|e| error(format!("layers: {e}")))?;
+    let layers = layers.to_layers().map_err(error)?;
     Ok(Options { params, layers })
 }
 
@@ -89,8 +74,8 @@ pub fn whole<T: Number>(key: &str, value: &Bound<'_, PyAny>, range: Range<T>) ->
         .map_err(|problem| error(format!("{key} {text}: {problem}")))
 }
 
-/// Sets the layering keyword `key` to `value`.
-fn set_layer(layers: &mut Layers, climb_mps: &mut f64, key: &str, value: &Value) -> PyResult<()> {
+/// Sets the layering keyword `key` to `value`, within its range.
+fn set_layer(layers: &mut LayerParams, key: &str, value: &Value) -> PyResult<()> {
     let number = |range: Range<f64>| {
         let bad = |problem: String| error(format!("{key} {value}: {problem}"));
         let x = value
@@ -98,7 +83,6 @@ fn set_layer(layers: &mut Layers, climb_mps: &mut f64, key: &str, value: &Value)
             .ok_or_else(|| bad(range.check(f64::NAN).unwrap_err()))?;
         range.check(x).map_err(bad)
     };
-    let metres = |m: f64| Metres::from_m(m).map_err(|e| error(format!("{key} {m}: {e}")));
     match key {
         "layers" => {
             layers.count = value
@@ -108,19 +92,15 @@ fn set_layer(layers: &mut Layers, climb_mps: &mut f64, key: &str, value: &Value)
                 .and_then(|n| LAYERS.check(n))
                 .map_err(|problem| error(format!("layers {value}: {problem}")))?;
         }
-        "base_altitude_m" => layers.base = metres(number(BASE_ALTITUDE_M)?)?,
-        "layer_spacing_m" => layers.spacing = metres(number(LAYER_SPACING_M)?)?,
-        "climb_mps" => *climb_mps = number(CLIMB_MPS)?,
+        "base_altitude_m" => layers.base_altitude_m = number(BASE_ALTITUDE_M)?,
+        "layer_spacing_m" => layers.spacing_m = number(LAYER_SPACING_M)?,
+        "climb_mps" => layers.climb_mps = number(CLIMB_MPS)?,
         _ => {
-            layers.heading_rule = match value.as_str() {
-                Some("none") => HeadingRule::None,
-                Some("sectors") => HeadingRule::Sectors,
-                _ => {
-                    return Err(error(format!(
-                        "heading_rule: must be \"none\" or \"sectors\", not {value}"
-                    )));
-                }
-            };
+            layers.heading_rule = value.as_str().and_then(HeadingRule::parse).ok_or_else(|| {
+                error(format!(
+                    "heading_rule: must be \"none\" or \"sectors\", not {value}"
+                ))
+            })?;
         }
     }
     Ok(())

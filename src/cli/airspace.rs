@@ -17,7 +17,7 @@ use muse_model::{
 };
 
 use super::common::{RangeArgs, WorldArgs};
-use super::layers::LayersArgs;
+use super::layers::{LayersArgs, layered};
 use super::output;
 
 /// The airspace subcommands.
@@ -322,7 +322,7 @@ fn build_from_pads(
 }
 
 fn info(world: &WorldArgs, layers: &LayersArgs, range: RangeArgs) -> anyhow::Result<ExitCode> {
-    let world = world.load()?.layered(layers)?;
+    let world = layered(world.load()?, layers)?;
     let (speed, t_max) = (range.speed()?, range.t_max()?);
     // The graph's statistics are the flat airspace's; the layering follows them.
     let a = world.airspace.flat();

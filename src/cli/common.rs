@@ -5,11 +5,10 @@ use std::path::{Path, PathBuf};
 use anyhow::Context as _;
 use clap::Args;
 use clap::builder::PossibleValuesParser;
-use muse_formats::day::LocalDay;
 use muse_formats::params::ParamsRecord;
-use muse_model::{Airspace, Millis, Speed, UtcOffset, Zone};
+use muse_model::{Airspace, Millis, Speed, Zone};
 use muse_sim::metrics::WorldRecord;
-use muse_sim::metrics::recorded::SyntheticRecord;
+use muse_sim::world::{AirspaceSpec, WorldError, WorldSpec, ZonesSpec};
 
 use super::ranges;
 
@@ -84,34 +83,8 @@ pub enum LayoutArg {
     Geometric,
 }
 
-/// An airspace with its zones and the day they are planned on.
-pub struct World {
-    /// Where the airspace came from, for messages.
-    pub airspace_source: String,
-    /// The airspace.
-    pub airspace: Airspace,
-    /// The zones.
-    pub zones: Vec<Zone>,
-    /// The built-in scenario, if the airspace is one (not a file or a synthetic airspace).
-    pub scenario: Option<&'static muse_scenario::Scenario>,
-    /// Whether Singapore's land outline applies (drawn on maps, with the data attribution).
-    pub land: bool,
-    /// The land outline an airspace file carries (`muse airspace build --land`), drawn on
-    /// maps; empty otherwise.
-    pub land_outline: Vec<geo_types::Polygon<f64>>,
-    /// A one-line description for map titles.
-    pub title: String,
-    /// The scenario's date, for local clock times.
-    pub date: jiff::civil::Date,
-    /// The scenario's UTC offset.
-    pub offset: UtcOffset,
-    /// The day an airspace file carries (with its time zone's name, if it gives one), which
-    /// `date` and `offset` are then; `None` for a scenario, a synthetic airspace or a file
-    /// without one.
-    pub file_day: Option<muse_formats::day::FileDay>,
-    /// Where the airspace and zones came from, as `summary.json` records it.
-    pub record: WorldRecord,
-}
+/// The world a day is planned on ([`muse_sim::world`]): what [`WorldArgs::load`] loads.
+pub use muse_sim::world::World;
 
 impl WorldArgs {
     /// The synthetic airspace spec these arguments describe, if any.
@@ -129,205 +102,98 @@ impl WorldArgs {
         })
     }
 
-    /// Loads the airspace and zones these arguments name.
-    pub fn load(&self) -> anyhow::Result<World> {
-        let no_zones = self.zones.iter().any(|z| z.as_os_str() == "none");
-        if no_zones && self.zones.len() > 1 {
-            anyhow::bail!("`--zones none` cannot be combined with zone files");
-        }
-        // Date and offset: the scenario's, or the one an airspace file carries; files without
-        // one and synthetic airspaces are planned on the default's.
-        let default = muse_scenario::by_name(muse_scenario::SINGAPORE_77)?;
-        let mut land_outline = Vec::new();
-        let mut file_day = None;
-        let (airspace_source, airspace, scenario, title) = if let Some(path) = &self.airspace {
-            let file = muse_formats::airspace_geojson::AirspaceFile::read(path)?;
-            land_outline = file.land;
-            file_day = file.day;
-            (
-                path.display().to_string(),
-                file.airspace,
-                None,
-                format!("MUSE airspace: {}", path.display()),
-            )
+    /// The airspace these arguments name: `--airspace`, `--synthetic`, or the scenario
+    /// (`singapore-77` by default).
+    fn airspace_spec(&self) -> AirspaceSpec {
+        if let Some(path) = &self.airspace {
+            AirspaceSpec::File(path.clone())
         } else if let Some(spec) = self.synthetic_spec() {
-            let airspace = muse_scenario::synthetic(&spec)
-                .with_context(|| format!("--synthetic {}", spec.layout))?;
-            (
-                spec.to_string(),
-                airspace,
-                None,
-                format!(
-                    "MUSE airspace: synthetic {}, {} nodes ({} stations)",
-                    spec.layout,
-                    spec.nodes,
-                    spec.station_count()
-                ),
+            AirspaceSpec::Synthetic(spec)
+        } else {
+            AirspaceSpec::Scenario(
+                self.scenario
+                    .clone()
+                    .unwrap_or_else(|| muse_scenario::SINGAPORE_77.to_owned()),
             )
-        } else {
-            let name = self
-                .scenario
-                .as_deref()
-                .unwrap_or(muse_scenario::SINGAPORE_77);
-            let s = muse_scenario::by_name(name)?;
-            (
-                format!("embedded {}", s.name),
-                s.airspace.clone(),
-                Some(s),
-                format!("MUSE airspace: {}", s.title),
-            )
+        }
+    }
+
+    /// Loads the airspace and zones these arguments name, warning of zones that do nothing
+    /// on the airspace.
+    pub fn load(&self) -> anyhow::Result<World> {
+        let spec = WorldSpec {
+            airspace: self.airspace_spec(),
+            zones: zones_spec(&self.zones)?,
         };
-        let zones = if no_zones {
-            Vec::new()
-        } else if self.zones.is_empty() {
-            scenario.map(|s| s.zones.clone()).unwrap_or_default()
-        } else {
-            let mut all = muse_formats::zones::ZoneFiles::default();
-            for path in &self.zones {
-                all.add(path)
-                    .with_context(|| format!("reading zones from {}", path.display()))?;
-            }
-            all.into_zones()
-        };
-        let day = if let Some(f) = &file_day {
-            f.day
-        } else {
-            let s = scenario.unwrap_or(default);
-            LocalDay {
-                date: s.date,
-                offset: s.offset,
-            }
-        };
-        let record = self.record()?;
-        let world = World {
-            airspace_source,
-            airspace,
-            zones,
-            scenario,
-            land: scenario.is_some_and(|s| s.land),
-            land_outline,
-            title,
-            date: day.date,
-            offset: day.offset,
-            file_day,
-            record,
-        };
-        world.warn_idle_zones(false);
+        let world = spec.load().map_err(world_error)?;
+        warn_idle_zones(&world, false);
         Ok(world)
     }
 
     /// What `summary.json` records of these arguments: files as absolute paths, so that a
     /// run can be checked again from another folder.
     pub fn record(&self) -> anyhow::Result<WorldRecord> {
-        let absolute = |path: &std::path::Path| {
-            std::fs::canonicalize(path)
-                .or_else(|_| std::path::absolute(path))
-                .map(|p| p.display().to_string())
-                .with_context(|| format!("the absolute path of {}", path.display()))
+        let spec = WorldSpec {
+            airspace: self.airspace_spec(),
+            zones: zones_given(&self.zones),
         };
-        let zones = if self.zones.is_empty() {
-            None
-        } else if self.zones.iter().any(|z| z.as_os_str() == "none") {
-            Some(Vec::new())
-        } else {
-            Some(
-                self.zones
-                    .iter()
-                    .map(|z| absolute(z))
-                    .collect::<anyhow::Result<_>>()?,
-            )
-        };
-        Ok(WorldRecord {
-            scenario: (self.airspace.is_none() && self.synthetic.is_none()).then(|| {
-                self.scenario
-                    .clone()
-                    .unwrap_or_else(|| muse_scenario::SINGAPORE_77.to_owned())
-            }),
-            airspace: self.airspace.as_deref().map(absolute).transpose()?,
-            synthetic: self.synthetic_spec().map(|s| SyntheticRecord {
-                layout: s.layout.to_string(),
-                nodes: s.nodes,
-                spacing_m: s.spacing_m,
-                station_share: s.station_share,
-                seed: s.seed,
-            }),
-            zones,
-            layers: None,
-        })
+        spec.record().map_err(world_error)
     }
 }
 
-impl World {
-    /// The day an airspace file carries, for the summary's demand line: ` on 2026-01-05 at
-    /// +01:00 (Europe/Vienna)`; empty on the default day and a scenario's.
-    pub fn day_note(&self) -> String {
-        self.file_day.as_ref().map_or(String::new(), |d| {
-            let zone = d
-                .time_zone
-                .as_ref()
-                .map(|z| format!(" ({z})"))
-                .unwrap_or_default();
-            format!(" on {} at {}{zone}", d.day.date, d.day.offset)
-        })
+/// The zones `--zones` gives: none when it names `none`, the files it names, or (not given)
+/// the airspace's own.
+fn zones_given(zones: &[PathBuf]) -> ZonesSpec {
+    if zones.iter().any(|z| z.as_os_str() == "none") {
+        ZonesSpec::None
+    } else if zones.is_empty() {
+        ZonesSpec::Own
+    } else {
+        ZonesSpec::Files(zones.to_vec())
     }
+}
 
-    /// Warns on standard error of every zone that does nothing on the airspace ([`idle`]):
-    /// one that closes nothing, or is announced after its last window ended. With
-    /// `heights_only` (the airspace just layered, the rest said already) only of a zone whose
-    /// heights hold no layer. A zone the airspace cannot resolve (an unknown id) is left to
-    /// the error its resolution gives.
-    ///
-    /// [`idle`]: muse_airspace::closures::idle::idle
-    pub fn warn_idle_zones(&self, heights_only: bool) {
-        use muse_airspace::closures::idle::{Idle, idle};
-        for zone in &self.zones {
-            let id = &zone.id;
-            match idle(&self.airspace, zone) {
-                Ok(Some(Idle::ClosesNothingAtItsHeights)) => {
-                    let layers = self.airspace.layers().map_or_else(String::new, |l| {
-                        format!(
-                            " (the layers fly from {} m to {} m)",
-                            l.altitude(1),
-                            l.altitude(l.count)
-                        )
-                    });
-                    eprintln!(
-                        "warning: zone `{id}` closes nothing on the airspace at its heights \
-                         ({}): it covers stations or corridors, but no layer{layers} nor climb \
-                         between layers lies in its band",
-                        zone.vertical
-                    );
-                }
-                Ok(Some(Idle::ClosesNothing)) if !heights_only => eprintln!(
-                    "warning: zone `{id}` closes nothing on the airspace ({}): its area covers \
-                     no station, waypoint or corridor, and it lists none",
-                    self.airspace_source
-                ),
-                Ok(Some(Idle::AnnouncedAfterItsWindows { announced, ended })) if !heights_only => {
-                    eprintln!(
-                        "warning: zone `{id}` is announced at {}, when its last window has \
-                         already ended ({}): it closes nothing",
-                        announced.to_rfc3339(self.offset),
-                        ended.to_rfc3339(self.offset)
-                    );
-                }
-                _ => {}
-            }
-        }
+/// The zones `--zones` gives ([`zones_given`]), `none` alone.
+///
+/// # Errors
+/// `none` with zone files.
+pub fn zones_spec(zones: &[PathBuf]) -> anyhow::Result<ZonesSpec> {
+    let spec = zones_given(zones);
+    if spec == ZonesSpec::None && zones.len() > 1 {
+        anyhow::bail!("`--zones none` cannot be combined with zone files");
     }
+    Ok(spec)
+}
 
-    /// Refuses zones with a `withdrawn` instant (a service listing's): `command` plans, and
-    /// planning replays zone announcements, never withdrawals.
-    pub fn refuse_withdrawn(&self, command: &str) -> anyhow::Result<()> {
-        match self.zones.iter().find(|z| z.withdrawn.is_some()) {
-            Some(z) => anyhow::bail!(
-                "--zones: zone `{}` was withdrawn (`withdrawn`): `muse {command}` cannot plan \
-                 with a withdrawn zone; leave it out (only `muse verify` and `muse view` read \
-                 withdrawals)",
-                z.id
-            ),
-            None => Ok(()),
+/// A world that cannot be loaded, a synthetic airspace named by its option.
+fn world_error(e: WorldError) -> anyhow::Error {
+    match e {
+        WorldError::Synthetic { layout, source } => {
+            anyhow::Error::new(*source).context(format!("--synthetic {layout}"))
         }
+        e => e.into(),
+    }
+}
+
+/// Warns on standard error of every zone that does nothing on the world's airspace
+/// ([`World::idle_zone_warnings`]).
+pub fn warn_idle_zones(world: &World, heights_only: bool) {
+    for warning in world.idle_zone_warnings(heights_only) {
+        eprintln!("{warning}");
+    }
+}
+
+/// Refuses zones with a `withdrawn` instant (a service listing's): `command` plans, and
+/// planning replays zone announcements, never withdrawals.
+pub fn refuse_withdrawn(world: &World, command: &str) -> anyhow::Result<()> {
+    match world.withdrawn_zone() {
+        Some(z) => anyhow::bail!(
+            "--zones: zone `{}` was withdrawn (`withdrawn`): `muse {command}` cannot plan \
+             with a withdrawn zone; leave it out (only `muse verify` and `muse view` read \
+             withdrawals)",
+            z.id
+        ),
+        None => Ok(()),
     }
 }
 

@@ -2,10 +2,11 @@
 
 use anyhow::Context;
 use clap::{ArgMatches, Args};
-use muse_model::{HeadingRule, Layers, Metres};
+use muse_formats::layer_params::LayerParams;
+use muse_model::{HeadingRule, Layers};
 use muse_sim::metrics::recorded::LayersRecord;
 
-use super::common::World;
+use super::common::{World, warn_idle_zones};
 use super::overrides::{Overridable, Summary, overridden};
 use super::ranges;
 
@@ -43,52 +44,45 @@ pub enum HeadingArg {
 }
 
 impl LayersArgs {
+    /// The layering these options describe, in user units.
+    pub fn params(&self) -> LayerParams {
+        LayerParams {
+            count: self.layers,
+            base_altitude_m: self.base_altitude_m,
+            spacing_m: self.layer_spacing_m,
+            climb_mps: self.climb_mps,
+            heading_rule: match self.heading_rule {
+                HeadingArg::None => HeadingRule::None,
+                HeadingArg::Sectors => HeadingRule::Sectors,
+            },
+        }
+    }
+
     /// The layering these options describe.
     ///
     /// # Errors
     /// A vertical speed that is not a whole number of millimetres per second.
     pub fn layers(&self) -> anyhow::Result<Layers> {
-        let mm = self.climb_mps * 1_000.0;
-        anyhow::ensure!(
-            (mm - mm.round()).abs() < 1e-6,
-            "--climb-mps {}: give whole millimetres per second (at most 3 decimals)",
-            self.climb_mps
-        );
-        let metres =
-            |m: f64, option: &str| Metres::from_m(m).with_context(|| format!("{option} {m}"));
-        let layers = Layers {
-            count: self.layers,
-            base: metres(self.base_altitude_m, "--base-altitude-m")?,
-            spacing: metres(self.layer_spacing_m, "--layer-spacing-m")?,
-            climb_mm_per_s: u32::try_from(mm.round() as i64).context("--climb-mps")?,
-            heading_rule: match self.heading_rule {
-                HeadingArg::None => HeadingRule::None,
-                HeadingArg::Sectors => HeadingRule::Sectors,
-            },
-        };
-        layers.validate().context("--layers")?;
-        Ok(layers)
+        self.params()
+            .to_layers()
+            .map_err(|e| anyhow::anyhow!(e.as_option()))
     }
 }
 
-impl World {
-    /// The world flown at the layers `args` give (unchanged with one layer); `summary.json`
-    /// records them. A zone whose heights hold no layer is warned of.
-    ///
-    /// # Errors
-    /// Options out of range, or a layer copy's id (`ID@k`) already taken in the airspace.
-    pub fn layered(mut self, args: &LayersArgs) -> anyhow::Result<World> {
-        let layers = args.layers()?;
-        if layers.is_layered() {
-            self.airspace = self
-                .airspace
-                .layered(&layers)
-                .with_context(|| format!("--layers {}", layers.count))?;
-            self.record.layers = Some(LayersRecord::of(&layers));
-            self.warn_idle_zones(true);
-        }
-        Ok(self)
+/// `world` flown at the layers `args` give (unchanged with one layer); `summary.json` records
+/// them. A zone whose heights hold no layer is warned of.
+///
+/// # Errors
+/// Options out of range, or a layer copy's id (`ID@k`) already taken in the airspace.
+pub fn layered(world: World, args: &LayersArgs) -> anyhow::Result<World> {
+    let layers = args.layers()?;
+    let world = world
+        .layered(&layers)
+        .with_context(|| format!("--layers {}", layers.count))?;
+    if layers.is_layered() {
+        warn_idle_zones(&world, true);
     }
+    Ok(world)
 }
 
 /// The layering options, by clap id (the summary's `world.layers` records them as `count`,
@@ -215,6 +209,8 @@ impl Overridable for LayersArgs {
 
 #[cfg(test)]
 mod tests {
+    use muse_model::Metres;
+
     use super::*;
 
     #[test]

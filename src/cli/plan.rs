@@ -5,19 +5,15 @@ use std::process::ExitCode;
 
 use anyhow::Context as _;
 use clap::Args;
-use muse_formats::day::LocalDay;
-use muse_formats::flights_csv::write_flights_csv;
-use muse_formats::plans::{PlanRecord, write_plan_line};
+use muse_formats::plans::PlanRecord;
 use muse_formats::requests::{UnservedRequest, read_demand_file};
-use muse_formats::stays_csv::write_stays_csv;
-use muse_model::{Instant, Millis};
 use muse_sim::day::DayRun;
 use muse_sim::demand::BookingLead;
 use muse_sim::metrics::{Provenance, ReplanSummary, Summary};
-use muse_sim::outputs::{DayContext, DayOutputs, day_outputs};
+use muse_sim::outputs::{DayContext, DayFiles, day_outputs};
 
-use super::common::{FlightArgs, World, WorldArgs};
-use super::layers::LayersArgs;
+use super::common::{FlightArgs, World, WorldArgs, refuse_withdrawn};
+use super::layers::{LayersArgs, layered};
 use super::optimize::{OptimizeArgs, report_lines};
 use super::output;
 use super::output::write_atomically;
@@ -49,12 +45,8 @@ pub struct PlanArgs {
 /// Runs `muse plan`.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     let params = args.flight.params()?;
-    let world = args.world.load()?.layered(&args.layers)?;
-    world.refuse_withdrawn("plan")?;
-    let day = LocalDay {
-        date: world.date,
-        offset: world.offset,
-    };
+    let world = layered(args.world.load()?, &args.layers)?;
+    refuse_withdrawn(&world, "plan")?;
     let out = output::folder(
         "--out",
         &args.out,
@@ -62,14 +54,9 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
             .add("--requests", &args.requests)
             .world(&args.world),
     )?;
-    let demand = read_demand_file(&args.requests, &world.airspace, day)?;
+    let demand = read_demand_file(&args.requests, &world.airspace, world.day())?;
     let run = args.optimize.plan(&world, params, demand.requests)?;
-    let provenance = Provenance {
-        airspace: world.airspace_source.clone(),
-        zones: world.zones.iter().map(|z| z.id.clone()).collect(),
-        requests: args.requests.display().to_string(),
-        seed: None,
-    };
+    let provenance = world.provenance(args.requests.display().to_string(), None);
     let tables = !args.no_csv;
     let (summary, _) = write_outputs(
         &world,
@@ -121,38 +108,20 @@ pub fn write_outputs(
     tables: bool,
     out: &std::path::Path,
 ) -> anyhow::Result<(Summary, Vec<PlanRecord>)> {
-    let a = &world.airspace;
-    let DayOutputs { records, summary } = day_outputs(
+    let outputs = day_outputs(
         run,
         DayContext {
-            airspace: a,
-            offset: world.offset,
-            params,
-            provenance,
-            world: world.record.clone(),
             booking_lead,
             unserved,
+            ..DayContext::on(world, params, provenance)
         },
     );
-    let mut text = String::with_capacity(records.len() * 400);
-    for record in &records {
-        write_plan_line(&mut text, a, world.offset, record);
-    }
+    let files = DayFiles::of(&outputs, &world.airspace, world.day(), tables);
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
-    write_atomically(&out.join("plans.jsonl"), &text)?;
-    write_atomically(&out.join("summary.json"), &summary.to_json())?;
-    if tables {
-        let midnight = Instant::at_local(world.date, Millis::ZERO, world.offset);
-        write_atomically(
-            &out.join("flights.csv"),
-            &write_flights_csv(&records, a, world.offset, midnight),
-        )?;
-        write_atomically(
-            &out.join("stays.csv"),
-            &write_stays_csv(&records, a, world.offset, midnight),
-        )?;
+    for (name, text) in files.iter() {
+        write_atomically(&out.join(name), text)?;
     }
-    Ok((summary, records))
+    Ok((outputs.summary, outputs.records))
 }
 
 /// One line on what zone announcements did, for the terminal.

@@ -50,7 +50,7 @@ pub fn world_of_run(
     let params = flight
         .map(|f| flight_params(f, matches, found, &mut notes))
         .transpose()?;
-    let world = load_world(&world_args, found)?.layered(&layers)?;
+    let world = super::layers::layered(load_world(&world_args, found)?, &layers)?;
     for line in said(plans, found, &world, params.as_ref(), &notes) {
         eprintln!("{line}");
     }

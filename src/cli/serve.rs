@@ -23,8 +23,8 @@ use clap::Args;
 use muse_model::{Instant, Millis};
 use muse_service::{Clock, Limits, Options, ServiceWorld, Tokens, launch};
 
-use super::common::{FlightArgs, WorldArgs};
-use super::layers::LayersArgs;
+use super::common::{FlightArgs, WorldArgs, refuse_withdrawn};
+use super::layers::{LayersArgs, layered};
 use super::ranges;
 
 /// What `muse serve --help` says after the options.
@@ -123,8 +123,8 @@ pub struct ServeArgs {
 pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     check_data(&args.data)?;
     let params = args.flight.params()?;
-    let world = args.world.load()?.layered(&args.layers)?;
-    world.refuse_withdrawn("serve")?;
+    let world = layered(args.world.load()?, &args.layers)?;
+    refuse_withdrawn(&world, "serve")?;
     let clock = match &args.clock {
         None => Clock::system(),
         Some(text) => Clock::starting_at(

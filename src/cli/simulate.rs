@@ -6,20 +6,19 @@ use std::process::ExitCode;
 
 use anyhow::Context as _;
 use clap::Args;
-use muse_formats::day::LocalDay;
 use muse_formats::flights::{FlightFeature, write_flights};
 use muse_formats::plans::PlanRecord;
 use muse_formats::requests::{Demand, read_demand_file, write_demand, write_requests};
 use muse_model::Request;
 use muse_sim::day::DayRun;
 use muse_sim::demand::{BookingLead, generate};
-use muse_sim::metrics::{Provenance, Summary};
+use muse_sim::metrics::Summary;
 use muse_verify::{Flight, verify_known_in};
 
-use super::common::{FlightArgs, World, WorldArgs, render_world_map};
+use super::common::{FlightArgs, World, WorldArgs, refuse_withdrawn, render_world_map};
 use super::demand::DemandArgs;
 use super::layer_map::render_layer_map;
-use super::layers::LayersArgs;
+use super::layers::{LayersArgs, layered};
 use super::optimize::{OptimizeArgs, report_lines};
 use super::output;
 use super::output::write_atomically;
@@ -58,8 +57,8 @@ pub struct SimulateArgs {
 /// Runs `muse simulate`; exits 1 if the verifier finds a violation.
 pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
     let params = args.flight.params()?;
-    let world = args.world.load()?.layered(&args.layers)?;
-    world.refuse_withdrawn("simulate")?;
+    let world = layered(args.world.load()?, &args.layers)?;
+    refuse_withdrawn(&world, "simulate")?;
     let inputs = output::Inputs::new().world(&args.world);
     let inputs = match &args.requests {
         Some(path) => inputs.add("--requests", path),
@@ -79,12 +78,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         .collect();
     let violations = verify_known_in(&world.airspace, &run.zones, &params, &flights, world.offset);
 
-    let provenance = Provenance {
-        airspace: world.airspace_source.clone(),
-        zones: world.zones.iter().map(|z| z.id.clone()).collect(),
-        requests: source.clone(),
-        seed,
-    };
+    let provenance = world.provenance(source.clone(), seed);
     // The requests as read (demand from customers: every row, customer ids kept), by id.
     let from_customers = demand.rows.is_some();
     let requests_csv = if let Some(mut rows) = demand.rows {
@@ -139,12 +133,8 @@ fn demand_of(
     world: &World,
 ) -> anyhow::Result<(Demand, String, Option<u64>, Option<BookingLead>)> {
     Ok(if let Some(path) = &args.requests {
-        let day = LocalDay {
-            date: world.date,
-            offset: world.offset,
-        };
         (
-            read_demand_file(path, &world.airspace, day)?,
+            read_demand_file(path, &world.airspace, world.day())?,
             path.display().to_string(),
             None,
             None,

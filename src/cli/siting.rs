@@ -23,7 +23,7 @@ use muse_siting::greedy::{BATCH, first_round, lazy_greedy_from};
 use muse_siting::shard::{FILE, ShardFile};
 use muse_siting::{Evaluation, Siting, SitingInput};
 
-use super::common::{FlightArgs, SINGAPORE_HDB, customers_file, read_customers};
+use super::common::{FlightArgs, SINGAPORE_HDB, customers_file, read_customers, zones_spec};
 use super::output;
 use super::ranges;
 
@@ -108,23 +108,8 @@ struct Loaded {
 
 impl SitingArgs {
     /// The zones: `none`, the files given, or the default.
-    fn zones(&self, default: Vec<Zone>) -> anyhow::Result<Vec<Zone>> {
-        let none = self.zones.iter().any(|z| z.as_os_str() == "none");
-        if none && self.zones.len() > 1 {
-            anyhow::bail!("`--zones none` cannot be combined with zone files");
-        }
-        if none {
-            return Ok(Vec::new());
-        }
-        if self.zones.is_empty() {
-            return Ok(default);
-        }
-        let mut all = muse_formats::zones::ZoneFiles::default();
-        for path in &self.zones {
-            all.add(path)
-                .with_context(|| format!("reading zones from {}", path.display()))?;
-        }
-        Ok(all.into_zones())
+    fn zones(&self, default: &[Zone]) -> anyhow::Result<Vec<Zone>> {
+        Ok(zones_spec(&self.zones)?.read(default)?)
     }
 
     /// The seeded days.
@@ -210,7 +195,7 @@ impl SitingArgs {
                     last_mile_m: self.last_mile_m,
                     days,
                     params,
-                    zones: self.zones(scenario.zones.clone())?,
+                    zones: self.zones(&scenario.zones)?,
                     build: muse_scenario::singapore_build_options(),
                 },
                 source: "Singapore: the 77 stations, 1,038 candidate car parks, 2,257 HDB car \
@@ -233,7 +218,7 @@ impl SitingArgs {
             last_mile_m: self.last_mile_m,
             days,
             params,
-            zones: self.zones(Vec::new())?,
+            zones: self.zones(&[])?,
             build: BuildOptions {
                 plane,
                 ..BuildOptions::default()

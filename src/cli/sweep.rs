@@ -20,6 +20,7 @@ use lead::lead;
 use levers::{ANNOUNCE_LEAD, check_given};
 use merge::inputs_of;
 
+use crate::cli::common::refuse_withdrawn;
 use crate::cli::experiment::{Launch, dry_run, launch};
 use crate::cli::{output, study};
 
@@ -88,7 +89,7 @@ fn run_args(
         study,
     };
     let world = args.world.load()?;
-    world.refuse_withdrawn("sweep")?;
+    refuse_withdrawn(&world, "sweep")?;
     let inputs = match study {
         Some(s) => inputs_of(args).add("--study", &s.path),
         None => inputs_of(args),

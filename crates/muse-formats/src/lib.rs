@@ -17,6 +17,7 @@
 //! - [`flights_csv`]: one row per request, the plans file as a table;
 //! - [`stays_csv`]: one row per stay of every flight that flies;
 //! - [`params`]: the flight parameters in user units (summaries, `/healthz`, options);
+//! - [`layer_params`]: the layering in user units (options, the Python package's keywords);
 //! - [`ranges`]: the accepted range of each of them, of the layering's, and of every other
 //!   numeric option (one table: the command line, the Python package and the service).
 #![cfg_attr(not(test), warn(unused_crate_dependencies))]
@@ -26,9 +27,11 @@ pub mod customers;
 pub mod day;
 pub mod error;
 pub mod exclusions;
+mod fields;
 pub mod flights;
 pub mod flights_csv;
 pub mod land;
+pub mod layer_params;
 pub mod pads;
 pub mod params;
 pub mod plans;

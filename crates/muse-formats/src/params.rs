@@ -64,73 +64,20 @@ pub struct BookingLeadRecord {
     pub to: f64,
 }
 
-/// A member of [`ParamsRecord`], to name in an error: as a record member (`speed_kmh`) or as
-/// the command-line option that sets it (`--speed-kmh`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Field {
-    /// `speed_kmh`.
-    SpeedKmh,
-    /// `max_flight_min`.
-    MaxFlightMin,
-    /// `node_separation_s`.
-    NodeSeparationS,
-    /// `edge_rule`.
-    EdgeRule,
-    /// `headway_s`.
-    HeadwayS,
-    /// `max_ground_delay_s`.
-    MaxGroundDelayS,
-    /// `battery_swap_s`.
-    BatterySwapS,
-    /// `max_legs`.
-    MaxLegs,
-    /// `max_trip_min`.
-    MaxTripMin,
-}
-
-impl Field {
-    /// Every member, in the order a summary writes them.
-    pub const ALL: [Field; 9] = [
-        Field::SpeedKmh,
-        Field::MaxFlightMin,
-        Field::NodeSeparationS,
-        Field::EdgeRule,
-        Field::HeadwayS,
-        Field::MaxGroundDelayS,
-        Field::BatterySwapS,
-        Field::MaxLegs,
-        Field::MaxTripMin,
-    ];
-
-    /// The names of [`Field::ALL`], in order.
-    pub const NAMES: [&'static str; 9] = {
-        let mut names = [""; 9];
-        let mut i = 0;
-        while i < names.len() {
-            names[i] = Field::ALL[i].name();
-            i += 1;
-        }
-        names
-    };
-
-    /// The member's name, e.g. `speed_kmh`.
-    pub const fn name(self) -> &'static str {
-        match self {
-            Field::SpeedKmh => "speed_kmh",
-            Field::MaxFlightMin => "max_flight_min",
-            Field::NodeSeparationS => "node_separation_s",
-            Field::EdgeRule => "edge_rule",
-            Field::HeadwayS => "headway_s",
-            Field::MaxGroundDelayS => "max_ground_delay_s",
-            Field::BatterySwapS => "battery_swap_s",
-            Field::MaxLegs => "max_legs",
-            Field::MaxTripMin => "max_trip_min",
-        }
-    }
-
-    /// The command-line option that sets it, e.g. `--speed-kmh`.
-    pub fn option(self) -> String {
-        format!("--{}", self.name().replace('_', "-"))
+crate::fields::fields! {
+    /// A member of [`ParamsRecord`], to name in an error: as a record member (`speed_kmh`) or
+    /// as the command-line option that sets it (`--speed-kmh`); in the order a summary writes
+    /// them.
+    pub enum Field {
+        SpeedKmh = "speed_kmh",
+        MaxFlightMin = "max_flight_min",
+        NodeSeparationS = "node_separation_s",
+        EdgeRule = "edge_rule",
+        HeadwayS = "headway_s",
+        MaxGroundDelayS = "max_ground_delay_s",
+        BatterySwapS = "battery_swap_s",
+        MaxLegs = "max_legs",
+        MaxTripMin = "max_trip_min",
     }
 }
 

@@ -9,7 +9,10 @@
 //!   of a kind, sharded and merged, written as CSV files, tables and plots, and study files:
 //!   the paper's sweep ([`experiment::sweep`]), the announcement-lead sweep
 //!   ([`experiment::lead`]) and the scaling benchmark ([`experiment::bench`]);
-//! - [`outputs`]: a planned day's records (the lines of `plans.jsonl`) and its summary;
+//! - [`outputs`]: a planned day's records (the lines of `plans.jsonl`), its summary and the
+//!   texts of its files (`plans.jsonl`, `summary.json`, `flights.csv`, `stays.csv`);
+//! - [`world`]: the world a day is planned on — airspace, zones, day and what a summary
+//!   records of them — loaded for every front end, and flown at its layers;
 //! - [`stats`]: means and 95% confidence intervals;
 //! - [`metrics`]: the run summary (`summary.json`, SPEC §7): success rate, rejections by
 //!   reason, air and ground delay statistics, planner time and search effort, parameters.
@@ -23,3 +26,4 @@ pub mod metrics;
 pub mod outputs;
 pub mod replay;
 pub mod stats;
+pub mod world;

@@ -1,16 +1,21 @@
 //! What a planned day leaves behind: one [`PlanRecord`] per request (the lines of
-//! `plans.jsonl`, SPEC §7) and the [`Summary`] (`summary.json`), computed once for every
-//! front end — the command line writes them to files, the Python package hands them to
-//! notebooks.
+//! `plans.jsonl`, SPEC §7) and the [`Summary`] (`summary.json`), and the texts of its files
+//! ([`DayFiles`]: `plans.jsonl`, `summary.json`, `flights.csv`, `stays.csv`), computed once
+//! for every front end — the command line writes them to files, the Python package hands them
+//! to notebooks.
 
-use muse_formats::plans::PlanRecord;
+use muse_formats::day::LocalDay;
+use muse_formats::flights_csv::write_flights_csv;
+use muse_formats::plans::{PlanRecord, write_plan_line};
 use muse_formats::requests::UnservedRequest;
-use muse_model::{Airspace, FlightParams, NodeId, RejectReason, UtcOffset};
+use muse_formats::stays_csv::write_stays_csv;
+use muse_model::{Airspace, FlightParams, Instant, Millis, NodeId, RejectReason, UtcOffset};
 
 use crate::day::DayRun;
 use crate::demand::BookingLead;
 use crate::metrics::recorded::WorldRecord;
 use crate::metrics::{OptimizerSummary, Provenance, ReplanSummary, RunItem, Summary};
+use crate::world::World;
 
 /// Where a day was planned and from what, for its summary.
 #[derive(Clone, Debug)]
@@ -30,6 +35,22 @@ pub struct DayContext<'a> {
     /// The requests of demand from customers that no pad serves (SPEC §15); `None` for other
     /// demand.
     pub unserved: Option<&'a [UnservedRequest]>,
+}
+
+impl<'a> DayContext<'a> {
+    /// A day planned on `world` with `params`, from requests read from a file (no booking
+    /// lead) and not from customers (no unserved requests).
+    pub fn on(world: &'a World, params: &'a FlightParams, provenance: Provenance) -> Self {
+        DayContext {
+            airspace: &world.airspace,
+            offset: world.offset,
+            params,
+            provenance,
+            world: world.record.clone(),
+            booking_lead: None,
+            unserved: None,
+        }
+    }
 }
 
 /// A planned day's records and summary.
@@ -126,4 +147,78 @@ pub fn day_outputs(run: &DayRun, context: DayContext<'_>) -> DayOutputs {
         summary = summary.with_optimizer(OptimizerSummary::of(report, &run.requests));
     }
     DayOutputs { records, summary }
+}
+
+/// The texts of a planned day's files.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct DayFiles {
+    /// `plans.jsonl`: one line per record.
+    pub plans: String,
+    /// `summary.json`.
+    pub summary: String,
+    /// `flights.csv`: one row per request; `None` when the tables are not wanted.
+    pub flights_csv: Option<String>,
+    /// `stays.csv`: one row per stay of every flight that flies; `None` when the tables are
+    /// not wanted.
+    pub stays_csv: Option<String>,
+}
+
+impl DayFiles {
+    /// The texts of `outputs`, a day planned on `airspace` on `day` (its local times at the
+    /// day's offset, the tables' times from its midnight); with `tables`, `flights.csv` and
+    /// `stays.csv` too.
+    ///
+    /// ```
+    /// use muse_formats::day::LocalDay;
+    /// use muse_model::{Airspace, FlightParams, Instant, NodeId, Request, UtcOffset};
+    /// use muse_sim::day::{Planning, plan_requests_by};
+    /// use muse_sim::outputs::{DayContext, DayFiles, day_outputs};
+    /// let air = Airspace::line(&[1_000.0]);
+    /// let params = FlightParams::default();
+    /// let (at, from, to) = (Instant(0), NodeId(0), NodeId(1));
+    /// let request = Request { id: "r1".into(), origin: from, destination: to, departure: at, submitted: at };
+    /// let run = plan_requests_by(&air, &[], params, vec![request], Planning::default(), |_| {})
+    ///     .unwrap();
+    /// let context = DayContext {
+    ///     airspace: &air,
+    ///     offset: UtcOffset(0),
+    ///     params: &params,
+    ///     provenance: Default::default(),
+    ///     world: Default::default(),
+    ///     booking_lead: None,
+    ///     unserved: None,
+    /// };
+    /// let day = LocalDay { date: jiff::civil::date(1970, 1, 1), offset: UtcOffset(0) };
+    /// let files = DayFiles::of(&day_outputs(&run, context), &air, day, true);
+    /// assert_eq!(files.plans.lines().count(), 1);
+    /// assert_eq!(files.iter().map(|(name, _)| name).collect::<Vec<_>>(),
+    ///     ["plans.jsonl", "summary.json", "flights.csv", "stays.csv"]);
+    /// ```
+    pub fn of(outputs: &DayOutputs, airspace: &Airspace, day: LocalDay, tables: bool) -> Self {
+        let records = &outputs.records;
+        let mut plans = String::with_capacity(records.len() * 400);
+        for record in records {
+            write_plan_line(&mut plans, airspace, day.offset, record);
+        }
+        let midnight = Instant::at_local(day.date, Millis::ZERO, day.offset);
+        DayFiles {
+            plans,
+            summary: outputs.summary.to_json(),
+            flights_csv: tables.then(|| write_flights_csv(records, airspace, day.offset, midnight)),
+            stays_csv: tables.then(|| write_stays_csv(records, airspace, day.offset, midnight)),
+        }
+    }
+
+    /// Each file's name and text, in the order they are written: `plans.jsonl`,
+    /// `summary.json`, then the tables when there are.
+    pub fn iter(&self) -> impl Iterator<Item = (&'static str, &str)> {
+        [
+            ("plans.jsonl", Some(&self.plans)),
+            ("summary.json", Some(&self.summary)),
+            ("flights.csv", self.flights_csv.as_ref()),
+            ("stays.csv", self.stays_csv.as_ref()),
+        ]
+        .into_iter()
+        .filter_map(|(name, text)| Some((name, text?.as_str())))
+    }
 }

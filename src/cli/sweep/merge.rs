@@ -11,6 +11,7 @@ use super::args::{MergeArgs, SweepArgs};
 use super::build::paper;
 use super::lead::lead;
 use super::levers::ANNOUNCE_LEAD;
+use crate::cli::common::refuse_withdrawn;
 use crate::cli::experiment::{SHARD_FILE, merged};
 use crate::cli::output::{self, Inputs};
 
@@ -73,7 +74,7 @@ pub fn run(args: &MergeArgs) -> anyhow::Result<ExitCode> {
     )?;
     let rebuilt = || format!("{name}: rebuilding the sweep from its command line");
     let world = sweep.world.load().with_context(rebuilt)?;
-    world.refuse_withdrawn("sweep").with_context(rebuilt)?;
+    refuse_withdrawn(&world, "sweep").with_context(rebuilt)?;
     if sweep.vary.iter().any(|v| v == ANNOUNCE_LEAD) {
         let (exp, _) = lead(&sweep, &world).with_context(rebuilt)?;
         merged(&exp, &texts, out, &args.out)
