@@ -17,7 +17,7 @@ True
 Keyword parameters (the paper's defaults): ``speed_kmh`` (30), ``max_flight_min`` (20),
 ``node_separation_s`` (5), ``edge_rule`` (``"exclusive"`` or ``"headway"``), ``headway_s``,
 ``max_ground_delay_s`` (0), ``battery_swap_s``, ``max_legs``, ``max_trip_min``; layers
-(SPEC §13): ``layers`` (1), ``base_altitude_m`` (60), ``layer_spacing_m`` (9.144),
+(docs/reference.md#layered-airspace): ``layers`` (1), ``base_altitude_m`` (60), ``layer_spacing_m`` (9.144),
 ``climb_mps`` (5), ``heading_rule`` (``"none"`` or ``"sectors"``).
 """
 
@@ -55,10 +55,10 @@ _OPTIONAL_REQUEST_COLUMNS = ("submitted", "origin_customer", "destination_custom
 
 
 class Airspace:
-    """An airspace: stations (pads) and waypoints joined by corridors (SPEC §2).
+    """An airspace: stations (pads) and waypoints joined by corridors (docs/reference.md#airspace).
 
     Make one with :meth:`scenario` (built in), :meth:`read` (a GeoJSON file) or
-    :meth:`from_pads` (built from pads by the rule of SPEC §15).
+    :meth:`from_pads` (built from pads by the rule of docs/reference.md#airspace-from-pads).
     """
 
     __slots__ = ("_inner",)
@@ -143,7 +143,7 @@ class Airspace:
         return pd.DataFrame(self._inner.edge_columns())
 
     def to_geojson(self) -> str:
-        """The airspace as GeoJSON (SPEC §2)."""
+        """The airspace as GeoJSON (docs/reference.md#airspace)."""
         return self._inner.to_geojson()
 
     def write(self, path: PathLike) -> None:
@@ -225,7 +225,7 @@ def plan(
     zones: ZonesArg = None,
     **params: Any,
 ) -> Day:
-    """Plans requests first come, first served (SPEC §5-§6), exactly, as ``muse plan``.
+    """Plans requests first come, first served (docs/reference.md#requests and #planning), exactly, as ``muse plan``.
 
     ``requests``: a DataFrame or list of dicts with ``id``, ``origin``, ``destination``,
     ``departure`` (RFC 3339, local ``HH:MM[:SS]``, or a ``datetime``/``Timestamp`` with its

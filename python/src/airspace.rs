@@ -1,5 +1,5 @@
-//! The `Airspace` class: the corridor graph a day is planned on (SPEC §2), from a built-in
-//! scenario, a GeoJSON file, or a set of pads (SPEC §15).
+//! The `Airspace` class: the corridor graph a day is planned on (docs/reference.md#airspace), from
+//! a built-in scenario, a GeoJSON file, or a set of pads (docs/reference.md#airspace-from-pads).
 
 use std::path::PathBuf;
 
@@ -35,18 +35,19 @@ impl Airspace {
         Ok(Airspace { inner })
     }
 
-    /// An airspace GeoJSON file (SPEC §2), with the land outline and the day it may carry.
+    /// An airspace GeoJSON file (docs/reference.md#airspace), with the land outline and the day it
+    /// may carry.
     #[staticmethod]
     fn read(path: PathBuf) -> PyResult<Self> {
         let inner = AirspaceSpec::File(path).load().map_err(error)?;
         Ok(Airspace { inner })
     }
 
-    /// The airspace built from pads by the rule of SPEC §15, as `muse airspace build --pads`
-    /// builds it: `pads` is the text of a pads CSV (`id,lon,lat[,name]`) named `source` in
-    /// messages; `crs` the plane (`utm`, `EPSG:3414`, …); `exclude` GeoJSON files of polygons
-    /// no corridor may cross; `max_corridor_m` the longest corridor; `time_zone` (an IANA
-    /// name) or `utc_offset`, with `date`, the day it is planned on.
+    /// The airspace built from pads by the rule of docs/reference.md#airspace-from-pads, as `muse
+    /// airspace build --pads` builds it: `pads` is the text of a pads CSV (`id,lon,lat[,name]`)
+    /// named `source` in messages; `crs` the plane (`utm`, `EPSG:3414`, …); `exclude` GeoJSON files
+    /// of polygons no corridor may cross; `max_corridor_m` the longest corridor; `time_zone` (an
+    /// IANA name) or `utc_offset`, with `date`, the day it is planned on.
     #[staticmethod]
     #[pyo3(signature = (pads, source, crs = None, exclude = Vec::new(), max_corridor_m = None, time_zone = None, utc_offset = None, date = None))]
     #[allow(clippy::too_many_arguments)]
@@ -146,7 +147,7 @@ impl Airspace {
         self.inner.airspace.stations().count()
     }
 
-    /// The airspace as GeoJSON (SPEC §2), as `muse airspace build` writes it.
+    /// The airspace as GeoJSON (docs/reference.md#airspace), as `muse airspace build` writes it.
     fn to_geojson(&self) -> String {
         let a = &self.inner;
         muse_formats::airspace_geojson::write_airspace_file(

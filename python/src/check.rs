@@ -1,5 +1,6 @@
-//! `verify`: a plans file checked against every rule (SPEC §3–§4, §11–§13), independently of
-//! the planner, as `muse verify` checks it.
+//! `verify`: a plans file checked against every rule (docs/reference.md#flight-model-and-separation
+//! and #no-fly-zones, #zones-announced-during-the-day to #layered-airspace), independently of the
+//! planner, as `muse verify` checks it.
 
 use std::path::PathBuf;
 

@@ -1,6 +1,6 @@
-//! `plan` and `simulate`: a day planned first come, first served (SPEC §5–§7), handed back as
-//! the texts the command line writes: `plans.jsonl`, `summary.json`, `flights.csv` and
-//! `stays.csv`.
+//! `plan` and `simulate`: a day planned first come, first served (docs/reference.md#requests and
+//! #plans), handed back as the texts the command line writes: `plans.jsonl`, `summary.json`,
+//! `flights.csv` and `stays.csv`.
 
 use std::path::PathBuf;
 
@@ -20,10 +20,11 @@ use crate::options::{options, whole};
 use crate::world::world;
 use crate::{MuseError, error};
 
-/// Plans the requests CSV `requests` (named `source` in messages; columns as SPEC §5, and
-/// the customer columns of SPEC §15) on `airspace` with `zones` (`None`: the airspace's own;
-/// a list: these files), first come, first served. Keywords: flight parameters and layers.
-/// Returns `plans`, `summary`, `flights` and `stays`: the texts of the command line's files.
+/// Plans the requests CSV `requests` (named `source` in messages; columns as
+/// docs/reference.md#requests, and the customer columns of docs/reference.md#airspace-from-pads) on
+/// `airspace` with `zones` (`None`: the airspace's own; a list: these files), first come, first
+/// served. Keywords: flight parameters and layers. Returns `plans`, `summary`, `flights` and
+/// `stays`: the texts of the command line's files.
 #[pyfunction]
 #[pyo3(signature = (requests, source, airspace = None, zones = None, **kwargs))]
 pub fn plan<'py>(

@@ -7,7 +7,7 @@
 //! `muse.MuseError` (a `ValueError`) carrying the message the command line prints.
 //!
 //! - `airspace`: the `Airspace` class: a built-in scenario, a GeoJSON file, or built from
-//!   pads (SPEC §15);
+//!   pads (docs/reference.md#airspace-from-pads);
 //! - `options`: keyword arguments as flight parameters and layers;
 //! - `world`: an airspace with its zones and day, as the command line loads it;
 //! - `day`: `plan` and `simulate`;

@@ -1,6 +1,8 @@
-//! Keyword arguments as the model's parameters: the flight model (SPEC §3, §12) by the
-//! members of a summary's `parameters` (`speed_kmh`, `max_flight_min`, …), and the layers
-//! (SPEC §13) by the command line's option names (`layers`, `heading_rule`, …).
+//! Keyword arguments as the model's parameters: the flight model
+//! (docs/reference.md#flight-model-and-separation, #multi-leg-trips) by the members of a summary's
+//! `parameters` (`speed_kmh`, `max_flight_min`, …), and the layers
+//! (docs/reference.md#layered-airspace) by the command line's option names (`layers`,
+//! `heading_rule`, …).
 
 use muse_formats::layer_params::{LayerField, LayerParams};
 use muse_formats::params::{Field, ParamsRecord};

@@ -23,8 +23,9 @@ use super::output;
 /// The airspace subcommands.
 #[derive(Debug, Subcommand)]
 pub enum AirspaceCommand {
-    /// Build an airspace from a pads file (`--pads`: any place, SPEC §15), or regenerate the
-    /// embedded Singapore files from the source data in `data/`.
+    /// Build an airspace from a pads file (`--pads`: any place,
+    /// docs/reference.md#airspace-from-pads), or regenerate the embedded Singapore files from the
+    /// source data in `data/`.
     Build {
         /// Pads file: a CSV with the columns `id,lon,lat` (and optionally `name`), or GeoJSON
         /// points; the airspace is written to `--out`.
@@ -247,7 +248,8 @@ fn build_targets(out: &Path) -> anyhow::Result<Vec<output::FileOut>> {
         .collect()
 }
 
-/// `muse airspace build --pads`: the airspace of any set of pads (SPEC §15).
+/// `muse airspace build --pads`: the airspace of any set of pads
+/// (docs/reference.md#airspace-from-pads).
 fn build_from_pads(
     pads: &Path,
     crs: Option<&str>,

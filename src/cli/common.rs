@@ -228,7 +228,8 @@ impl RangeArgs {
     }
 }
 
-/// Every flight-model parameter of SPEC §3 (defaults: the paper).
+/// Every flight-model parameter of docs/reference.md#flight-model-and-separation (defaults: the
+/// paper).
 #[derive(Debug, Args, Clone, Copy)]
 pub struct FlightArgs {
     #[command(flatten)]

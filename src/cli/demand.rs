@@ -1,4 +1,4 @@
-//! `muse demand`: generate a seeded requests file (SPEC §8).
+//! `muse demand`: generate a seeded requests file (docs/reference.md#built-in-scenarios).
 
 use std::path::PathBuf;
 use std::process::ExitCode;

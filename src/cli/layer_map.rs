@@ -1,7 +1,7 @@
-//! `map.svg` of a layered day (SPEC §13): the corridor load at each layer, one panel per
-//! layer on one load scale (small multiples). Each panel draws the corridors flown at its
-//! layer (under the `sectors` heading rule, only those open in its directions) over the flat
-//! stations and waypoints; the vertical links between layers are not corridors and are not
+//! `map.svg` of a layered day (docs/reference.md#layered-airspace): the corridor load at each
+//! layer, one panel per layer on one load scale (small multiples). Each panel draws the corridors
+//! flown at its layer (under the `sectors` heading rule, only those open in its directions) over
+//! the flat stations and waypoints; the vertical links between layers are not corridors and are not
 //! drawn.
 
 use anyhow::Context as _;

@@ -1,4 +1,5 @@
-//! `--layers` and its options (SPEC §13): the airspace flown at several cruise altitudes.
+//! `--layers` and its options (docs/reference.md#layered-airspace): the airspace flown at several
+//! cruise altitudes.
 
 use anyhow::Context;
 use clap::{ArgMatches, Args};
@@ -10,7 +11,7 @@ use super::common::{World, warn_idle_zones};
 use super::overrides::{Overridable, Summary, overridden};
 use super::ranges;
 
-/// The layering of the airspace (SPEC §13).
+/// The layering of the airspace (docs/reference.md#layered-airspace).
 #[derive(Args, Debug, Clone)]
 pub struct LayersArgs {
     /// Cruise layers `L`, from 1 to 64: the corridor graph is flown at `L` altitudes, joined

@@ -1,4 +1,5 @@
-//! The options of batch planning (SPEC §14) shared by `muse plan` and `muse simulate`.
+//! The options of batch planning (docs/reference.md#batch-planning) shared by `muse plan` and `muse
+//! simulate`.
 
 use std::time::Duration;
 
@@ -16,8 +17,8 @@ use super::ranges;
 #[derive(Debug, Args)]
 pub struct OptimizeArgs {
     /// Plan the requests as one batch, better than first come, first served: most requests
-    /// planned, then least total delay (SPEC §14). Starts from first come, first served and
-    /// never returns a worse schedule.
+    /// planned, then least total delay (docs/reference.md#batch-planning). Starts from first come,
+    /// first served and never returns a worse schedule.
     #[arg(long)]
     optimize: bool,
     /// With --optimize: steps of large-neighbourhood search, from 0 to 1000000000 (the

@@ -93,10 +93,10 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
 
 /// Writes `plans.jsonl` and `summary.json` (and, with `tables`, `flights.csv` and
 /// `stays.csv`) for a planned day into `out`; returns the summary and the records written.
-/// The `unserved` requests of demand from customers (SPEC §15; `None` for other demand) follow the planned day's
-/// lines, rejected with reason `unserved`, and are counted apart in the summary.
-/// `booking_lead` is the lead of generated demand, recorded in the summary's parameters
-/// (`None` for requests read from a file).
+/// The `unserved` requests of demand from customers (docs/reference.md#airspace-from-pads; `None`
+/// for other demand) follow the planned day's lines, rejected with reason `unserved`, and are
+/// counted apart in the summary. `booking_lead` is the lead of generated demand, recorded in the
+/// summary's parameters (`None` for requests read from a file).
 #[allow(clippy::too_many_arguments)]
 pub fn write_outputs(
     world: &World,

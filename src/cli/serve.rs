@@ -1,12 +1,12 @@
-//! `muse serve`: the planning service (SPEC §10) on the embedded Singapore default or any
-//! airspace, zones and parameters `muse plan` takes.
+//! `muse serve`: the planning service (docs/reference.md#the-planning-service) on the embedded
+//! Singapore default or any airspace, zones and parameters `muse plan` takes.
 //!
 //! Routes (see `GET /v1/openapi.json`): `POST|GET /v1/flights`, `GET|DELETE
 //! /v1/flights/{id}` (plan, list, read, cancel); `GET /v1/zones` (every zone, announced ones
 //! with their instants), `POST /v1/zones` and `DELETE /v1/zones/{id}` (the authority
-//! announces a zone now, SPEC §11, and the flights it hits are replanned; or withdraws one);
-//! `GET /v1/events` (the caller's flights' changes as server-sent events, resumable with
-//! `Last-Event-ID`); `GET /v1/airspace`, `/healthz`, `/metrics`.
+//! announces a zone now, docs/reference.md#zones-announced-during-the-day, and the flights it hits
+//! are replanned; or withdraws one); `GET /v1/events` (the caller's flights' changes as server-sent
+//! events, resumable with `Last-Event-ID`); `GET /v1/airspace`, `/healthz`, `/metrics`.
 //!
 //! HTTP limits (see `muse_service::Limits`): `--header-timeout-s`, `--body-timeout-s`,
 //! `--idle-timeout-s`, `--max-connections` (lowered to what the open-file limit allows, after
@@ -76,8 +76,8 @@ pub struct ServeArgs {
     #[arg(long, value_name = "DAYS", default_value_t = 30, allow_negative_numbers = true, value_parser = ranges::booking_horizon_days)]
     booking_horizon_days: u32,
     /// Plan the requests that arrive within this many milliseconds of each other as one
-    /// batch, better than first come, first served (SPEC §14), answered in order of arrival;
-    /// from 0 to 10000; 0 plans each as it comes.
+    /// batch, better than first come, first served (docs/reference.md#batch-planning), answered in
+    /// order of arrival; from 0 to 10000; 0 plans each as it comes.
     #[arg(long, value_name = "MS", default_value_t = 0, allow_negative_numbers = true, value_parser = ranges::batch_window_ms)]
     batch_window_ms: u64,
     /// Convert the data folder's log written by an earlier version (`muse.log`) into the

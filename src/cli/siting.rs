@@ -1,5 +1,5 @@
-//! `muse siting`: where to add pads (SPEC §15) — lazy greedy by exact simulation, against
-//! greedy maximum coverage and k-means of demand for the same number of pads.
+//! `muse siting`: where to add pads (docs/reference.md#airspace-from-pads) — lazy greedy by exact
+//! simulation, against greedy maximum coverage and k-means of demand for the same number of pads.
 
 mod report;
 mod shards;

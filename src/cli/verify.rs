@@ -47,10 +47,12 @@ const STATUSES: [&str; 6] = [
     "rejected",
 ];
 
-/// Runs `muse verify`: exit 0 if every flight that flies satisfies SPEC §3–§4 (and §11, §12),
-/// 1 otherwise. Every line of the plans file is read: those of `muse plan` and `muse
-/// simulate`, and those of a service listing saved one flight a line (flights cancelled by
-/// their operator and rejected requests are read and counted, and fly nothing).
+/// Runs `muse verify`: exit 0 if every flight that flies satisfies
+/// docs/reference.md#flight-model-and-separation and #no-fly-zones (and
+/// #zones-announced-during-the-day, #multi-leg-trips), 1 otherwise. Every line of the plans file is
+/// read: those of `muse plan` and `muse simulate`, and those of a service listing saved one flight
+/// a line (flights cancelled by their operator and rejected requests are read and counted, and fly
+/// nothing).
 pub fn run(args: &VerifyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> {
     let (run, params) = args.run.files()?.open_with_flight(&args.flight, matches)?;
     let (world, entries) = (&run.world, &run.entries);

@@ -1,7 +1,7 @@
 //! `muse airspace info` on zones with vertical limits: each zone's heights as read from
 //! ED-318 and ED-269 files, and what it closes: on the flat airspace the same as without
 //! limits (one cruise altitude); with `--layers`, the layers of its band and the vertical
-//! links across it (SPEC §13).
+//! links across it (docs/reference.md#layered-airspace).
 
 use std::path::Path;
 

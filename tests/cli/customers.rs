@@ -1,7 +1,7 @@
-//! Demand from customers (SPEC §15): `muse demand --customers` draws requests between
-//! customers and maps each to its nearest pad in reach; the file keeps the customer ids;
-//! `muse simulate` and `muse plan` count unserved requests apart, in the plans, the summary
-//! and the report, and `muse verify` reads them; bad customers files are refused.
+//! Demand from customers (docs/reference.md#airspace-from-pads): `muse demand --customers` draws
+//! requests between customers and maps each to its nearest pad in reach; the file keeps the
+//! customer ids; `muse simulate` and `muse plan` count unserved requests apart, in the plans, the
+//! summary and the report, and `muse verify` reads them; bad customers files are refused.
 
 use std::path::Path;
 

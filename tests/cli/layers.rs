@@ -1,8 +1,8 @@
-//! A layered day end to end (SPEC §13, docs/reference.md): `muse simulate --layers 4
-//! --heading-rule sectors` writes every stay as a flat id and its layer, altitudes in the
-//! flights GeoJSON, a `layer` column in `stays.csv` and one map panel per layer; `muse verify`
-//! and `muse view` rebuild the layering from the summary (or the options) and check the day;
-//! and one layer writes exactly what no `--layers` writes.
+//! A layered day end to end (docs/reference.md#layered-airspace, docs/reference.md): `muse simulate
+//! --layers 4 --heading-rule sectors` writes every stay as a flat id and its layer, altitudes in
+//! the flights GeoJSON, a `layer` column in `stays.csv` and one map panel per layer; `muse verify`
+//! and `muse view` rebuild the layering from the summary (or the options) and check the day; and
+//! one layer writes exactly what no `--layers` writes.
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};

@@ -1,5 +1,5 @@
-//! Batch planning (SPEC §14) end to end: `muse simulate --optimize` and `muse plan
-//! --optimize` on the embedded Singapore default, checked by `muse verify`.
+//! Batch planning (docs/reference.md#batch-planning) end to end: `muse simulate --optimize` and
+//! `muse plan --optimize` on the embedded Singapore default, checked by `muse verify`.
 
 use crate::run::{muse, read_json, said};
 use crate::support::scratch_dir;

@@ -1,8 +1,8 @@
-//! `muse airspace build --pads` (SPEC §15): the airspace of any set of pads. Built from all
-//! 1,115 Singapore car parks in SVY21 it is the built-in `singapore-all`, byte for byte; on a
-//! few pads elsewhere (near Vienna, 48.2° N, 16.4° E) `muse simulate --airspace` plans and
-//! verifies on it; exclusions and a maximum corridor length drop corridors; every bad pads or
-//! exclusions file, or option, is refused with a clear message and no output.
+//! `muse airspace build --pads` (docs/reference.md#airspace-from-pads): the airspace of any set of
+//! pads. Built from all 1,115 Singapore car parks in SVY21 it is the built-in `singapore-all`, byte
+//! for byte; on a few pads elsewhere (near Vienna, 48.2° N, 16.4° E) `muse simulate --airspace`
+//! plans and verifies on it; exclusions and a maximum corridor length drop corridors; every bad
+//! pads or exclusions file, or option, is refused with a clear message and no output.
 
 use std::fmt::Write as _;
 use std::path::Path;

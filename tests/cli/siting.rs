@@ -1,7 +1,7 @@
-//! `muse siting` (SPEC §15) on a small made-up place near Vienna: it picks pads with their
-//! gains, writes the picks, the curves of the three methods and the airspace, and its numbers
-//! agree with one another; bad pads, candidates or customers files and options are refused
-//! with a clear message and no output.
+//! `muse siting` (docs/reference.md#airspace-from-pads) on a small made-up place near Vienna: it
+//! picks pads with their gains, writes the picks, the curves of the three methods and the airspace,
+//! and its numbers agree with one another; bad pads, candidates or customers files and options are
+//! refused with a clear message and no output.
 
 use std::fmt::Write as _;
 use std::path::Path;

@@ -1,5 +1,5 @@
-//! Multi-leg trips (SPEC §12) end to end: `muse simulate`, `verify`, `sweep` and `serve` with
-//! `--battery-swap-s`, on the embedded Singapore default.
+//! Multi-leg trips (docs/reference.md#multi-leg-trips) end to end: `muse simulate`, `verify`,
+//! `sweep` and `serve` with `--battery-swap-s`, on the embedded Singapore default.
 
 use serde_json::{Value, json};
 

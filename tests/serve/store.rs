@@ -1,6 +1,6 @@
 //! The store's promises, tried on the `muse serve` binary as an operator would meet them
-//! (SPEC §10): ids are forever, across any age, SIGKILL and restart; damage to the database
-//! between restarts is refused or named, never served as data.
+//! (docs/reference.md#the-planning-service): ids are forever, across any age, SIGKILL and restart;
+//! damage to the database between restarts is refused or named, never served as data.
 
 use std::io::{BufRead as _, BufReader, Read as _};
 use std::path::Path;
@@ -407,8 +407,9 @@ async fn damage_is_refused_or_named_never_served() {
     assert!(said.contains("cut short"), "{said}");
 }
 
-/// A store records the layering it was written with (SPEC §13): a start with another one is
-/// refused and names both; the same one starts; a flat store keeps its meta as before layers.
+/// A store records the layering it was written with (docs/reference.md#layered-airspace): a start
+/// with another one is refused and names both; the same one starts; a flat store keeps its meta as
+/// before layers.
 #[test]
 fn a_store_refuses_another_layering() {
     let d = scratch_dir("store-layers");

@@ -12,7 +12,7 @@
 //!   before the kill is a prefix of it, and it ends with the announcement's outcomes);
 //! - the zone is known (listed with its instant, its id refused again), a replanned flight
 //!   can still be cancelled before its new take-off, and every final plan passes the
-//!   verifier with the zone (SPEC §11 exemptions).
+//!   verifier with the zone (docs/reference.md#zones-announced-during-the-day exemptions).
 
 use std::collections::BTreeMap;
 use std::sync::{Arc, Mutex};

@@ -36,10 +36,10 @@ impl Plan {
         self.airborne.iter().any(|&(from, to)| from <= t && t < to)
     }
 
-    /// Its layer at `t`, from its stays (SPEC §13): the stay's layer while it is at a node,
-    /// evenly between two layers while it crosses a vertical link (two stays in a row at one
-    /// node), and the layer it flies at along a corridor. `None` before take-off or after
-    /// landing.
+    /// Its layer at `t`, from its stays (docs/reference.md#layered-airspace): the stay's layer
+    /// while it is at a node, evenly between two layers while it crosses a vertical link (two stays
+    /// in a row at one node), and the layer it flies at along a corridor. `None` before take-off or
+    /// after landing.
     pub fn layer_at(&self, t: i64) -> Option<f64> {
         let i = self.stays.iter().rposition(|s| s.2 <= t)?;
         let (node, layer, _, depart) = &self.stays[i];

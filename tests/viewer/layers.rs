@@ -1,12 +1,11 @@
-//! A layered day (SPEC §13: four layers, one heading sector each) in the page `muse simulate`
-//! writes, driven in headless Chromium against its `plans.jsonl`: it opens offline without
-//! errors, drawn from above (the flat stations only), and every layer shown draws exactly the
-//! flights in the air (a climb does not end a leg); shown one layer alone, the
-//! page draws exactly the flights at that layer (or crossing to or from it) by their stays; a
-//! zone whose band covers the lower layers closes corridors there and none above; and the
-//! selected flight's side view gives its altitude over time as its stays do, and a click on it
-//! moves the clock there. Skipped with a notice when Chromium is not installed, unless `CI` is
-//! set.
+//! A layered day (docs/reference.md#layered-airspace: four layers, one heading sector each) in the
+//! page `muse simulate` writes, driven in headless Chromium against its `plans.jsonl`: it opens
+//! offline without errors, drawn from above (the flat stations only), and every layer shown draws
+//! exactly the flights in the air (a climb does not end a leg); shown one layer alone, the page
+//! draws exactly the flights at that layer (or crossing to or from it) by their stays; a zone whose
+//! band covers the lower layers closes corridors there and none above; and the selected flight's
+//! side view gives its altitude over time as its stays do, and a click on it moves the clock there.
+//! Skipped with a notice when Chromium is not installed, unless `CI` is set.
 
 use std::collections::BTreeSet;
 

@@ -1,4 +1,4 @@
-//! Zones by when they became known (SPEC §11).
+//! Zones by when they became known (docs/reference.md#zones-announced-during-the-day).
 //!
 //! A zone without an announcement instant is known from the start: it binds every flight.
 //! A zone announced at `n` binds every stay and traversal that *begins* at or after `n` (and,

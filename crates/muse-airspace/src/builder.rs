@@ -1,15 +1,16 @@
 //! Building an airspace from nodes: Delaunay triangulation, the paper's "join collinear
-//! nodes", an optional maximum edge length, and a connectivity check (SPEC §8).
+//! nodes", an optional maximum edge length, and a connectivity check
+//! (docs/reference.md#built-in-scenarios).
 //!
 //! [`build_airspace`] takes the nodes (stations and waypoints) and returns a connected
 //! [`Airspace`] whose edges are chosen as follows:
 //!
-//! 1. **Projection** to a local metric plane ([`Plane`], SPEC §15): by default the UTM zone
-//!    of the nodes' centroid (the normalised mean of their unit vectors); `SVY21`
-//!    (EPSG:3414) for Singapore's built-in scenarios; or an oblique stereographic projection
-//!    about the centroid. All nodes must lie strictly within 90° of the centroid (one
-//!    hemisphere), between 84° S and 84° N, within 60° of longitude and on one side of the
-//!    ±180° meridian ([`check_extent`](crate::plane::check_extent)).
+//! 1. **Projection** to a local metric plane ([`Plane`], docs/reference.md#airspace-from-pads): by
+//!    default the UTM zone of the nodes' centroid (the normalised mean of their unit vectors);
+//!    `SVY21` (EPSG:3414) for Singapore's built-in scenarios; or an oblique stereographic
+//!    projection about the centroid. All nodes must lie strictly within 90° of the centroid (one
+//!    hemisphere), between 84° S and 84° N, within 60° of longitude and on one side of the ±180°
+//!    meridian ([`check_extent`](crate::plane::check_extent)).
 //! 2. **Delaunay triangulation** of the projected points with [`spade`] (exact predicates).
 //!    Two nodes at the same position are an error.
 //! 3. **Join collinear nodes** (the paper's step): an edge A–C is dropped when some node B

@@ -5,7 +5,8 @@
 //! - [`plane`]: the local metric plane an airspace is built in (UTM, SVY21, stereographic);
 //! - [`closures`]: zones + a date range → each node's and edge's closure windows (on a
 //!   layered airspace, of the copies at the layers in each zone's vertical band);
-//! - [`announced`]: those windows by when their zones became known (SPEC §11);
+//! - [`announced`]: those windows by when their zones became known
+//!   (docs/reference.md#zones-announced-during-the-day);
 //! - [`shortest`]: Dijkstra on integer traversal times (free-flow times, heuristics);
 //! - [`stats`]: graph statistics for `muse airspace info`.
 #![cfg_attr(not(test), warn(unused_crate_dependencies))]

@@ -1,10 +1,10 @@
-//! The local metric plane an airspace is built in (SPEC §15): where the Delaunay triangulation
-//! and the "join collinear nodes" angles are worked out.
+//! The local metric plane an airspace is built in (docs/reference.md#airspace-from-pads): where the
+//! Delaunay triangulation and the "join collinear nodes" angles are worked out.
 //!
 //! By default the UTM zone of the nodes' centroid (WGS84, north or south); `--crs` names
 //! another by its EPSG code: 3414 (SVY21, Singapore's grid) or any WGS84 UTM zone (326zz,
-//! 327zz). Before §15 MUSE used an oblique stereographic projection about the centroid,
-//! still available as [`Plane::Stereographic`].
+//! 327zz). Before docs/reference.md#airspace-from-pads MUSE used an oblique stereographic
+//! projection about the centroid, still available as [`Plane::Stereographic`].
 //!
 //! Whatever the plane, maps draw corridors and zones test them as straight lines in
 //! longitude and latitude: [`check_extent`] keeps an airspace's nodes where that holds

@@ -187,8 +187,8 @@ impl Dijkstra {
 
     /// Shortest times from every node to the nearest of `targets` (each node's time is to
     /// whichever target it reaches first), searching backwards along the edges: the same as
-    /// [`Dijkstra::run_from_all`] unless some corridor is one-way (a heading rule, SPEC §13).
-    /// [`Dijkstra::path_to`] is not meaningful after it.
+    /// [`Dijkstra::run_from_all`] unless some corridor is one-way (a heading rule,
+    /// docs/reference.md#layered-airspace). [`Dijkstra::path_to`] is not meaningful after it.
     ///
     /// ```
     /// use muse_airspace::shortest::Dijkstra;

@@ -1,10 +1,10 @@
 //! Airspace statistics, as printed by `muse airspace info`.
 //!
 //! Counts, edge lengths, the free-flow diameter and how many station pairs a drone can serve
-//! within its battery limit `T_max` (SPEC §3). Station-pair times come from one
-//! [`Dijkstra`] search per station, with one reused workspace; the diameter over all nodes
-//! from eccentricity bounds and as few further searches as they need (exact, and checked
-//! against one search per node by a test).
+//! within its battery limit `T_max` (docs/reference.md#flight-model-and-separation). Station-pair
+//! times come from one [`Dijkstra`] search per station, with one reused workspace; the diameter
+//! over all nodes from eccentricity bounds and as few further searches as they need (exact, and
+//! checked against one search per node by a test).
 
 use std::fmt;
 

@@ -7,7 +7,7 @@
 //! the header says the origin's absolute time and a `DATE` command sets BlueSky's clock to it
 //! (UTC). Times are rounded to the hundredth of a second, the precision BlueSky reads.
 //!
-//! Each flight (each leg of a multi-leg trip, SPEC §12) is:
+//! Each flight (each leg of a multi-leg trip, docs/reference.md#multi-leg-trips) is:
 //!
 //! - a comment line `# flight CALLSIGN: request ID, leg K/N, ORIGIN -> DESTINATION, take-off
 //!   T, landing L, destination LAT LON` (times in milliseconds);
@@ -21,8 +21,8 @@
 //! - `AT CALLSIGN0NN DO DEL CALLSIGN`: it is deleted (it lands) as it passes its destination;
 //! - a hover at a node, from the planned arrival to the planned departure: `SPD CALLSIGN 0` at
 //!   the arrival, the cruise speed again at the departure (timed, so a late drone is never
-//!   held for ever); a change of layer at a node (SPEC §13) is an `ALT` command at the planned
-//!   instant, at the layers' vertical speed.
+//!   held for ever); a change of layer at a node (docs/reference.md#layered-airspace) is an `ALT`
+//!   command at the planned instant, at the layers' vertical speed.
 //!
 //! Units are BlueSky's: altitudes in feet, speeds in knots calibrated airspeed (the cruise
 //! true airspeed converted at the altitude flown, in BlueSky's standard atmosphere), vertical
@@ -277,7 +277,8 @@ fn unique(wanted: &str, taken: &mut HashSet<String>) -> String {
     name
 }
 
-/// The altitude node `n` is flown at: its layer's (SPEC §13; 60 m when flat).
+/// The altitude node `n` is flown at: its layer's (docs/reference.md#layered-airspace; 60 m when
+/// flat).
 fn altitude(airspace: &Airspace, n: NodeId) -> Metres {
     let layers = airspace.layers().copied().unwrap_or_default();
     layers.altitude(airspace.node_layer(n))

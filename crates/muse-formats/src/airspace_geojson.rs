@@ -1,4 +1,4 @@
-//! The airspace GeoJSON format (SPEC §2).
+//! The airspace GeoJSON format (docs/reference.md#airspace).
 //!
 //! A FeatureCollection of `Point` nodes with properties `{"id", "kind", "name"}` and
 //! two-position `LineString` edges with properties `{"from", "to", "length_m"?, "id"?}`.

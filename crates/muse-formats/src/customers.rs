@@ -1,5 +1,6 @@
-//! Customers files (SPEC §15, demand from points): where deliveries start and end, as a CSV
-//! with the columns `id,lon,lat` and optionally `weight` (any order, other columns ignored).
+//! Customers files (docs/reference.md#airspace-from-pads, demand from points): where deliveries
+//! start and end, as a CSV with the columns `id,lon,lat` and optionally `weight` (any order, other
+//! columns ignored).
 //!
 //! A customer's id follows the requests' rule ([`ID_RULE`]), so that it can stand in a
 //! requests file; its weight, the relative chance of being drawn as an end of a request, is

@@ -1,8 +1,8 @@
-//! Exclusion polygons for building an airspace from pads (SPEC §15): areas no corridor may
-//! meet, as GeoJSON — a FeatureCollection of `Polygon` or `MultiPolygon` features, one such
-//! feature, or a bare geometry. Positions are `[lon, lat]` in WGS84; each ring has at least
-//! four positions and ends where it starts; the first ring of a polygon is its outline, the
-//! others its holes.
+//! Exclusion polygons for building an airspace from pads (docs/reference.md#airspace-from-pads):
+//! areas no corridor may meet, as GeoJSON — a FeatureCollection of `Polygon` or `MultiPolygon`
+//! features, one such feature, or a bare geometry. Positions are `[lon, lat]` in WGS84; each ring
+//! has at least four positions and ends where it starts; the first ring of a polygon is its
+//! outline, the others its holes.
 //!
 //! ```
 //! use muse_formats::exclusions::read_exclusions;

@@ -1,21 +1,21 @@
 //! Planned flights as GeoJSON, for QGIS and kepler.gl.
 //!
-//! One `LineString` feature per planned flight — per leg for a multi-leg trip (SPEC §12), so
-//! that a map shows where the drone lands for a battery swap. Its vertices are the stays of
-//! the plan (or leg) in order — two vertices at the same position when the drone hovers
-//! (arrival, then departure) — and each position is `[lon, lat, 0, t]` with `t` the instant
-//! in Unix seconds (with milliseconds): the layout kepler.gl's Trips layer animates, and that
-//! QGIS reads as a measure. The same instants are in the `times` property as RFC 3339 text.
-//! Properties: `request`, `origin`, `destination`, `takeoff`, `landing`, `airborne_s`,
-//! `air_delay_s`, `ground_delay_s` (all of the trip as a whole: first take-off, last landing,
-//! the time on the ground between legs included), `nodes` and `times` (the feature's own
-//! vertices). A leg of a multi-leg trip adds `leg` (1 for the first) and `legs` (how many the
-//! trip has); a single-leg flight has neither.
+//! One `LineString` feature per planned flight — per leg for a multi-leg trip
+//! (docs/reference.md#multi-leg-trips), so that a map shows where the drone lands for a battery
+//! swap. Its vertices are the stays of the plan (or leg) in order — two vertices at the same
+//! position when the drone hovers (arrival, then departure) — and each position is `[lon, lat, 0,
+//! t]` with `t` the instant in Unix seconds (with milliseconds): the layout kepler.gl's Trips layer
+//! animates, and that QGIS reads as a measure. The same instants are in the `times` property as RFC
+//! 3339 text. Properties: `request`, `origin`, `destination`, `takeoff`, `landing`, `airborne_s`,
+//! `air_delay_s`, `ground_delay_s` (all of the trip as a whole: first take-off, last landing, the
+//! time on the ground between legs included), `nodes` and `times` (the feature's own vertices). A
+//! leg of a multi-leg trip adds `leg` (1 for the first) and `legs` (how many the trip has); a
+//! single-leg flight has neither.
 //!
-//! In a layered airspace (SPEC §13) the third coordinate is the stay's altitude in metres,
-//! `h_k` of its layer (a climb is two positions at the same place, one above the other), the
-//! `nodes` are flat ids, and `layers` gives each node's layer. A flat airspace's positions
-//! keep `0` there, and its features have no `layers`.
+//! In a layered airspace (docs/reference.md#layered-airspace) the third coordinate is the stay's
+//! altitude in metres, `h_k` of its layer (a climb is two positions at the same place, one above
+//! the other), the `nodes` are flat ids, and `layers` gives each node's layer. A flat airspace's
+//! positions keep `0` there, and its features have no `layers`.
 
 use std::fmt::Write as _;
 

@@ -11,7 +11,7 @@
 //!
 //! `total_delay_s` is `landing − (requested departure + free flow)`, the ground and the air
 //! delay together; `legs` the legs of the final plan (1 without battery swaps); `changes` the
-//! zone announcements that changed the flight (SPEC §11).
+//! zone announcements that changed the flight (docs/reference.md#zones-announced-during-the-day).
 
 use muse_model::{Airspace, Instant, UtcOffset};
 

@@ -1,9 +1,9 @@
-//! The layering (SPEC §13) in the units a user gives it — a number of layers, metres, metres
-//! per second — as the command line's options (`--layers`, `--base-altitude-m`, …) and the
-//! Python package's keywords (`layers=`, `base_altitude_m=`, …) take it: one type,
-//! [`LayerParams`], turned into the model's [`Layers`] by one function,
-//! [`LayerParams::to_layers`]. Each value's range is checked where it is read
-//! ([`crate::ranges`]); what is left here is what the model's units require.
+//! The layering (docs/reference.md#layered-airspace) in the units a user gives it — a number of
+//! layers, metres, metres per second — as the command line's options (`--layers`,
+//! `--base-altitude-m`, …) and the Python package's keywords (`layers=`, `base_altitude_m=`, …)
+//! take it: one type, [`LayerParams`], turned into the model's [`Layers`] by one function,
+//! [`LayerParams::to_layers`]. Each value's range is checked where it is read ([`crate::ranges`]);
+//! what is left here is what the model's units require.
 //!
 //! ```
 //! use muse_formats::layer_params::LayerParams;

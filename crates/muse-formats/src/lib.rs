@@ -1,4 +1,5 @@
-//! MUSE file formats (SPEC §2, §4, §5, §7, §15).
+//! MUSE file formats (docs/reference.md#airspace, #no-fly-zones, #requests, #plans,
+//! #airspace-from-pads).
 //!
 //! Every reader takes the text of a file together with a name for it (usually its path)
 //! and returns either the parsed value or an [`InputError`] that names the file, the line
@@ -7,10 +8,12 @@
 //! - [`airspace_geojson`]: the airspace GeoJSON (nodes as `Point`s, edges as `LineString`s);
 //! - [`day`]: the day an airspace is planned on (its date and UTC offset), which a file may carry;
 //! - [`zones`]: no-fly zones in the ED-318 GeoJSON profile and ED-269 JSON;
-//! - [`pads`]: the pads an airspace is built from (CSV or GeoJSON points, SPEC §15);
+//! - [`pads`]: the pads an airspace is built from (CSV or GeoJSON points,
+//!   docs/reference.md#airspace-from-pads);
 //! - [`exclusions`]: polygons no corridor of an airspace built from pads may meet;
 //! - [`land`]: the land outline an airspace file may carry, for its maps;
-//! - [`customers`]: customers, the points demand is drawn between (SPEC §15);
+//! - [`customers`]: customers, the points demand is drawn between
+//!   (docs/reference.md#airspace-from-pads);
 //! - [`requests`]: the requests CSV;
 //! - [`plans`]: plan output as JSON Lines;
 //! - [`flights`]: planned flights as time-stamped GeoJSON lines (QGIS, kepler.gl);

@@ -1,6 +1,6 @@
-//! Pads files (SPEC §15): the stations an airspace is built from, as a CSV (`id,lon,lat` and
-//! an optional `name`, any order, other columns ignored) or as GeoJSON points (a
-//! FeatureCollection of `Point` features with an `id` property, or the feature's `id`, and an
+//! Pads files (docs/reference.md#airspace-from-pads): the stations an airspace is built from, as a
+//! CSV (`id,lon,lat` and an optional `name`, any order, other columns ignored) or as GeoJSON points
+//! (a FeatureCollection of `Point` features with an `id` property, or the feature's `id`, and an
 //! optional `name`).
 //!
 //! Each pad becomes a station [`Node`] in the file's order. Refused, naming the line (or

@@ -19,8 +19,9 @@ use std::fmt;
 use muse_model::{BatterySwap, EdgeRule, FlightParams, Millis, Speed};
 use serde::{Deserialize, Serialize};
 
-/// The flight-model parameters in user units (SPEC §3, §12). Read back strictly: a member
-/// this version does not know is an error; a missing optional one is `None`.
+/// The flight-model parameters in user units (docs/reference.md#flight-model-and-separation,
+/// #multi-leg-trips). Read back strictly: a member this version does not know is an error; a
+/// missing optional one is `None`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ParamsRecord {
@@ -43,7 +44,8 @@ pub struct ParamsRecord {
     /// booking instant, and in what the service reports.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub booking_lead_min: Option<BookingLeadRecord>,
-    /// Battery swap time at stations, seconds (SPEC §12); absent when trips are single legs.
+    /// Battery swap time at stations, seconds (docs/reference.md#multi-leg-trips); absent when
+    /// trips are single legs.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub battery_swap_s: Option<f64>,
     /// With swaps: the most legs a trip may have; absent when unbounded.

@@ -1,16 +1,17 @@
-//! Plan output: JSON Lines, one object per request in planning order (SPEC §7).
+//! Plan output: JSON Lines, one object per request in planning order (docs/reference.md#plans).
 //!
 //! ```json
 //! {"request": "r000042", "status": "planned", "reason": null, "origin": "S012", ...,
 //!  "path": [{"node": "S012", "arrive": "...", "depart": "..."}, ...]}
 //! ```
 //!
-//! Besides the SPEC's fields each line carries `expanded`, the number of search labels the
+//! Besides the reference's fields each line carries `expanded`, the number of search labels the
 //! planner expanded for the request (search effort). Rejected requests have `status:
 //! "rejected"`, their `reason`, `free_flow_s` where defined, null times and no `path`.
 //!
-//! A flight that zone announcements changed (SPEC §11) has the status of its last change and
-//! keeps its id; its times, `path` and delays are those of its *final* plan, and the line adds:
+//! A flight that zone announcements changed (docs/reference.md#zones-announced-during-the-day) has
+//! the status of its last change and keeps its id; its times, `path` and delays are those of its
+//! *final* plan, and the line adds:
 //!
 //! - `changes`: each announcement that hit it, in order: `{"zone", "announced", "airborne",
 //!   "outcome"}` (`airborne`: whether it had taken off at the announcement);
@@ -23,25 +24,25 @@
 //!   to, ending at the node it reached at or after the announcement; `takeoff` is its take-off,
 //!   `landing` null.
 //!
-//! In a layered airspace (SPEC §13: `--layers` 2 or more) every stay adds `layer` (1…L) and
-//! its `node` is the flat station or waypoint id (`{"node": "S012", "layer": 3, ...}`); a flat
-//! airspace's stays have no `layer`, and reading refuses one.
+//! In a layered airspace (docs/reference.md#layered-airspace: `--layers` 2 or more) every stay adds
+//! `layer` (1…L) and its `node` is the flat station or waypoint id (`{"node": "S012", "layer": 3,
+//! ...}`); a flat airspace's stays have no `layer`, and reading refuses one.
 //!
-//! A multi-leg plan (SPEC §12: battery swaps at stations) keeps these fields for the trip as a
-//! whole (`takeoff` the first take-off, `landing` the last landing, `airborne_s` between them,
-//! ground time included, `distance_m` the edges flown, `path` every stay with the station
-//! repeated at each swap) and adds `legs`, one `{"takeoff", "landing", "path"}` per leg; so do
-//! `original` and `committed` (as `committed_legs`). See [`LegLine`].
+//! A multi-leg plan (docs/reference.md#multi-leg-trips: battery swaps at stations) keeps these
+//! fields for the trip as a whole (`takeoff` the first take-off, `landing` the last landing,
+//! `airborne_s` between them, ground time included, `distance_m` the edges flown, `path` every stay
+//! with the station repeated at each swap) and adds `legs`, one `{"takeoff", "landing", "path"}`
+//! per leg; so do `original` and `committed` (as `committed_legs`). See [`LegLine`].
 //!
-//! The service (`muse serve`, SPEC §10) answers with the same object plus `operator`, the
-//! operator the flight belongs to, and lists a flight its operator cancelled before take-off
-//! with `status: "cancelled"`, `reason: "cancelled_by_operator"`, `cancelled_at` and no plan
-//! (no `path`, null times; `changes` and `original` stay when zone announcements had changed
-//! it before). A service listing saved as JSON Lines is a plans file: [`read_plan_entries`]
-//! reads every line of it, [`read_plans`] the lines that hold a request's answer. Any other
-//! field is an error naming it, as is a value of the wrong kind, and so is a request id on a
-//! second line: a plans file holds one line per request ([`read_listed_plans`] reads a
-//! listing fetched page after page, which may repeat a flight).
+//! The service (`muse serve`, docs/reference.md#the-planning-service) answers with the same object
+//! plus `operator`, the operator the flight belongs to, and lists a flight its operator cancelled
+//! before take-off with `status: "cancelled"`, `reason: "cancelled_by_operator"`, `cancelled_at`
+//! and no plan (no `path`, null times; `changes` and `original` stay when zone announcements had
+//! changed it before). A service listing saved as JSON Lines is a plans file: [`read_plan_entries`]
+//! reads every line of it, [`read_plans`] the lines that hold a request's answer. Any other field
+//! is an error naming it, as is a value of the wrong kind, and so is a request id on a second line:
+//! a plans file holds one line per request ([`read_listed_plans`] reads a listing fetched page
+//! after page, which may repeat a flight).
 
 use std::fmt::Write as _;
 
@@ -64,8 +65,8 @@ pub use read::{
 pub struct PlanRecord {
     /// Request id.
     pub request: String,
-    /// Origin station id; empty only for an unserved request (SPEC §15) whose sender has no
-    /// pad in reach (written `null`).
+    /// Origin station id; empty only for an unserved request (docs/reference.md#airspace-from-pads)
+    /// whose sender has no pad in reach (written `null`).
     pub origin: String,
     /// Destination station id; empty only for an unserved request whose receiver has no pad
     /// in reach.
@@ -78,7 +79,8 @@ pub struct PlanRecord {
     pub free_flow: Option<Millis>,
     /// Search labels expanded.
     pub expanded: u64,
-    /// The zone announcements that changed the flight since, in order (SPEC §11).
+    /// The zone announcements that changed the flight since, in order
+    /// (docs/reference.md#zones-announced-during-the-day).
     pub changes: Vec<Change>,
     /// What the last of them made of it; `None` if none changed it.
     pub fate: Option<Fate>,
@@ -160,7 +162,8 @@ pub struct OriginalLine {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StayLine {
-    /// Node id: in a layered airspace (SPEC §13), the id of the flat station or waypoint.
+    /// Node id: in a layered airspace (docs/reference.md#layered-airspace), the id of the flat
+    /// station or waypoint.
     pub node: String,
     /// The layer (1…L) of the stay in a layered airspace; absent in a flat one.
     #[serde(skip_serializing_if = "Option::is_none", default)]
@@ -171,8 +174,8 @@ pub struct StayLine {
     pub depart: String,
 }
 
-/// The SPEC §7 object as written: one line of a plans file, or the body of the service's
-/// answer about a flight (which adds `operator` and, once its operator cancelled it,
+/// The docs/reference.md#plans object as written: one line of a plans file, or the body of the
+/// service's answer about a flight (which adds `operator` and, once its operator cancelled it,
 /// `cancelled_at`). Reading refuses any other field.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -187,7 +190,7 @@ pub struct PlanLine {
     /// when planned.
     pub reason: Option<String>,
     /// Origin station id; `null` only for an unserved request whose sender has no pad in
-    /// reach (reason `unserved`, SPEC §15).
+    /// reach (reason `unserved`, docs/reference.md#airspace-from-pads).
     pub origin: Option<String>,
     /// Destination station id; `null` only for an unserved request whose receiver has no pad
     /// in reach.
@@ -223,7 +226,7 @@ pub struct PlanLine {
     /// The stays, when it lands somewhere.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub path: Option<Vec<StayLine>>,
-    /// The legs of `path`, when it has two or more (SPEC §12).
+    /// The legs of `path`, when it has two or more (docs/reference.md#multi-leg-trips).
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub legs: Option<Vec<LegLine>>,
     /// Contingency: the stays it is committed to.
@@ -245,9 +248,9 @@ pub struct PlanLine {
     pub cancelled_at: Option<String>,
 }
 
-/// A flight its operator cancelled before take-off, as the service lists it (SPEC §10):
-/// `status: "cancelled"`, `reason: "cancelled_by_operator"`, no plan. It holds no reservation
-/// and flies nothing.
+/// A flight its operator cancelled before take-off, as the service lists it
+/// (docs/reference.md#the-planning-service): `status: "cancelled"`, `reason:
+/// "cancelled_by_operator"`, no plan. It holds no reservation and flies nothing.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OperatorCancellation {
     /// Request id.
@@ -263,7 +266,8 @@ pub struct OperatorCancellation {
     /// The plan first accepted, when the line gives it (`original`: zone announcements had
     /// changed the flight before it was cancelled).
     pub original: Option<Plan>,
-    /// The zone announcements that had changed it, in order (SPEC §11).
+    /// The zone announcements that had changed it, in order
+    /// (docs/reference.md#zones-announced-during-the-day).
     pub changes: Vec<Change>,
     /// When it was cancelled, if the line says (`cancelled_at`).
     pub cancelled_at: Option<Instant>,
@@ -272,7 +276,8 @@ pub struct OperatorCancellation {
 /// What one line of a plans file holds.
 #[derive(Clone, Debug, PartialEq)]
 pub enum PlanItem {
-    /// A request's answer: planned, rejected, or changed by zone announcements (SPEC §7, §11).
+    /// A request's answer: planned, rejected, or changed by zone announcements
+    /// (docs/reference.md#plans, #zones-announced-during-the-day).
     Record(PlanRecord),
     /// A flight its operator cancelled (a service listing): it flies nothing.
     CancelledByOperator(OperatorCancellation),
@@ -341,7 +346,7 @@ impl PlanEntry {
 
 /// Total length of the corridors a plan flies, metres (rounded to the millimetre): the time
 /// on the ground between two legs adds nothing, nor do the vertical links between layers
-/// (SPEC §13).
+/// (docs/reference.md#layered-airspace).
 pub fn plan_distance_m(airspace: &Airspace, plan: &Plan) -> f64 {
     let total: f64 = plan
         .hops()
@@ -393,7 +398,7 @@ fn stay_lines(airspace: &Airspace, offset: UtcOffset, stays: &[Stay]) -> Vec<Sta
         .collect()
 }
 
-/// The SPEC §7 object for `record`, times in `offset`.
+/// The docs/reference.md#plans object for `record`, times in `offset`.
 pub fn plan_line(airspace: &Airspace, offset: UtcOffset, record: &PlanRecord) -> PlanLine {
     let secs = |m: Millis| m.as_secs_f64();
     let plan = record.final_plan();

@@ -1,5 +1,5 @@
-//! The requests CSV (SPEC §5): header `id,origin,destination,departure`, optionally followed
-//! by `submitted`.
+//! The requests CSV (docs/reference.md#requests): header `id,origin,destination,departure`,
+//! optionally followed by `submitted`.
 //!
 //! - `departure` (the earliest take-off) is an RFC 3339 timestamp with an offset, or a bare
 //!   local clock time `HH:MM[:SS[.mmm]]` on the scenario's date in the scenario's offset.
@@ -19,11 +19,11 @@
 //! some request was submitted before its departure, so files without bookings ahead are
 //! written exactly as before the column existed.
 //!
-//! **Demand from customers** (SPEC §15, `muse demand --customers`) adds the columns
-//! `origin_customer` and `destination_customer` (both or neither): the ids of the customers a
-//! request joins. With them a request may be **unserved**: an empty `origin` or `destination`
-//! (no pad within the last mile of that customer), or the same pad for both (both customers
-//! on one pad). [`read_demand`] returns such requests apart ([`Demand::unserved`]);
+//! **Demand from customers** (docs/reference.md#airspace-from-pads, `muse demand --customers`) adds
+//! the columns `origin_customer` and `destination_customer` (both or neither): the ids of the
+//! customers a request joins. With them a request may be **unserved**: an empty `origin` or
+//! `destination` (no pad within the last mile of that customer), or the same pad for both (both
+//! customers on one pad). [`read_demand`] returns such requests apart ([`Demand::unserved`]);
 //! [`read_requests`] refuses them. [`write_demand`] writes such files.
 
 use std::collections::HashMap;
@@ -139,14 +139,15 @@ impl Header {
 pub struct Demand {
     /// The requests to plan, in file order.
     pub requests: Vec<Request>,
-    /// The unserved requests (SPEC §15), in file order: never planned.
+    /// The unserved requests (docs/reference.md#airspace-from-pads), in file order: never planned.
     pub unserved: Vec<UnservedRequest>,
     /// With the customer columns: every row, served or not, in file order (what
     /// [`write_demand`] writes back).
     pub rows: Option<Vec<DemandRow>>,
 }
 
-/// A request of demand from customers that no drone can fly (SPEC §15, reason `unserved`).
+/// A request of demand from customers that no drone can fly (docs/reference.md#airspace-from-pads,
+/// reason `unserved`).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct UnservedRequest {
     /// Request id.

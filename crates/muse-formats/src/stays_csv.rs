@@ -8,12 +8,12 @@
 //! [`flights_csv`](crate::flights_csv) — and `hover_s`, departure − arrival (0 where the drone
 //! flies straight through, and at a take-off or landing).
 //!
-//! The stays are those of the final plan (SPEC §11: a replanned or diverted flight's new
-//! plan), or of the committed part of a flight left in contingency (which lands nowhere: its
-//! last stay is where it is stranded). A multi-leg trip (SPEC §12) lists the station of a
-//! battery swap twice: the landing, the last stay of a leg, then the take-off, the first of the
-//! next; the time on the ground between them is no stay. Rejected and cancelled requests fly
-//! nothing and have no rows.
+//! The stays are those of the final plan (docs/reference.md#zones-announced-during-the-day: a
+//! replanned or diverted flight's new plan), or of the committed part of a flight left in
+//! contingency (which lands nowhere: its last stay is where it is stranded). A multi-leg trip
+//! (docs/reference.md#multi-leg-trips) lists the station of a battery swap twice: the landing, the
+//! last stay of a leg, then the take-off, the first of the next; the time on the ground between
+//! them is no stay. Rejected and cancelled requests fly nothing and have no rows.
 
 use muse_model::plan::Fate;
 use muse_model::{Airspace, Instant, UtcOffset};

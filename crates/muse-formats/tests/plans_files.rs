@@ -1,6 +1,6 @@
-//! Plans files with multi-leg plans (SPEC §7, §11, §12) and with layers (§13): each golden
-//! file is what the writer gives for known records, byte for byte, and reads back to the same
-//! records.
+//! Plans files with multi-leg plans (docs/reference.md#plans, #zones-announced-during-the-day,
+//! #multi-leg-trips) and with layers (#layered-airspace): each golden file is what the writer gives
+//! for known records, byte for byte, and reads back to the same records.
 
 use std::path::PathBuf;
 
@@ -172,7 +172,7 @@ fn multi_leg_lines_describe_the_whole_trip() {
 }
 
 /// The airspace of `air.geojson` at two layers under the semicircular rule: eastward at
-/// layer 1, westward at layer 2 (SPEC §13).
+/// layer 1, westward at layer 2 (docs/reference.md#layered-airspace).
 fn layered_air() -> Airspace {
     let layers = muse_model::Layers {
         count: 2,

@@ -1,4 +1,5 @@
-//! `muse load`: an HTTP load generator for the MUSE planning service (`muse serve`, SPEC §10).
+//! `muse load`: an HTTP load generator for the MUSE planning service (`muse serve`,
+//! docs/reference.md#the-planning-service).
 //!
 //! A run asks the service what it plans on (`/healthz`, `/v1/airspace`, `/v1/zones`), sends
 //! it seeded Singapore demand with departures in the future — open loop at a fixed rate,

@@ -64,8 +64,8 @@ struct Page {
 }
 
 /// Fetches every planned flight (`GET /v1/flights?status=planned`, page by page), as the text
-/// of a plans JSON Lines file (one SPEC §7 object a line). `progress` is told the number
-/// fetched so far after each page.
+/// of a plans JSON Lines file (one docs/reference.md#plans object a line). `progress` is told the
+/// number fetched so far after each page.
 pub async fn fetch_planned(
     server: &Server,
     mut progress: impl FnMut(usize),

@@ -1,5 +1,6 @@
-//! Layered airspace (SPEC §13): the corridor graph flown at several cruise altitudes, joined
-//! by vertical links at every node, with an optional heading rule per layer.
+//! Layered airspace (docs/reference.md#layered-airspace): the corridor graph flown at several
+//! cruise altitudes, joined by vertical links at every node, with an optional heading rule per
+//! layer.
 
 use std::fmt;
 
@@ -57,7 +58,8 @@ pub enum LayersError {
     Climb(u32),
 }
 
-/// How the airspace is layered (SPEC §13). `count` = 1 is the flat airspace of §2–§12.
+/// How the airspace is layered (docs/reference.md#layered-airspace). `count` = 1 is the flat
+/// airspace of #airspace to #multi-leg-trips.
 ///
 /// ```
 /// use muse_model::{HeadingRule, Layers, Metres, Millis};
@@ -150,8 +152,9 @@ impl Layers {
     }
 }
 
-/// Initial bearing from `a` to `b` on the sphere, in degrees in `[0, 360)` (SPEC §13):
-/// `θ = atan2(sin Δλ·cos φ2, cos φ1·sin φ2 − sin φ1·cos φ2·cos Δλ)`.
+/// Initial bearing from `a` to `b` on the sphere, in degrees in `[0, 360)`
+/// (docs/reference.md#layered-airspace): `θ = atan2(sin Δλ·cos φ2, cos φ1·sin φ2 − sin φ1·cos
+/// φ2·cos Δλ)`.
 ///
 /// ```
 /// use muse_model::{LonLat, layers::bearing};

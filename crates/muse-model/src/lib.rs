@@ -1,6 +1,6 @@
 //! Core types of MUSE, shared by every other crate.
 //!
-//! Everything here is plain data with exact arithmetic where the SPEC demands it:
+//! Everything here is plain data with exact arithmetic where the reference demands it:
 //!
 //! - [`ids`]: dense node and edge indices;
 //! - [`time`]: integer-millisecond instants and durations, RFC 3339 at the edges;

@@ -1,4 +1,5 @@
-//! Flight-model parameters (SPEC §3), shared by the planner and the verifier.
+//! Flight-model parameters (docs/reference.md#flight-model-and-separation), shared by the planner
+//! and the verifier.
 
 use crate::time::Millis;
 use crate::units::Speed;
@@ -35,18 +36,19 @@ pub struct FlightParams {
     pub edge_rule: EdgeRule,
     /// Maximum ground delay `G_max` (take-off − requested departure).
     pub max_ground_delay: Millis,
-    /// Battery swaps at stations (SPEC §12): `None` (the paper, the default) plans single
-    /// legs only.
+    /// Battery swaps at stations (docs/reference.md#multi-leg-trips): `None` (the paper, the
+    /// default) plans single legs only.
     pub battery_swap: Option<BatterySwap>,
     /// A delivery deadline: every trip lands at most this long after its requested
     /// departure, or is rejected (`None`, the default: no deadline). An operator's promise
-    /// rather than part of the SPEC: with battery swaps the time on the ground between legs
+    /// rather than part of the reference: with battery swaps the time on the ground between legs
     /// is otherwise unbounded, and a saturated airspace answers with trips that wait hours.
     pub max_trip: Option<Millis>,
 }
 
-/// Multi-leg trips (SPEC §12): a plan may land at intermediate stations, stay on the ground
-/// at least `time` while the battery is swapped, and take off again with a full battery.
+/// Multi-leg trips (docs/reference.md#multi-leg-trips): a plan may land at intermediate stations,
+/// stay on the ground at least `time` while the battery is swapped, and take off again with a full
+/// battery.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct BatterySwap {
     /// Minimum time on the ground between a leg's landing and the next take-off (`S`).
@@ -74,10 +76,10 @@ impl FlightParams {
     /// How long after its requested departure a trip may still be flying, as far as zone
     /// calendars need to be resolved: `G_max + T_max` for single legs, and never more than
     /// the delivery deadline. With battery swaps the
-    /// time on the ground between legs has no bound (SPEC §12), so a trip is given a week:
-    /// simulations resolve zone windows that far ahead, and a plan beyond it (never seen in
-    /// practice) would be caught by the verifier, which resolves the windows of the plans it
-    /// reads.
+    /// time on the ground between legs has no bound (docs/reference.md#multi-leg-trips), so a trip
+    /// is given a week: simulations resolve zone windows that far ahead, and a plan beyond it
+    /// (never seen in practice) would be caught by the verifier, which resolves the windows of the
+    /// plans it reads.
     ///
     /// ```
     /// use muse_model::{BatterySwap, FlightParams, Millis};

@@ -17,12 +17,13 @@ pub struct Stay {
     pub depart: Instant,
 }
 
-/// A planned flight: its stays from origin to destination (SPEC §3).
+/// A planned flight: its stays from origin to destination
+/// (docs/reference.md#flight-model-and-separation).
 ///
-/// A multi-leg trip (SPEC §12: battery swaps at stations) lists the stays of all its legs in
-/// order. Where one leg lands and the next takes off, two consecutive stays are at the same
-/// station: the landing `(X, l, l)` and the next take-off `(X, t, d)`, with the swap time
-/// `t − l` spent on the ground, outside the airspace. Consecutive stays of one leg are always
+/// A multi-leg trip (docs/reference.md#multi-leg-trips: battery swaps at stations) lists the stays
+/// of all its legs in order. Where one leg lands and the next takes off, two consecutive stays are
+/// at the same station: the landing `(X, l, l)` and the next take-off `(X, t, d)`, with the swap
+/// time `t − l` spent on the ground, outside the airspace. Consecutive stays of one leg are always
 /// at different nodes (edges join distinct nodes), so the legs are read off the path alone.
 ///
 /// ```
@@ -80,7 +81,8 @@ impl Plan {
     }
 }
 
-/// What became of an accepted flight that a zone announced later would break (SPEC §11).
+/// What became of an accepted flight that a zone announced later would break
+/// (docs/reference.md#zones-announced-during-the-day).
 ///
 /// ```
 /// use muse_model::plan::{Fate, FateKind};
@@ -161,10 +163,10 @@ impl FateKind {
     }
 }
 
-/// What one zone announcement did to one flight (SPEC §11): the record every layer keeps of
-/// it — the planner's replanning, the simulator's replay, a plans file's `changes` and the
-/// service's store. The plan it left the flight with, if any, is the [`Fate`] kept beside
-/// the last change.
+/// What one zone announcement did to one flight (docs/reference.md#zones-announced-during-the-day):
+/// the record every layer keeps of it — the planner's replanning, the simulator's replay, a plans
+/// file's `changes` and the service's store. The plan it left the flight with, if any, is the
+/// [`Fate`] kept beside the last change.
 ///
 /// ```
 /// use muse_model::Instant;
@@ -197,14 +199,16 @@ impl Change {
     }
 }
 
-/// The reason a flight cancelled by a zone announcement is given (SPEC §11).
+/// The reason a flight cancelled by a zone announcement is given
+/// (docs/reference.md#zones-announced-during-the-day).
 pub const ZONE_ANNOUNCED: &str = "zone_announced";
 
-/// The reason given for a flight its operator cancelled before take-off (the service, SPEC
-/// §10): it then holds no plan.
+/// The reason given for a flight its operator cancelled before take-off (the service,
+/// docs/reference.md#the-planning-service
+///): it then holds no plan.
 pub const CANCELLED_BY_OPERATOR: &str = "cancelled_by_operator";
 
-/// Why a request was rejected (SPEC §6).
+/// Why a request was rejected (docs/reference.md#planning).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum RejectReason {
     /// Even the free-flow path, ignoring traffic and zones, exceeds the battery limit.
@@ -213,11 +217,12 @@ pub enum RejectReason {
     Unreachable,
     /// Traffic and/or zones make every path infeasible.
     NoFeasiblePlan,
-    /// The requested departure is earlier than the service clock's now (SPEC §10; only the
-    /// online planner gives it).
+    /// The requested departure is earlier than the service clock's now
+    /// (docs/reference.md#the-planning-service; only the online planner gives it).
     DepartureInPast,
-    /// Demand from customers (SPEC §15): a customer has no pad within the last mile, or both
-    /// share one, so the request was never planned; counted apart from the planner's reasons.
+    /// Demand from customers (docs/reference.md#airspace-from-pads): a customer has no pad within
+    /// the last mile, or both share one, so the request was never planned; counted apart from the
+    /// planner's reasons.
     Unserved,
 }
 
@@ -231,8 +236,8 @@ impl RejectReason {
         RejectReason::Unserved,
     ];
 
-    /// The reasons the planning service gives (SPEC §10): the planner's and
-    /// `departure_in_past`.
+    /// The reasons the planning service gives (docs/reference.md#the-planning-service): the
+    /// planner's and `departure_in_past`.
     pub const SERVICE: [RejectReason; 4] = [
         RejectReason::OutOfRange,
         RejectReason::Unreachable,
@@ -240,8 +245,8 @@ impl RejectReason {
         RejectReason::DepartureInPast,
     ];
 
-    /// The reasons a plan of SPEC §6 can be refused for, whatever the clock: the ones a batch
-    /// run (a day planned in advance) reports.
+    /// The reasons a plan of docs/reference.md#planning can be refused for, whatever the clock: the
+    /// ones a batch run (a day planned in advance) reports.
     pub const PLANNING: [RejectReason; 3] = [
         RejectReason::OutOfRange,
         RejectReason::Unreachable,

@@ -63,14 +63,14 @@ pub struct Request {
     pub destination: NodeId,
     /// Requested departure (earliest take-off).
     pub departure: Instant,
-    /// When the request reaches the planner (SPEC §5): a booking made ahead of departure.
-    /// Never later than `departure`; equal to it when the file gives no `submitted` column
-    /// (the paper: every request planned at its departure).
+    /// When the request reaches the planner (docs/reference.md#requests): a booking made ahead of
+    /// departure. Never later than `departure`; equal to it when the file gives no `submitted`
+    /// column (the paper: every request planned at its departure).
     pub submitted: Instant,
 }
 
-/// Sorts requests into planning order, `(submitted, id)` (SPEC §5: first come, first served;
-/// without bookings ahead, `submitted` is the departure and this is the paper's
+/// Sorts requests into planning order, `(submitted, id)` (docs/reference.md#requests: first come,
+/// first served; without bookings ahead, `submitted` is the departure and this is the paper's
 /// `(departure, id)`).
 ///
 /// ```

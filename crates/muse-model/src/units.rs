@@ -4,8 +4,9 @@
 use crate::time::Millis;
 
 /// A cruise speed. Stored as an exact integer number of micrometres per hour so that the
-/// traversal time `w(e) = ceil(length_m * 1000 / v_mps)` ms (SPEC §3) is computed exactly, in
-/// integers, for any length given to the micrometre and any speed given to 10⁻⁹ km/h.
+/// traversal time `w(e) = ceil(length_m * 1000 / v_mps)` ms
+/// (docs/reference.md#flight-model-and-separation) is computed exactly, in integers, for any length
+/// given to the micrometre and any speed given to 10⁻⁹ km/h.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Speed {
     um_per_hour: i128,

@@ -137,8 +137,9 @@ pub struct Period {
 
 /// The surface a vertical limit is measured from (ED-318 / ED-269 `CodeVerticalReferenceType`).
 ///
-/// MUSE flies over flat ground at sea level (SPEC §13), so every reference measures the same
-/// heights: the reference is kept to be shown and written back, never to convert.
+/// MUSE flies over flat ground at sea level (docs/reference.md#layered-airspace), so every
+/// reference measures the same heights: the reference is kept to be shown and written back, never
+/// to convert.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum VerticalReference {
     /// Above ground (or water) level.
@@ -186,13 +187,13 @@ impl VerticalLimit {
     }
 }
 
-/// The vertical band a zone applies to (SPEC §13): from `lower` to `upper`, both included; a
-/// missing side is open (no floor, no ceiling). The default, both open, is the whole sky,
-/// which is what a zone without vertical limits covers.
+/// The vertical band a zone applies to (docs/reference.md#layered-airspace): from `lower` to
+/// `upper`, both included; a missing side is open (no floor, no ceiling). The default, both open,
+/// is the whole sky, which is what a zone without vertical limits covers.
 ///
 /// Heights are compared as they are, whatever their references (flat ground at sea level,
-/// SPEC §13). A band whose lower limit is above its upper limit is empty: it contains and
-/// meets nothing (the zone readers refuse such a band).
+/// docs/reference.md#layered-airspace). A band whose lower limit is above its upper limit is empty:
+/// it contains and meets nothing (the zone readers refuse such a band).
 ///
 /// Displayed for people: `whole sky`, `0–60 m AGL`, `0 m AGL – 121.92 m AMSL`, `up to 60 m
 /// AGL`, `from 30 m AMSL up`.
@@ -259,7 +260,8 @@ impl VerticalLimits {
     }
 
     /// Whether the closed span between `lo` and `hi` (in either order) shares at least one
-    /// height with the band: the test for a vertical link between two layers (SPEC §13).
+    /// height with the band: the test for a vertical link between two layers
+    /// (docs/reference.md#layered-airspace).
     ///
     /// ```
     /// use muse_model::{Metres, VerticalLimits};
@@ -320,16 +322,17 @@ pub struct Zone {
     pub edge_ids: Vec<String>,
     /// When it applies; empty = permanent.
     pub periods: Vec<Period>,
-    /// When the zone becomes known (SPEC §11): it binds every stay and traversal that begins
-    /// at or after this instant, and none that begins before. `None`: known from the start.
+    /// When the zone becomes known (docs/reference.md#zones-announced-during-the-day): it binds
+    /// every stay and traversal that begins at or after this instant, and none that begins before.
+    /// `None`: known from the start.
     pub announced: Option<Instant>,
-    /// When an announced zone was withdrawn (SPEC §11, as a service lists it): from this
-    /// instant on it binds nothing, so it binds only the stays and traversals that begin in
-    /// `[announced, withdrawn)`. `None`: never withdrawn.
+    /// When an announced zone was withdrawn (docs/reference.md#zones-announced-during-the-day, as a
+    /// service lists it): from this instant on it binds nothing, so it binds only the stays and
+    /// traversals that begin in `[announced, withdrawn)`. `None`: never withdrawn.
     pub withdrawn: Option<Instant>,
-    /// The heights it applies to (SPEC §13); the whole sky by default. MUSE flying one cruise
-    /// altitude, a zone closes what it covers whatever its band; the band matters with
-    /// layers.
+    /// The heights it applies to (docs/reference.md#layered-airspace); the whole sky by default.
+    /// MUSE flying one cruise altitude, a zone closes what it covers whatever its band; the band
+    /// matters with layers.
     pub vertical: VerticalLimits,
 }
 

@@ -1,5 +1,5 @@
-//! Batch planning (SPEC §14): when the requests of a period are known before it starts, plan
-//! them together, better than first come, first served (FCFS).
+//! Batch planning (docs/reference.md#batch-planning): when the requests of a period are known
+//! before it starts, plan them together, better than first come, first served (FCFS).
 //!
 //! The paper plans each request optimally against those before it; the whole day is NP-hard.
 //! [`optimize`] starts from FCFS, tries priority orders ([`Order`]) and then improves the best
@@ -8,8 +8,9 @@
 //! exact planner (`muse_planner`; no search is re-implemented here) and keeps the change
 //! unless the [`Objective`] — most requests planned, then least total delay — got worse.
 //! Every plan is made by the exact planner against every other plan, so every schedule is
-//! valid (SPEC §3–§4, §12); the result is never worse than FCFS; a seed and an iteration
-//! budget give the same schedule on every machine.
+//! valid (docs/reference.md#flight-model-and-separation and #no-fly-zones, #multi-leg-trips); the
+//! result is never worse than FCFS; a seed and an iteration budget give the same schedule on every
+//! machine.
 //!
 //! ```
 //! use muse_airspace::closures::Closures;

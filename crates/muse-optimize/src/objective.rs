@@ -1,13 +1,14 @@
-//! The objective of SPEC §14: most requests planned, then least total delay.
+//! The objective of docs/reference.md#batch-planning: most requests planned, then least total
+//! delay.
 
 use std::cmp::Ordering;
 use std::fmt;
 
 use muse_model::{Millis, Plan, Request};
 
-/// How good a schedule is (SPEC §14), compared lexicographically: more requests planned is
-/// better; with as many planned, less total delay is better. `Ord` puts the better one
-/// greater.
+/// How good a schedule is (docs/reference.md#batch-planning), compared lexicographically: more
+/// requests planned is better; with as many planned, less total delay is better. `Ord` puts the
+/// better one greater.
 ///
 /// ```
 /// use muse_model::Millis;

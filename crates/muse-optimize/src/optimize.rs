@@ -1,5 +1,5 @@
-//! The optimiser of SPEC §14: first come, first served, then priority orders, then
-//! large-neighbourhood search, keeping the best schedule found and never a worse one.
+//! The optimiser of docs/reference.md#batch-planning: first come, first served, then priority
+//! orders, then large-neighbourhood search, keeping the best schedule found and never a worse one.
 
 use std::time::{Duration, Instant as WallInstant};
 
@@ -17,7 +17,8 @@ use crate::working::Working;
 /// How hard to try.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {
-    /// Steps of large-neighbourhood search: the reproducible budget (SPEC §14).
+    /// Steps of large-neighbourhood search: the reproducible budget
+    /// (docs/reference.md#batch-planning).
     pub iterations: u64,
     /// Stop early after this much wall time, if given (then the result depends on the
     /// machine's speed: not reproducible).
@@ -49,7 +50,7 @@ impl Default for Options {
     }
 }
 
-/// What the optimiser did (SPEC §14's report).
+/// What the optimiser did (docs/reference.md#batch-planning's report).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Report {
     /// First come, first served: the starting point.
@@ -98,12 +99,12 @@ pub struct Optimized {
     pub report: Report,
 }
 
-/// Plans `requests` (in planning order `(submitted, id)`, SPEC §5) as a batch against
-/// `closures`: first come, first served, then the priority orders and `options.restarts`
-/// random ones, then `options.iterations` steps of large-neighbourhood search from the best
-/// of them, keeping only steps that leave the objective no worse. The result is never worse
-/// than first come, first served, and with no time budget the same inputs give the same
-/// schedule on every machine. `progress` is called with the steps done.
+/// Plans `requests` (in planning order `(submitted, id)`, docs/reference.md#requests) as a batch
+/// against `closures`: first come, first served, then the priority orders and `options.restarts`
+/// random ones, then `options.iterations` steps of large-neighbourhood search from the best of
+/// them, keeping only steps that leave the objective no worse. The result is never worse than first
+/// come, first served, and with no time budget the same inputs give the same schedule on every
+/// machine. `progress` is called with the steps done.
 ///
 /// ```
 /// use muse_airspace::closures::Closures;

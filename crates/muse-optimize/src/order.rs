@@ -8,7 +8,8 @@ use rand_chacha::ChaCha8Rng;
 /// An order in which to plan a batch one request at a time.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Order {
-    /// The planning order given, `(submitted, id)`: first come, first served (SPEC §5).
+    /// The planning order given, `(submitted, id)`: first come, first served
+    /// (docs/reference.md#requests).
     Arrival,
     /// Earliest departure first.
     EarliestDeparture,

@@ -1,5 +1,6 @@
-//! Planning a whole day on the Singapore default with the CBD zone (SPEC §8 demand: uniform
-//! departures 08:00–20:00, uniform distinct station pairs, seed 1).
+//! Planning a whole day on the Singapore default with the CBD zone
+//! (docs/reference.md#built-in-scenarios demand: uniform departures 08:00–20:00, uniform distinct
+//! station pairs, seed 1).
 //!
 //! Run with `cargo bench -p muse-planner --bench plan_day`. Each sample plans the whole day
 //! first come, first served from an empty schedule, on one thread: a new [`Planner`] (its
@@ -122,8 +123,9 @@ fn singapore_all_in_range(bencher: Bencher, count: usize) {
 
 static PRINT_SWAPS: [Once; 2] = [Once::new(), Once::new()];
 
-/// The same 5,000-request day with battery swaps of 5 minutes (SPEC §12): with no deadline
-/// (`0`: waits between legs are unbounded) and with a one-hour delivery deadline (`60`).
+/// The same 5,000-request day with battery swaps of 5 minutes (docs/reference.md#multi-leg-trips):
+/// with no deadline (`0`: waits between legs are unbounded) and with a one-hour delivery deadline
+/// (`60`).
 #[divan::bench(args = [0, 60], sample_count = 5)]
 fn singapore_77_cbd_swaps(bencher: Bencher, deadline_min: i64) {
     let s = muse_scenario::singapore_77();

@@ -1,5 +1,5 @@
-//! Online planning (SPEC §10): requests arrive one at a time, in any order of departure, and
-//! are planned against one live schedule that moves forward with a clock.
+//! Online planning (docs/reference.md#the-planning-service): requests arrive one at a time, in any
+//! order of departure, and are planned against one live schedule that moves forward with a clock.
 //!
 //! [`Live`] is the same [`Planner`] and the same [`Schedule`] as a batch day
 //! ([`plan_day`](crate::plan_day)), with three differences:
@@ -11,11 +11,11 @@
 //!   ([`Schedule::forget_past`]): memory stays bounded by the traffic still ahead, however
 //!   many days the service runs (the store, not the planner, keeps history);
 //! - a flight can be cancelled before take-off, which frees its reservations;
-//! - zones can be announced while it runs (SPEC §11): [`Live::announce`] closes the airspace
-//!   from now on and [replans](crate::replan) the flights the zone hits; [`Live::withdraw`]
-//!   lifts an announced zone and replans nothing. A service restoring from its store puts
-//!   an announcement back without replanning: [`Live::add_announced`] for the zone,
-//!   [`Live::apply_fate`] for what it made of each flight.
+//! - zones can be announced while it runs (docs/reference.md#zones-announced-during-the-day):
+//!   [`Live::announce`] closes the airspace from now on and [replans](crate::replan) the flights
+//!   the zone hits; [`Live::withdraw`] lifts an announced zone and replans nothing. A service
+//!   restoring from its store puts an announcement back without replanning: [`Live::add_announced`]
+//!   for the zone, [`Live::apply_fate`] for what it made of each flight.
 //!
 //! It keeps every flight that has not landed yet (its request and current plan), which is
 //! what replanning needs; landed flights are dropped with the reservations they held.
@@ -94,8 +94,9 @@ pub enum ZoneError {
 pub enum Holding<'p> {
     /// A booked plan: reserved, and the flight can be cancelled or replanned.
     Booked(&'p Plan),
-    /// The committed part of a flight left in contingency by a zone (SPEC §11): reserved,
-    /// so that others keep their separation from it, but neither cancellable nor replanned.
+    /// The committed part of a flight left in contingency by a zone
+    /// (docs/reference.md#zones-announced-during-the-day): reserved, so that others keep their
+    /// separation from it, but neither cancellable nor replanned.
     Committed(&'p Plan),
     /// Nothing (rejected, cancelled, or landed).
     Nothing,
@@ -274,11 +275,11 @@ impl<'a> Live<'a> {
         }
     }
 
-    /// Decides what announcing a zone now would do (SPEC §11) *without changing anything*:
-    /// the affected flights and their fates, exactly as [`Live::announce`] would return them,
-    /// computed on a copy of the schedule. The caller stores the outcome, then applies it
-    /// with [`Live::add_announced`] and [`Live::hold_all`], which leaves the schedule exactly
-    /// as [`Live::announce`] would have.
+    /// Decides what announcing a zone now would do
+    /// (docs/reference.md#zones-announced-during-the-day) *without changing anything*: the affected
+    /// flights and their fates, exactly as [`Live::announce`] would return them, computed on a copy
+    /// of the schedule. The caller stores the outcome, then applies it with [`Live::add_announced`]
+    /// and [`Live::hold_all`], which leaves the schedule exactly as [`Live::announce`] would have.
     pub fn decide_announcement(
         &mut self,
         id: &str,
@@ -339,9 +340,10 @@ impl<'a> Live<'a> {
             .plan)
     }
 
-    /// Announces a zone now (SPEC §11): its closures bind everything from now on, and the
-    /// flights it hits are replanned, diverted, cancelled or left as contingencies (see
-    /// [`Fate`](crate::Fate)). Returns the affected flights in the order they were replanned.
+    /// Announces a zone now (docs/reference.md#zones-announced-during-the-day): its closures bind
+    /// everything from now on, and the flights it hits are replanned, diverted, cancelled or left
+    /// as contingencies (see [`Fate`](crate::Fate)). Returns the affected flights in the order they
+    /// were replanned.
     pub fn announce(&mut self, id: &str, zone: Closures) -> Result<Vec<Affected>, ZoneError> {
         if self.announced.iter().any(|(z, _)| z == id) {
             return Err(ZoneError::Taken(id.to_owned()));

@@ -96,8 +96,8 @@ impl<'a> Planner<'a> {
     }
 
     /// Plans one request against `schedule` (which it does not change): take-off in
-    /// `[departure, departure + G_max]`. With battery swaps (SPEC §12) the plan may have
-    /// several legs ([`Plan::legs`]).
+    /// `[departure, departure + G_max]`. With battery swaps (docs/reference.md#multi-leg-trips) the
+    /// plan may have several legs ([`Plan::legs`]).
     ///
     /// ```
     /// use muse_airspace::closures::Closures;
@@ -135,8 +135,9 @@ impl<'a> Planner<'a> {
     }
 
     /// Plans one request with take-off anywhere in `[earliest, latest]` instead of the
-    /// request's own window: SPEC §11's replanning of a flight that has not taken off when a
-    /// zone is announced at `n` uses `[max(departure, n), max(departure + G_max, n)]`.
+    /// request's own window: docs/reference.md#zones-announced-during-the-day's replanning of a
+    /// flight that has not taken off when a zone is announced at `n` uses `[max(departure, n),
+    /// max(departure + G_max, n)]`.
     ///
     /// ```
     /// use muse_airspace::closures::Closures;
@@ -208,17 +209,16 @@ impl<'a> Planner<'a> {
         }
     }
 
-    /// Plans the rest of a trip that has begun (SPEC §11 with §12): from the air at
-    /// `from.node` (the current leg took off at `from.airborne_since`) or from the ground at
-    /// station `from.node` between legs (free to take off from `from.at`). With
-    /// `Landing::At(d)` and battery swaps on, the rest may land and swap on the way: the
-    /// earliest landing at `d`, then the fewest legs. With `Landing::AnyStation`, a single
-    /// landing at whichever station is earliest (ties to the lowest node index); from the
-    /// ground that is no flight at all. The plan returned starts with the stay at `from.node`
-    /// (in the air) or with the next take-off (on the ground). A delivery deadline
-    /// ([`FlightParams::max_trip`]) binds the landing at `d`, not a diversion. When no plan
-    /// exists the result is [`RejectReason::NoFeasiblePlan`]; the outcome's `free_flow` is
-    /// `None`.
+    /// Plans the rest of a trip that has begun (docs/reference.md#zones-announced-during-the-day
+    /// with #multi-leg-trips): from the air at `from.node` (the current leg took off at
+    /// `from.airborne_since`) or from the ground at station `from.node` between legs (free to take
+    /// off from `from.at`). With `Landing::At(d)` and battery swaps on, the rest may land and swap
+    /// on the way: the earliest landing at `d`, then the fewest legs. With `Landing::AnyStation`, a
+    /// single landing at whichever station is earliest (ties to the lowest node index); from the
+    /// ground that is no flight at all. The plan returned starts with the stay at `from.node` (in
+    /// the air) or with the next take-off (on the ground). A delivery deadline
+    /// ([`FlightParams::max_trip`]) binds the landing at `d`, not a diversion. When no plan exists
+    /// the result is [`RejectReason::NoFeasiblePlan`]; the outcome's `free_flow` is `None`.
     ///
     /// ```
     /// use muse_airspace::closures::Closures;
@@ -398,12 +398,12 @@ pub fn plan_and_book(
 }
 
 /// Plans `requests` in the given order (callers sort them into planning order
-/// `(submitted, id)` first, SPEC §5), adding each accepted plan to `schedule` before the next
-/// (first come, first served). The flight id of request `i` is `i`. Each request's submission
-/// instant becomes the schedule's horizon ([`Schedule::set_horizon`]): a request is planned
-/// at or after it is submitted and never asks about instants before its departure, which is
-/// no earlier, so in submission order the searches only look at current traffic. Calls
-/// `progress` after each request.
+/// `(submitted, id)` first, docs/reference.md#requests), adding each accepted plan to `schedule`
+/// before the next (first come, first served). The flight id of request `i` is `i`. Each request's
+/// submission instant becomes the schedule's horizon ([`Schedule::set_horizon`]): a request is
+/// planned at or after it is submitted and never asks about instants before its departure, which is
+/// no earlier, so in submission order the searches only look at current traffic. Calls `progress`
+/// after each request.
 pub fn plan_day(
     planner: &Planner<'_>,
     schedule: &mut Schedule,

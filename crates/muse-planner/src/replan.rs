@@ -1,8 +1,9 @@
-//! Replanning the flights a newly announced zone hits (SPEC §11).
+//! Replanning the flights a newly announced zone hits
+//! (docs/reference.md#zones-announced-during-the-day).
 //!
 //! A zone announced at instant `n` binds every stay and traversal that *begins* at or after
 //! `n`. The accepted flights that would break it are *affected*; [`replan`] then, exactly as
-//! the SPEC states:
+//! the reference states:
 //!
 //! 1. takes every affected flight out of the schedule; an airborne one (take-off before `n`)
 //!    keeps its *committed part*: its path up to the first node it reaches at or after `n` —
@@ -10,7 +11,7 @@
 //!    so that others keep their separation from it);
 //! 2. replans them one at a time in order of original take-off, then request id, each against
 //!    the schedule as it then stands (which already holds the new zone's closures):
-//!    - not yet taken off: the plan of SPEC §6 for its request with take-off in
+//!    - not yet taken off: the plan of docs/reference.md#planning for its request with take-off in
 //!      `[max(departure, n), max(departure + G_max, n)]`; if none exists it is
 //!      [cancelled](Fate::Cancelled);
 //!    - airborne: from the committed node at its arrival instant with the battery it has left,
@@ -21,10 +22,10 @@
 //!      at `n` is committed to the corridor it leaves by, which begins at or after `n`) leaves
 //!      no plan that complies: a contingency too.
 //!
-//! With battery swaps (SPEC §12) the rest of an airborne flight may itself land and swap on
-//! the way, and a multi-leg flight on the ground between legs at `n` keeps the legs it has
-//! flown and is replanned from the ground at that station, taking off no earlier than `n` and
-//! than its swap allows; if its destination cannot be reached any more it ends there
+//! With battery swaps (docs/reference.md#multi-leg-trips) the rest of an airborne flight may itself
+//! land and swap on the way, and a multi-leg flight on the ground between legs at `n` keeps the
+//! legs it has flown and is replanned from the ground at that station, taking off no earlier than
+//! `n` and than its swap allows; if its destination cannot be reached any more it ends there
 //! ([diverted](Fate::Diverted)).
 //!
 //! Both searches are the planner's own, exact ([`Planner::plan_within`],
@@ -132,7 +133,8 @@ pub fn committed_part(plan: &Plan, at: Instant) -> Option<Plan> {
     Some(Plan { path })
 }
 
-/// What a flight that has taken off before `at` is committed to (SPEC §11, with §12).
+/// What a flight that has taken off before `at` is committed to
+/// (docs/reference.md#zones-announced-during-the-day, with #multi-leg-trips).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Commitment {
     /// In the air: the [`committed_part`], ending with its arrival at the node it resumes
@@ -183,11 +185,12 @@ impl Commitment {
     }
 }
 
-/// Replans the flights `zone` (announced at `at`) affects, as SPEC §11 states (see the module
-/// docs). `schedule` must hold every booking's plan and already include the zone's closures;
-/// `bookings` is updated: replanned and diverted flights get their new plan, cancelled and
-/// contingency flights are removed (a contingency's committed part stays in the schedule).
-/// Returns the affected flights in the order they were replanned.
+/// Replans the flights `zone` (announced at `at`) affects, as
+/// docs/reference.md#zones-announced-during-the-day states (see the module docs). `schedule` must
+/// hold every booking's plan and already include the zone's closures; `bookings` is updated:
+/// replanned and diverted flights get their new plan, cancelled and contingency flights are removed
+/// (a contingency's committed part stays in the schedule). Returns the affected flights in the
+/// order they were replanned.
 pub fn replan<S: BuildHasher>(
     planner: &Planner<'_>,
     schedule: &mut Schedule,

@@ -1,5 +1,6 @@
-//! Singapore's siting inputs (SPEC §15): the candidate pads — the multi-storey car parks the
-//! 77 stations were not chosen from — and the residential customers, every HDB car park.
+//! Singapore's siting inputs (docs/reference.md#airspace-from-pads): the candidate pads — the
+//! multi-storey car parks the 77 stations were not chosen from — and the residential customers,
+//! every HDB car park.
 //!
 //! The HDB car park list stands in for where people live: each car park serves blocks of
 //! public housing. It is a proxy, not a demand survey: every car park weighs the same,

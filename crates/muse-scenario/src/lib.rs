@@ -1,9 +1,9 @@
 //! Built-in scenarios of MUSE, built from open data embedded in the crate, and synthetic
 //! airspaces:
 //!
-//! - `singapore-77`, the default (SPEC §8): 77 HDB car parks chosen by seeded k-means, the
-//!   CBD no-fly zone; parsed from committed files ([`singapore_77`]); with it, an announced
-//!   event zone around the National Stadium ([`stadium_zone`]);
+//! - `singapore-77`, the default (docs/reference.md#built-in-scenarios): 77 HDB car parks chosen by
+//!   seeded k-means, the CBD no-fly zone; parsed from committed files ([`singapore_77`]); with it,
+//!   an announced event zone around the National Stadium ([`stadium_zone`]);
 //! - `singapore-all`: all 1,115 HDB multi-storey car parks, the same zone; built at run time
 //!   ([`singapore_all()`]);
 //! - [`synthetic`](mod@synthetic): grid or random geometric airspaces of any size, for
@@ -47,14 +47,15 @@
 //!
 //! [`muse_airspace::builder::build_airspace`] with [`singapore_build_options`]: the Delaunay
 //! triangulation of the stations in SVY21 (EPSG:3414, the grid the car parks are published
-//! in; 214 edges, as in the stereographic plane MUSE built in before SPEC §15), then the paper's "join collinear nodes" with a tolerance of **15°**: edge A–C is
-//! dropped when a station B with edges A–B and B–C makes an angle ABC ≥ 165° (the detour is
-//! then at most 0.9 % longer). Edges are considered longest first and dropped only while
-//! A–B and B–C remain, which keeps the graph connected. No maximum edge length. Lengths
-//! are geodesic on WGS84, rounded to the millimetre. The result has 211 edges from 0.59 to
-//! 9.44 km (median 2.1 km): the step removes the 14.5 km hull edge `S050-S077` along the
-//! south-western coast (angle 169.2° at `S062`), so every edge can be flown within the
-//! 20-minute battery limit at 30 km/h.
+//! in; 214 edges, as in the stereographic plane MUSE built in before
+//! docs/reference.md#airspace-from-pads), then the paper's "join collinear nodes" with a tolerance
+//! of **15°**: edge A–C is dropped when a station B with edges A–B and B–C makes an angle ABC ≥
+//! 165° (the detour is then at most 0.9 % longer). Edges are considered longest first and dropped
+//! only while A–B and B–C remain, which keeps the graph connected. No maximum edge length. Lengths
+//! are geodesic on WGS84, rounded to the millimetre. The result has 211 edges from 0.59 to 9.44 km
+//! (median 2.1 km): the step removes the 14.5 km hull edge `S050-S077` along the south-western
+//! coast (angle 169.2° at `S062`), so every edge can be flown within the 20-minute battery limit at
+//! 30 km/h.
 //!
 //! # No-fly zone
 //!
@@ -63,15 +64,15 @@
 //! id `SG-CBD-DOWNTOWN-CORE`, name "Downtown Core (CBD) no-fly zone 10:00–12:00". No
 //! station lies in it (none of the 1,115 candidates does); edges crossing it close with it.
 //!
-//! [`stadium_zone`]: a zone announced during the day (SPEC §11), offered alongside the
-//! scenario and not one of its zones: a circle of radius 1.5 km around the National
-//! Stadium, Singapore Sports Hub (lat 1.300694, lon 103.874222, from the stadium's Wikipedia
-//! infobox; see `data/SOURCES.md`, "Points of interest"), restriction `PROHIBITED`, id
-//! [`STADIUM_ZONE_ID`] = `SG-NATIONAL-STADIUM-EVENT`, closed on the scenario's day from
-//! 15:00 to 18:00 `+08:00` and announced at 14:00 `+08:00`: the paper's "sports events"
-//! case. It closes no station (the nearest, `S069`, is about 1,510 m from the centre) and 4
-//! corridors: `S066-S069`, `S069-S070`, `S069-S076` and `S071-S076` (the last two also
-//! cross the CBD zone). Its file, `scenarios/singapore-77/stadium_zone.geojson`, is
+//! [`stadium_zone`]: a zone announced during the day
+//! (docs/reference.md#zones-announced-during-the-day), offered alongside the scenario and not one
+//! of its zones: a circle of radius 1.5 km around the National Stadium, Singapore Sports Hub (lat
+//! 1.300694, lon 103.874222, from the stadium's Wikipedia infobox; see `data/SOURCES.md`, "Points
+//! of interest"), restriction `PROHIBITED`, id [`STADIUM_ZONE_ID`] = `SG-NATIONAL-STADIUM-EVENT`,
+//! closed on the scenario's day from 15:00 to 18:00 `+08:00` and announced at 14:00 `+08:00`: the
+//! paper's "sports events" case. It closes no station (the nearest, `S069`, is about 1,510 m from
+//! the centre) and 4 corridors: `S066-S069`, `S069-S070`, `S069-S076` and `S071-S076` (the last two
+//! also cross the CBD zone). Its file, `scenarios/singapore-77/stadium_zone.geojson`, is
 //! hand-written, not generated ([`STADIUM_ZONE_GEOJSON`]).
 //!
 //! # Land

@@ -1,5 +1,5 @@
-//! The Singapore default scenario `singapore-77` (SPEC §8): building it from the embedded
-//! source data, and loading the committed, generated files.
+//! The Singapore default scenario `singapore-77` (docs/reference.md#built-in-scenarios): building
+//! it from the embedded source data, and loading the committed, generated files.
 
 use std::sync::LazyLock;
 
@@ -102,9 +102,9 @@ pub fn station_nodes() -> Result<Vec<Node>, ScenarioError> {
         .collect()
 }
 
-/// The Singapore rule (SPEC §8, §15): [`build_airspace`]'s defaults in SVY21 (EPSG:3414),
-/// the grid the car parks' positions are published in. `muse airspace build --pads P --crs
-/// EPSG:3414` builds with the same options.
+/// The Singapore rule (docs/reference.md#built-in-scenarios, #airspace-from-pads):
+/// [`build_airspace`]'s defaults in SVY21 (EPSG:3414), the grid the car parks' positions are
+/// published in. `muse airspace build --pads P --crs EPSG:3414` builds with the same options.
 pub fn singapore_build_options() -> BuildOptions {
     BuildOptions {
         plane: Plane::Epsg(3414),
@@ -161,8 +161,8 @@ pub fn cbd_zone() -> Result<Zone, ScenarioError> {
 /// `scenarios/singapore-77/stadium_zone.geojson` ([`STADIUM_ZONE_GEOJSON`]): a circle of
 /// 1.5 km around the National Stadium, Singapore Sports Hub (lon 103.874222, lat 1.300694),
 /// restriction `PROHIBITED`, closed on the scenario's day 2026-01-05 from 15:00 to 18:00
-/// `+08:00` and announced at 14:00 `+08:00` (SPEC §11). It is not one of
-/// [`singapore_77`]'s zones: it is offered as a zone to announce during the day.
+/// `+08:00` and announced at 14:00 `+08:00` (docs/reference.md#zones-announced-during-the-day). It
+/// is not one of [`singapore_77`]'s zones: it is offered as a zone to announce during the day.
 ///
 /// ```
 /// use muse_model::{Instant, ZoneArea};

@@ -20,11 +20,11 @@
 //!   point whose rounded position (below) coincides with an earlier one is drawn again.
 //!   Corridors: [`build_airspace`] with its default rule (Delaunay, then "join collinear
 //!   nodes" with 15°) in the stereographic plane about the points' centroid
-//!   ([`BuildPlane::Stereographic`], the plane every airspace was built in before SPEC §15, so
-//!   that a synthetic airspace stays what it was). Delaunay corridors
-//!   are longer than the nearest-neighbour distance: their median is about 2.2 ×
-//!   `spacing_m` (3.25 km for 10,000 nodes at 1,500 m), and the hull has a few long ones
-//!   (up to 31 km there) that collinear joining does not remove.
+//!   ([`BuildPlane::Stereographic`], the plane every airspace was built in before
+//!   docs/reference.md#airspace-from-pads, so that a synthetic airspace stays what it was).
+//!   Delaunay corridors are longer than the nearest-neighbour distance: their median is about 2.2 ×
+//!   `spacing_m` (3.25 km for 10,000 nodes at 1,500 m), and the hull has a few long ones (up to 31
+//!   km there) that collinear joining does not remove.
 //! - **Positions:** a point `(x, y)` metres east and north of [`CENTRE`] is at latitude
 //!   `φ₀ + y / M` and longitude `λ₀ + x / (N cos φ₀)`, with `M`, `N` the WGS84 meridian and
 //!   prime-vertical radii of curvature at `φ₀` ([`MetresPer::radian`]; an equirectangular

@@ -1,5 +1,5 @@
-//! Who is calling (SPEC §10 ownership): bearer tokens from a TOML file, each naming an
-//! operator and a role, and a request-rate limit per token.
+//! Who is calling (docs/reference.md#the-planning-service ownership): bearer tokens from a TOML
+//! file, each naming an operator and a role, and a request-rate limit per token.
 //!
 //! ```toml
 //! [[tokens]]

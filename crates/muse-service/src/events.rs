@@ -2,8 +2,8 @@
 //!
 //! Every acknowledged change of a flight is an [`Event`] of one [`EventKind`]: `planned` (a
 //! request accepted), `cancelled` (by its operator, or by a zone announcement: reason
-//! `zone_announced`), `replanned`, `diverted`, `contingency` (SPEC §11). A rejected request
-//! is no event.
+//! `zone_announced`), `replanned`, `diverted`, `contingency`
+//! (docs/reference.md#zones-announced-during-the-day). A rejected request is no event.
 //!
 //! # Ids
 //!

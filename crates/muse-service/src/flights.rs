@@ -39,7 +39,8 @@ pub struct FlightEntry {
     pub answered: Instant,
     /// When its operator cancelled it, if it did.
     pub cancelled_at: Option<Instant>,
-    /// The zone announcements that changed it, in order (SPEC §11).
+    /// The zone announcements that changed it, in order
+    /// (docs/reference.md#zones-announced-during-the-day).
     pub changes: Vec<Change>,
     /// What each of them made of it, in the same order (the last is its current fate).
     pub fates: Vec<Fate>,
@@ -73,7 +74,7 @@ impl Status {
         Status::Contingency,
     ];
 
-    /// The spelling in answers (SPEC §7 and §11).
+    /// The spelling in answers (docs/reference.md#plans and #zones-announced-during-the-day).
     pub const fn as_str(self) -> &'static str {
         match self {
             Status::Planned => "planned",
@@ -91,11 +92,11 @@ impl Status {
     }
 }
 
-/// The SPEC §7 object of a flight as the service answers it: the plan line, plus who owns
-/// the flight and, once cancelled, when.
+/// The docs/reference.md#plans object of a flight as the service answers it: the plan line, plus
+/// who owns the flight and, once cancelled, when.
 #[derive(Clone, Debug, Serialize)]
 pub struct FlightView {
-    /// The SPEC §7 fields.
+    /// The docs/reference.md#plans fields.
     #[serde(flatten)]
     pub line: PlanLine,
     /// The operator the flight belongs to.

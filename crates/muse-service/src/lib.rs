@@ -1,5 +1,6 @@
-//! The MUSE planning service (SPEC §10): one live schedule behind a JSON API, planned against
-//! first come first served, every acknowledged change durable before it is answered.
+//! The MUSE planning service (docs/reference.md#the-planning-service): one live schedule behind a
+//! JSON API, planned against first come first served, every acknowledged change durable before it
+//! is answered.
 //!
 //! The public surface is small: [`launch`] (or [`start`]) a service on a [`ServiceWorld`] with
 //! [`Options`], then [`Running::serve`]; the pieces `muse serve` and the tests configure it
@@ -12,9 +13,10 @@
 //! - `engine`: the planner task, the only writer of the schedule and the store, fed by a
 //!   channel: each command decided, stored, then applied by one function;
 //! - `flights`: flights as the service knows them, and the index of those the schedule holds;
-//! - `zones`: zones announced during the day (SPEC §11), in one folder: the zones known,
-//!   reading an announcement, deciding what an announcement or a withdrawal does (the engine
-//!   stores and applies the decision; the HTTP routes are in `api`, with every other route);
+//! - `zones`: zones announced during the day (docs/reference.md#zones-announced-during-the-day), in
+//!   one folder: the zones known, reading an announcement, deciding what an announcement or a
+//!   withdrawal does (the engine stores and applies the decision; the HTTP routes are in `api`,
+//!   with every other route);
 //! - `events`: the flights' change events, kept and streamed (`GET /v1/events`);
 //! - `api`: the HTTP routes (axum), input checks and answers;
 //! - `http`: the HTTP server itself: timeouts, connection cap, graceful stop;
@@ -91,7 +93,7 @@ pub struct Options {
     /// The HTTP server's timeouts and connection cap (see [`Limits`]).
     pub http: Limits,
     /// How long the planner waits, after a request arrives, for others to plan with it as one
-    /// batch (SPEC §14); zero plans each request first come, first served.
+    /// batch (docs/reference.md#batch-planning); zero plans each request first come, first served.
     pub batch_window: std::time::Duration,
 }
 

@@ -1,5 +1,5 @@
 //! Planning a day: requests in first-come-first-served order against one schedule, and the
-//! zones announced during it (SPEC §5, §11).
+//! zones announced during it (docs/reference.md#requests, #zones-announced-during-the-day).
 
 use std::time::Duration;
 
@@ -21,18 +21,20 @@ pub enum DayError {
     /// Two announced zones share an id.
     #[error(transparent)]
     Announced(#[from] ZoneError),
-    /// A zone was withdrawn (SPEC §11, as a service lists it): a day is replayed with its
-    /// announcements, never its withdrawals, so it cannot be planned with such a zone.
+    /// A zone was withdrawn (docs/reference.md#zones-announced-during-the-day, as a service lists
+    /// it): a day is replayed with its announcements, never its withdrawals, so it cannot be
+    /// planned with such a zone.
     #[error(
         "zone `{0}` has a `withdrawn` instant: planning replays zone announcements, not \
          withdrawals; leave the zone out, or give it without `withdrawn` (only `muse verify` \
          and `muse view` read withdrawn zones)"
     )]
     Withdrawn(String),
-    /// Batch planning (SPEC §14) was asked for a day with zones announced during it.
+    /// Batch planning (docs/reference.md#batch-planning) was asked for a day with zones announced
+    /// during it.
     #[error(
         "zone `{0}` is announced during the day: the optimiser plans a batch known in advance \
-         against zones known from the start (SPEC §14); leave out `--optimize` or the \
+         against zones known from the start (docs/reference.md#batch-planning); leave out `--optimize` or the \
          zone's `announced` instant"
     )]
     OptimizeAnnounced(String),
@@ -41,10 +43,11 @@ pub enum DayError {
 /// How a day's requests are planned.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum Planning {
-    /// One at a time in planning order, each against those before it (SPEC §5–§6).
+    /// One at a time in planning order, each against those before it (docs/reference.md#requests
+    /// and #planning).
     #[default]
     FirstComeFirstServed,
-    /// As one batch, better than first come, first served (SPEC §14).
+    /// As one batch, better than first come, first served (docs/reference.md#batch-planning).
     Optimized(muse_optimize::Options),
 }
 
@@ -59,7 +62,8 @@ pub struct DayRun {
     pub replay: Replay,
     /// The zones planned against: known from the start, and announced.
     pub zones: KnownZones,
-    /// What the optimiser did, when the day was planned as a batch (SPEC §14).
+    /// What the optimiser did, when the day was planned as a batch
+    /// (docs/reference.md#batch-planning).
     pub optimizer: Option<muse_optimize::Report>,
 }
 
@@ -112,11 +116,11 @@ pub fn closure_window(first: Instant, last: Instant, params: &FlightParams) -> (
 }
 
 /// Plans `requests` (in any order: they are sorted into planning order `(submitted, id)` first,
-/// SPEC §5) on `airspace` with `zones`, each accepted plan reserved before the next request.
-/// When some zone carries an announcement instant, the day is [replayed](replay): each
-/// announcement is made at its instant between the requests and replans the flights it hits
-/// (SPEC §11). `progress` is called with the number of requests done. A zone with a
-/// [withdrawal](Zone::withdrawn) is refused ([`DayError::Withdrawn`]).
+/// docs/reference.md#requests) on `airspace` with `zones`, each accepted plan reserved before the
+/// next request. When some zone carries an announcement instant, the day is [replayed](replay):
+/// each announcement is made at its instant between the requests and replans the flights it hits
+/// (docs/reference.md#zones-announced-during-the-day). `progress` is called with the number of
+/// requests done. A zone with a [withdrawal](Zone::withdrawn) is refused ([`DayError::Withdrawn`]).
 pub fn plan_requests(
     airspace: &Airspace,
     zones: &[Zone],
@@ -134,9 +138,9 @@ pub fn plan_requests(
     )
 }
 
-/// [`plan_requests`], or with [`Planning::Optimized`] as one batch (SPEC §14): `progress` is
-/// then called with the optimiser's steps done. Zones announced during the day cannot be
-/// optimised ([`DayError::OptimizeAnnounced`]).
+/// [`plan_requests`], or with [`Planning::Optimized`] as one batch
+/// (docs/reference.md#batch-planning): `progress` is then called with the optimiser's steps done.
+/// Zones announced during the day cannot be optimised ([`DayError::OptimizeAnnounced`]).
 pub fn plan_requests_by(
     airspace: &Airspace,
     zones: &[Zone],

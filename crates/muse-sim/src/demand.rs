@@ -1,5 +1,5 @@
 //! Seeded demand: requests with uniform departures in a window and random origin–destination
-//! pairs (SPEC §8).
+//! pairs (docs/reference.md#built-in-scenarios).
 //!
 //! The generator is `ChaCha8` seeded from a `u64`, so a seed gives the same requests on every
 //! machine. Request `i` (0-based) draws its departure (a uniform whole millisecond in
@@ -31,9 +31,9 @@ pub enum OdRule {
     },
 }
 
-/// How far ahead of its departure each request is booked (SPEC §5 `submitted`): a lead drawn
-/// uniformly in `[min, max]` (whole milliseconds, both ends included). [`BookingLead::NONE`],
-/// the default, books every request at its departure (the paper).
+/// How far ahead of its departure each request is booked (docs/reference.md#requests `submitted`):
+/// a lead drawn uniformly in `[min, max]` (whole milliseconds, both ends included).
+/// [`BookingLead::NONE`], the default, books every request at its departure (the paper).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BookingLead {
     /// Shortest lead (at least zero).

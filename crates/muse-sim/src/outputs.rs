@@ -1,7 +1,7 @@
 //! What a planned day leaves behind: one [`PlanRecord`] per request (the lines of
-//! `plans.jsonl`, SPEC §7) and the [`Summary`] (`summary.json`), and the texts of its files
-//! ([`DayFiles`]: `plans.jsonl`, `summary.json`, `flights.csv`, `stays.csv`), computed once
-//! for every front end — the command line writes them to files, the Python package hands them
+//! `plans.jsonl`, docs/reference.md#plans) and the [`Summary`] (`summary.json`), and the texts of
+//! its files ([`DayFiles`]: `plans.jsonl`, `summary.json`, `flights.csv`, `stays.csv`), computed
+//! once for every front end — the command line writes them to files, the Python package hands them
 //! to notebooks.
 
 use muse_formats::day::LocalDay;
@@ -32,8 +32,8 @@ pub struct DayContext<'a> {
     pub world: WorldRecord,
     /// The booking lead of generated demand (`None` for requests read from a file).
     pub booking_lead: Option<BookingLead>,
-    /// The requests of demand from customers that no pad serves (SPEC §15); `None` for other
-    /// demand.
+    /// The requests of demand from customers that no pad serves
+    /// (docs/reference.md#airspace-from-pads); `None` for other demand.
     pub unserved: Option<&'a [UnservedRequest]>,
 }
 

@@ -1,6 +1,6 @@
-//! A day as it unfolds (SPEC §5, §11): requests reach the planner at their submission
-//! instants, zones are announced at theirs, and every announcement replans the flights it
-//! hits.
+//! A day as it unfolds (docs/reference.md#requests, #zones-announced-during-the-day): requests
+//! reach the planner at their submission instants, zones are announced at theirs, and every
+//! announcement replans the flights it hits.
 //!
 //! Events are taken in time order: requests by `(submitted, id)`, each zone at its
 //! announcement instant (zones announced at the same instant by id), and an announcement

@@ -1,6 +1,6 @@
 //! One pad set's deliveries: the airspace rebuilt from the pads, each seeded day's trips
 //! mapped to their customers' serving pads and planned exactly, first come first served
-//! (SPEC §6, §12 with battery swaps), from an empty schedule.
+//! (docs/reference.md#planning, #multi-leg-trips with battery swaps), from an empty schedule.
 
 use muse_airspace::announced::KnownZones;
 use muse_airspace::builder::build_airspace;
@@ -79,7 +79,8 @@ impl Siting {
             .collect()
     }
 
-    /// The airspace of the set that adds `added`, built by the rule of SPEC §15.
+    /// The airspace of the set that adds `added`, built by the rule of
+    /// docs/reference.md#airspace-from-pads.
     ///
     /// # Errors
     /// The pads give no airspace (e.g. a pad inside an exclusion).

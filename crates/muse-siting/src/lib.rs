@@ -1,12 +1,13 @@
-//! MUSE siting (SPEC §15): which candidate pads to add to an airspace so that the most
-//! requests are delivered, judged by planning whole days exactly on the rebuilt airspace.
+//! MUSE siting (docs/reference.md#airspace-from-pads): which candidate pads to add to an airspace
+//! so that the most requests are delivered, judged by planning whole days exactly on the rebuilt
+//! airspace.
 //!
 //! Coverage models (maximum coverage, k-means of demand) place pads where customers are and
 //! never check that the corridors can carry the traffic. Here every candidate set is judged by
-//! what it delivers: the airspace is rebuilt from the pads by the rule of SPEC §15, the same
-//! seeded days of demand between customers are mapped to their nearest pads in reach and
-//! planned exactly (SPEC §6, and §12 with battery swaps), and the planned requests are
-//! counted.
+//! what it delivers: the airspace is rebuilt from the pads by the rule of
+//! docs/reference.md#airspace-from-pads, the same seeded days of demand between customers are
+//! mapped to their nearest pads in reach and planned exactly (docs/reference.md#planning, and
+//! #multi-leg-trips with battery swaps), and the planned requests are counted.
 //!
 //! - [`problem`]: the prepared problem ([`Siting`]): pads, candidates, customers, the seeded
 //!   days, and each customer's pads in reach, computed once;

@@ -1,5 +1,5 @@
-//! Multi-leg trips (SPEC §12): how a plan splits into legs, the rules of each leg, and the
-//! battery swaps that chain them.
+//! Multi-leg trips (docs/reference.md#multi-leg-trips): how a plan splits into legs, the rules of
+//! each leg, and the battery swaps that chain them.
 //!
 //! A plan lists the stays of all its legs in order. The verifier reads a leg boundary between
 //! two consecutive stays

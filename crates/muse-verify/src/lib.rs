@@ -1,13 +1,15 @@
-//! An independent checker of planned flights against SPEC §3 (flight model and separation),
-//! §4 (no-fly zones), §11 (zones announced during the day) and §12 (multi-leg trips).
+//! An independent checker of planned flights against docs/reference.md#flight-model-and-separation
+//! (flight model and separation), docs/reference.md#no-fly-zones (no-fly zones),
+//! #zones-announced-during-the-day (zones announced during the day) and #multi-leg-trips (multi-leg
+//! trips).
 //!
-//! The verifier is deliberately simple: every rule is written out as the SPEC states it, on
+//! The verifier is deliberately simple: every rule is written out as the reference states it, on
 //! plain integer milliseconds, and it shares no interval or search code with the planner. It
 //! reads zone closures as per-element windows ([`Closures`]) and nothing else from
-//! `muse-airspace`: on a layered airspace (SPEC §13), windows per copy of a node or corridor
-//! and per vertical link, as `muse-airspace` resolves them on that airspace (a zone closing
-//! only the layers of its vertical band), so what a zone closes, at which layers, is decided
-//! there once for the planner and the verifier.
+//! `muse-airspace`: on a layered airspace (docs/reference.md#layered-airspace), windows per copy of
+//! a node or corridor and per vertical link, as `muse-airspace` resolves them on that airspace (a
+//! zone closing only the layers of its vertical band), so what a zone closes, at which layers, is
+//! decided there once for the planner and the verifier.
 //!
 //! [`verify`] lists **every** violation, all pairs of flights included. Pairwise rules are
 //! checked per element (node or edge): occupations are sorted by start and each one is
@@ -28,7 +30,7 @@
 //!   `s2 >= f1` or `s1 >= f2`; in the same direction under `Headway(h)`, `|s2 - s1| >= h`.
 //! - [`Rule::Battery`]: `landing - takeoff <= T_max`, for each leg.
 //! - [`Rule::GroundDelay`]: `departure <= takeoff <= departure + G_max` (the first take-off).
-//! - [`Rule::Swap`]: a plan of several legs (SPEC §12) needs battery swaps
+//! - [`Rule::Swap`]: a plan of several legs (docs/reference.md#multi-leg-trips) needs battery swaps
 //!   ([`FlightParams::battery_swap`]), has at most `K` legs, and its legs chain: leg `i + 1`
 //!   takes off from the station where leg `i` landed, at least `S` after that landing.
 //! - [`Rule::Zone`]: a stay `[a, d]` at a closed node, or a traversal `[s, f]` of a closed
@@ -47,12 +49,12 @@
 //! legs the drone is on the ground, outside the airspace: that time occupies no node and is
 //! bound by no zone; the landing and take-off stays are ordinary stays.
 //!
-//! A replanned flight (SPEC §11) is checked like any other; a [diverted](Ending::Diverted)
-//! one must end at some station rather than its destination; a flight left in
-//! [contingency](Ending::Committed) is its committed part, ending with its arrival at the
-//! node where it is stranded. It cannot comply with the zones (that is what a contingency
-//! is), so the zone rule does not apply to it; every other rule does (others must keep
-//! their separation from it), except landing at a station.
+//! A replanned flight (docs/reference.md#zones-announced-during-the-day) is checked like any other;
+//! a [diverted](Ending::Diverted) one must end at some station rather than its destination; a
+//! flight left in [contingency](Ending::Committed) is its committed part, ending with its arrival
+//! at the node where it is stranded. It cannot comply with the zones (that is what a contingency
+//! is), so the zone rule does not apply to it; every other rule does (others must keep their
+//! separation from it), except landing at a station.
 //!
 //! ```
 //! use muse_airspace::closures::Closures;
@@ -129,10 +131,11 @@ impl<'a> Flight<'a> {
         }
     }
 
-    /// The flight as it finally stands after zone announcements (SPEC §11): its first plan if
-    /// none changed it, else what the last one made of it: a replanned plan (to the
-    /// destination), a diverted one (to some station), or a contingency's committed part.
-    /// `None` if it does not fly: rejected (`first` is `None`) or cancelled.
+    /// The flight as it finally stands after zone announcements
+    /// (docs/reference.md#zones-announced-during-the-day): its first plan if none changed it, else
+    /// what the last one made of it: a replanned plan (to the destination), a diverted one (to some
+    /// station), or a contingency's committed part. `None` if it does not fly: rejected (`first` is
+    /// `None`) or cancelled.
     ///
     /// ```
     /// use muse_model::plan::Fate;
@@ -169,7 +172,8 @@ impl<'a> Flight<'a> {
     }
 }
 
-/// How a plan must end (SPEC §3, §11).
+/// How a plan must end (docs/reference.md#flight-model-and-separation,
+/// #zones-announced-during-the-day).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Ending {
     /// Landing at the request's destination (planned and replanned flights).
@@ -185,9 +189,10 @@ pub enum Ending {
 /// The rule a [`Violation`] breaks.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Rule {
-    /// The plan itself is malformed (SPEC §3: empty, wrong origin or destination, nodes not
-    /// joined by an edge, `arrive > depart`, wrong traversal time, hovering before landing;
-    /// SPEC §12: a leg that flies no edge, lands at a waypoint or where it took off).
+    /// The plan itself is malformed (docs/reference.md#flight-model-and-separation: empty, wrong
+    /// origin or destination, nodes not joined by an edge, `arrive > depart`, wrong traversal time,
+    /// hovering before landing; docs/reference.md#multi-leg-trips: a leg that flies no edge, lands
+    /// at a waypoint or where it took off).
     Path,
     /// Node separation `tau` between stays of two flights.
     Node,
@@ -197,11 +202,11 @@ pub enum Rule {
     Battery,
     /// Take-off before the requested departure or more than `G_max` after it.
     GroundDelay,
-    /// A stay or traversal during a no-fly window (SPEC §4).
+    /// A stay or traversal during a no-fly window (docs/reference.md#no-fly-zones).
     Zone,
-    /// Legs that do not fit together (SPEC §12): several legs with battery swaps off, more
-    /// than `K` legs, or a leg that does not take off from the station where the previous one
-    /// landed, or takes off less than `S` after that landing.
+    /// Legs that do not fit together (docs/reference.md#multi-leg-trips): several legs with battery
+    /// swaps off, more than `K` legs, or a leg that does not take off from the station where the
+    /// previous one landed, or takes off less than `S` after that landing.
     Swap,
     /// A flight landing at its destination later than its requested departure plus the
     /// delivery deadline ([`FlightParams::max_trip`], when set).
@@ -247,10 +252,10 @@ pub struct Violation {
     pub detail: String,
 }
 
-/// Checks `flights` against every rule of SPEC §3–§4 and returns all violations: per-flight
-/// rules first (flight by flight), then node separation (node by node), edge separation
-/// (edge by edge) and zones (flight by flight). An empty result means the flights are valid
-/// together.
+/// Checks `flights` against every rule of docs/reference.md#flight-model-and-separation and
+/// #no-fly-zones and returns all violations: per-flight rules first (flight by flight), then node
+/// separation (node by node), edge separation (edge by edge) and zones (flight by flight). An empty
+/// result means the flights are valid together.
 ///
 /// Node and edge indices outside the airspace are reported as [`Rule::Path`] violations and
 /// otherwise ignored; stays and traversals of a malformed plan are still checked against the
@@ -267,9 +272,10 @@ pub fn verify(
     check(airspace, closures, &[], params, flights, UtcOffset(0))
 }
 
-/// [`verify`] with zones announced during the day (SPEC §11): the zones known from the start
-/// bind every stay and traversal; an announced zone binds those that begin while it is
-/// announced (see [`Announced::binds`]).
+/// [`verify`] with zones announced during the day
+/// (docs/reference.md#zones-announced-during-the-day): the zones known from the start bind every
+/// stay and traversal; an announced zone binds those that begin while it is announced (see
+/// [`Announced::binds`]).
 ///
 /// ```
 /// use muse_airspace::announced::KnownZones;
@@ -456,7 +462,8 @@ fn edge_name(airspace: &Airspace, e: EdgeId) -> String {
 
 fn traversal_time(airspace: &Airspace, params: &FlightParams, e: EdgeId) -> Millis {
     match (airspace.edge_kind(e), airspace.layers()) {
-        // SPEC §13: `ceil(Δ_mm · 1000 / c_mm_per_s)` ms, here from Δ in µm.
+        // docs/reference.md#layered-airspace: `ceil(Δ_mm · 1000 / c_mm_per_s)` ms, here from Δ in
+        // µm.
         (EdgeKind::Vertical { .. }, Some(layers)) => {
             let rate = i64::from(layers.climb_mm_per_s);
             Millis((layers.spacing.um() + rate - 1) / rate)
@@ -970,7 +977,8 @@ pub(crate) mod tests {
 
     #[test]
     fn a_withdrawn_zone_binds_only_what_begins_before_its_withdrawal() {
-        // `B` closed from 0 to 100 s by a zone announced at 1 s and withdrawn at 50 s (SPEC §11).
+        // `B` closed from 0 to 100 s by a zone announced at 1 s and withdrawn at 50 s
+        // (docs/reference.md#zones-announced-during-the-day).
         let a = airspace();
         let zone = Zone {
             id: "W".into(),

@@ -1,5 +1,5 @@
-//! The rules of one flight alone: its path (SPEC §3), its legs (SPEC §12), battery and
-//! ground delay.
+//! The rules of one flight alone: its path (docs/reference.md#flight-model-and-separation), its
+//! legs (docs/reference.md#multi-leg-trips), battery and ground delay.
 
 use std::ops::Range;
 

@@ -1,6 +1,6 @@
-//! The flights of a plans file (SPEC §8) as the verifier checks them: each line's request
-//! resolved against the airspace, and the flight as it finally stands after zone
-//! announcements (SPEC §11).
+//! The flights of a plans file (docs/reference.md#built-in-scenarios) as the verifier checks them:
+//! each line's request resolved against the airspace, and the flight as it finally stands after
+//! zone announcements (docs/reference.md#zones-announced-during-the-day).
 
 use muse_airspace::announced::KnownZones;
 use muse_airspace::closures::ClosureError;
@@ -33,8 +33,8 @@ use crate::Flight;
 #[derive(Clone, Debug, Default)]
 pub struct Recorded {
     records: Vec<PlanRecord>,
-    /// Each record's request; `None` for an unserved request (SPEC §15), which flies nothing
-    /// and may lack a pad.
+    /// Each record's request; `None` for an unserved request
+    /// (docs/reference.md#airspace-from-pads), which flies nothing and may lack a pad.
     requests: Vec<Option<Request>>,
 }
 

@@ -1,5 +1,6 @@
-//! The rules between flights: node separation and edge separation (SPEC §3), checked per
-//! element on occupations sorted by start.
+//! The rules between flights: node separation and edge separation
+//! (docs/reference.md#flight-model-and-separation), checked per element on occupations sorted by
+//! start.
 
 use muse_model::{
     Airspace, EdgeId, EdgeKind, EdgeRule, FlightParams, Instant, NodeId, Plan, UtcOffset,
@@ -108,7 +109,8 @@ pub(crate) fn edge_rule(
 ) {
     sort(list);
     let edge = airspace.edge(e);
-    // Vertical links are exclusive whatever the corridors' rule (SPEC §13).
+    // Vertical links are exclusive whatever the corridors' rule
+    // (docs/reference.md#layered-airspace).
     let rule = match airspace.edge_kind(e) {
         EdgeKind::Vertical { .. } => EdgeRule::Exclusive,
         EdgeKind::Corridor { .. } => params.edge_rule,

@@ -1,4 +1,5 @@
-//! The zone rule (SPEC §4), with zones announced during the day (SPEC §11).
+//! The zone rule (docs/reference.md#no-fly-zones), with zones announced during the day
+//! (docs/reference.md#zones-announced-during-the-day).
 
 use muse_airspace::announced::Announced;
 use muse_airspace::closures::{Closures, Window};
@@ -7,7 +8,7 @@ use muse_model::{Airspace, FlightParams, Instant, UtcOffset};
 use crate::{Ending, Flight, Rule, Violation, edge_of, node_name, span, stamp, traversal_time};
 
 /// Whether an occupation `[a, d]` shares an instant with the window `[start, end)`:
-/// it is allowed only when `d < start` or `a >= end` (SPEC §4).
+/// it is allowed only when `d < start` or `a >= end` (docs/reference.md#no-fly-zones).
 fn shares_instant(w: Window, a: Instant, d: Instant) -> bool {
     !(d < w.start || a >= w.end)
 }
@@ -37,7 +38,7 @@ pub(crate) fn zone_rule(
         });
     };
     // The zones that bind an occupation beginning at `t`: those known from the start, and
-    // the announced ones announced by then (SPEC §11).
+    // the announced ones announced by then (docs/reference.md#zones-announced-during-the-day).
     let binding = |t: Instant| {
         std::iter::once((closures, String::new())).chain(
             announced.iter().filter(move |a| a.binds(t)).map(|a| {

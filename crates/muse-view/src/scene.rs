@@ -2,13 +2,13 @@
 //! from [`Scene::t0`] (the start of the local hour the day begins in), coordinates WGS84
 //! degrees rounded to 1e-5 (about a metre).
 //!
-//! A layered airspace (SPEC §13) is drawn from above: its flat nodes and corridors, each
-//! flight's stays at flat nodes (a climb or descent shown as a hover at the node), and a
-//! zone closing a node or corridor at any layer as closing it. [`Scene::layers`] then gives
+//! A layered airspace (docs/reference.md#layered-airspace) is drawn from above: its flat nodes and
+//! corridors, each flight's stays at flat nodes (a climb or descent shown as a hover at the node),
+//! and a zone closing a node or corridor at any layer as closing it. [`Scene::layers`] then gives
 //! the layers' altitudes and which way each corridor is flown at each, each flight's
-//! [`SceneFlight::z`] its layer over time, and each zone's [`SceneZone::layers`] the layers
-//! it closes: the page colours drones by layer, shows one layer alone, and draws the selected
-//! flight's altitude over time.
+//! [`SceneFlight::z`] its layer over time, and each zone's [`SceneZone::layers`] the layers it
+//! closes: the page colours drones by layer, shows one layer alone, and draws the selected flight's
+//! altitude over time.
 
 use geo::Simplify;
 use geo_types::{LineString, Polygon};
@@ -89,7 +89,7 @@ pub struct Scene {
     pub nodes: Vec<SceneNode>,
     /// Corridors, in airspace order, as `[from, to]` node indices.
     pub edges: Vec<[u32; 2]>,
-    /// The layers of a layered airspace (SPEC §13); absent when flat.
+    /// The layers of a layered airspace (docs/reference.md#layered-airspace); absent when flat.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub layers: Option<SceneLayers>,
     /// Land polygons: rings (outer first) of `[lon, lat]`.
@@ -248,7 +248,8 @@ pub fn scene(input: &SceneInput<'_>) -> Result<Scene, ViewError> {
     let t0 = (first.0 + off).div_euclid(HOUR_MS) * HOUR_MS - off;
     let end = (last.0 + off + HOUR_MS - 1).div_euclid(HOUR_MS) * HOUR_MS - off;
 
-    // A layered airspace (SPEC §13) is drawn from above: its flat nodes and corridors.
+    // A layered airspace (docs/reference.md#layered-airspace) is drawn from above: its flat nodes
+    // and corridors.
     let nodes = a
         .flat()
         .nodes()

@@ -1,4 +1,4 @@
-//! Which elements a zone closes (SPEC §4), time aside: [`closed_elements`].
+//! Which elements a zone closes (docs/reference.md#no-fly-zones), time aside: [`closed_elements`].
 //!
 //! - Every node inside the zone's area, boundary included, and every edge whose straight
 //!   segment intersects the area (touching counts).
@@ -14,13 +14,13 @@
 //! - Explicit ids (`Zone::node_ids`, `Zone::edge_ids`) close those elements; an edge may be
 //!   named by its id or as `FROM-TO` with its end nodes' ids in either order. An id not in the
 //!   airspace is an error naming the zone and the id.
-//! - Layered airspace (SPEC §13): all of the above is decided once, on the flat airspace
-//!   ([`Airspace::flat`]), whose ids a zone names (`S001`, not its copy `S001@2`); the zone's
-//!   vertical band then chooses the layers: the copies of a closed node or corridor at the
-//!   layers whose altitude the band contains, and the vertical links at a closed node whose
-//!   span `[h_k, h_{k+1}]` meets the band. A zone without limits closes every layer. On a
-//!   flat airspace (one layer) the band is not used: a zone closes what it covers at any
-//!   height (SPEC §13: one layer is exactly §2–§12).
+//! - Layered airspace (docs/reference.md#layered-airspace): all of the above is decided once, on
+//!   the flat airspace ([`Airspace::flat`]), whose ids a zone names (`S001`, not its copy
+//!   `S001@2`); the zone's vertical band then chooses the layers: the copies of a closed node or
+//!   corridor at the layers whose altitude the band contains, and the vertical links at a closed
+//!   node whose span `[h_k, h_{k+1}]` meets the band. A zone without limits closes every layer. On
+//!   a flat airspace (one layer) the band is not used: a zone closes what it covers at any height
+//!   (docs/reference.md#layered-airspace: one layer is exactly #airspace to #multi-leg-trips).
 
 use geo::{BoundingRect, Intersects};
 use geo_types::{Line, MultiPolygon, Point};

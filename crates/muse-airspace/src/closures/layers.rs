@@ -1,4 +1,5 @@
-//! What a zone closes on a layered airspace (SPEC §13), from what it closes on the flat one.
+//! What a zone closes on a layered airspace (docs/reference.md#layered-airspace), from what it
+//! closes on the flat one.
 //!
 //! The zone's area and listed ids are tested once, on the flat airspace
 //! ([`Airspace::flat`]); its vertical band then chooses the copies:

@@ -1,8 +1,9 @@
-//! Zone resolution (SPEC §4): zones and a time range → each node's and edge's closure windows.
+//! Zone resolution (docs/reference.md#no-fly-zones): zones and a time range → each node's and
+//! edge's closure windows.
 //!
 //! - [`geometry`]: which elements a zone closes ([`closed_elements`]); on a layered airspace
-//!   (SPEC §13) the copies, at the layers its vertical band covers, of what it closes on the
-//!   flat one, and the vertical links at its nodes whose span meets the band;
+//!   (docs/reference.md#layered-airspace) the copies, at the layers its vertical band covers, of
+//!   what it closes on the flat one, and the vertical links at its nodes whose span meets the band;
 //! - [`windows`]: when it closes them ([`zone_windows`], [`MAX_RANGE_DAYS`]);
 //! - here: [`resolve`] puts the two together into [`Closures`]. Per element, windows of all
 //!   zones are sorted and overlapping or touching ones merged; [`Closures::add`] forms the
@@ -53,7 +54,8 @@ impl Window {
     }
 
     /// Whether an occupation `[a, d]` (a stay, or an edge traversal `[s, f]`) shares an instant
-    /// with the window. It is allowed only when `d < start` or `a >= end` (SPEC §4).
+    /// with the window. It is allowed only when `d < start` or `a >= end`
+    /// (docs/reference.md#no-fly-zones).
     ///
     /// ```
     /// use muse_airspace::closures::Window;

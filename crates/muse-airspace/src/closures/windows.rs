@@ -1,4 +1,4 @@
-//! When a zone closes (SPEC §4), space aside: [`zone_windows`].
+//! When a zone closes (docs/reference.md#no-fly-zones), space aside: [`zone_windows`].
 //!
 //! Each period of a zone becomes windows inside `[from, to)`: a period with daily windows
 //! gives, for every local date (in the daily window's offset) whose window can touch the

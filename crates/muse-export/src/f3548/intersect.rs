@@ -5,10 +5,10 @@
 //!
 //! - **time**: their windows, taken half-open `[time_start, time_end)`, overlap:
 //!   `s1 < e2 && s2 < e1`. A volume that ends at the instant another begins does not meet it:
-//!   that is SPEC §3's exclusive edge rule, which lets a drone enter a corridor at the very
-//!   millisecond the previous one leaves it (`s2 >= f1`), and SPEC §4's zone windows
-//!   `[start, end)`. Closed windows would count every such back-to-back pair, which MUSE
-//!   separates by construction, as a conflict.
+//!   that is docs/reference.md#flight-model-and-separation's exclusive edge rule, which lets a
+//!   drone enter a corridor at the very millisecond the previous one leaves it (`s2 >= f1`), and
+//!   docs/reference.md#no-fly-zones's zone windows `[start, end)`. Closed windows would count every
+//!   such back-to-back pair, which MUSE separates by construction, as a conflict.
 //! - **altitude**: their bands, closed, overlap: `lo1 <= hi2 && lo2 <= hi1`.
 //! - **space**: their outlines, closed, share a point (touching counts): circles whose centres
 //!   are at most `r1 + r2` apart, a circle whose centre is at most `r` from a polygon

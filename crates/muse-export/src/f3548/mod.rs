@@ -13,9 +13,10 @@
 //! - a **vertical link** (layered airspace): a circle of radius `B` at the node spanning both
 //!   layers' bands, for the climb or descent.
 //!
-//! Each volume's altitude band is its layer's cruise altitude `h_k` (SPEC §13; 60 m when
-//! flat) ± the vertical buffer, written as metres above the WGS84 ellipsoid (MUSE assumes
-//! flat ground at height 0). Times are RFC 3339 UTC (`Z`) to the millisecond.
+//! Each volume's altitude band is its layer's cruise altitude `h_k`
+//! (docs/reference.md#layered-airspace; 60 m when flat) ± the vertical buffer, written as metres
+//! above the WGS84 ellipsoid (MUSE assumes flat ground at height 0). Times are RFC 3339 UTC (`Z`)
+//! to the millisecond.
 //!
 //! `B` = 0 is written as 1 cm ([`MIN_OUTLINE_M`]), the standard's intersection precision:
 //! a circle of radius 0 or a corridor of no width is no valid outline.

@@ -1,4 +1,4 @@
-//! The legs of a multi-leg plan (SPEC §12) in a plans file.
+//! The legs of a multi-leg plan (docs/reference.md#multi-leg-trips) in a plans file.
 //!
 //! A plan of two or more legs keeps the fields of the trip as a whole (`takeoff` the first
 //! take-off, `landing` the last landing, `path` every stay, the station repeated at each

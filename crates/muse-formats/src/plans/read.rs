@@ -217,7 +217,8 @@ impl LineReader<'_> {
     }
 
     /// The node of stay `at` (`path[3]`): its flat id, at its `layer` in a layered airspace
-    /// (SPEC §13), which every stay of a layered airspace gives and no stay of a flat one.
+    /// (docs/reference.md#layered-airspace), which every stay of a layered airspace gives and no
+    /// stay of a flat one.
     fn stay_node(&self, at: &str, s: &StayLine) -> Result<NodeId, InputError> {
         let a = self.airspace;
         let flat = a.flat().node_id(&s.node).ok_or_else(|| {

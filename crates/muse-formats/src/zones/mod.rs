@@ -1,4 +1,5 @@
-//! No-fly zones: the EUROCAE ED-318 `GeoJSON` profile (native) and ED-269 JSON (SPEC §4).
+//! No-fly zones: the EUROCAE ED-318 `GeoJSON` profile (native) and ED-269 JSON
+//! (docs/reference.md#no-fly-zones).
 //!
 //! [`read_zones`] detects the format and returns [`Zone`]s; [`write_ed318`] writes them back
 //! in the ED-318 `GeoJSON` profile.
@@ -14,7 +15,8 @@
 //!   `PROHIBITED`, `REQ_AUTHORISATION`, …, see [`ZONE_TYPES`]): kept as text (MUSE closes
 //!   the airspace whatever it says; `PROHIBITED` when neither is given);
 //! - `properties.limitedApplicability` (or `applicability`): time periods, see below;
-//! - `properties.announced`, `properties.withdrawn` (MUSE extensions, SPEC §11): see below;
+//! - `properties.announced`, `properties.withdrawn` (MUSE extensions,
+//!   docs/reference.md#zones-announced-during-the-day): see below;
 //! - `geometry`: `Polygon`, `MultiPolygon`, a `Point` with an `extent`
 //!   `{"subType": "Circle", "radius": <metres>}` (the extent may sit on the geometry, the
 //!   feature or the properties; an optional `uom` / `uomDimensions` of `M`, `FT` or `NM`
@@ -44,17 +46,17 @@
 //!
 //! - Positions are `[longitude, latitude]` in WGS84 degrees (a third value, altitude, is
 //!   ignored). Rings have at least 4 positions and are closed (first = last).
-//! - Vertical limits (SPEC §13) become the zone's [`VerticalLimits`](muse_model::VerticalLimits):
-//!   heights are numbers (or numeric strings) ≥ 0 in metres or feet (`M`, `FT`, any case, metres
-//!   when no unit is given; 1 ft = 0.3048 m exactly), kept to the micrometre; a missing or
-//!   `null` side is open, and a zone without limits covers the whole sky. References are `AGL`,
-//!   `AMSL` or `WGS84` (any case; `SFC` and `GND` read as `AGL`, `MSL` as `AMSL`, `W84` as
-//!   `WGS84`; `AGL` when not given): MUSE flies over flat ground at sea level, so all measure
-//!   the same heights; the reference is kept to show and write. A height that is not a number,
-//!   negative or beyond 10⁹ m, an unknown unit or reference (pressure altitudes, `STD`, are not
-//!   supported), and a lower limit above the upper one are errors. MUSE flying one cruise
-//!   altitude, a zone still closes what it covers whatever its band; with layers, only the
-//!   layers in its band.
+//! - Vertical limits (docs/reference.md#layered-airspace) become the zone's
+//!   [`VerticalLimits`](muse_model::VerticalLimits): heights are numbers (or numeric strings) ≥ 0
+//!   in metres or feet (`M`, `FT`, any case, metres when no unit is given; 1 ft = 0.3048 m
+//!   exactly), kept to the micrometre; a missing or `null` side is open, and a zone without limits
+//!   covers the whole sky. References are `AGL`, `AMSL` or `WGS84` (any case; `SFC` and `GND` read
+//!   as `AGL`, `MSL` as `AMSL`, `W84` as `WGS84`; `AGL` when not given): MUSE flies over flat
+//!   ground at sea level, so all measure the same heights; the reference is kept to show and write.
+//!   A height that is not a number, negative or beyond 10⁹ m, an unknown unit or reference
+//!   (pressure altitudes, `STD`, are not supported), and a lower limit above the upper one are
+//!   errors. MUSE flying one cruise altitude, a zone still closes what it covers whatever its band;
+//!   with layers, only the layers in its band.
 //! - A time period is `{startDateTime?, endDateTime?, schedule?}` (ED-269 also
 //!   `permanent` and `dailyPeriod`). Date-times are RFC 3339 with an offset. A `schedule`
 //!   entry is `{"day": ["ANY" | "MON" … "SUN"], "startTime": "10:00:00+08:00",
@@ -71,14 +73,15 @@
 //! - MUSE extension: `nodes: ["S001", …]` and `edges: ["S001-S002", …]` list airspace
 //!   elements closed explicitly (the paper's `V_nfz` and `E_nfz`); a zone may have only these
 //!   and no geometry. The ids are checked later, against an airspace.
-//! - MUSE extension (SPEC §11): `announced`, an RFC 3339 date-time with an offset, is when the
-//!   zone becomes known during the day; it binds flights from that instant on. Without it (or
-//!   with `null`) the zone is known from the start. A value that is not such a date-time (no
-//!   offset, finer than a millisecond, not a string) is an error on field `announced`.
-//! - MUSE extension (SPEC §11, written by the service's `GET /v1/zones`): `withdrawn`, an RFC
-//!   3339 date-time, is when an announced zone was withdrawn; from then on it binds nothing
-//!   (it binds the stays and traversals that begin in `[announced, withdrawn)`). It needs
-//!   `announced` and may not be before it; `null` means not withdrawn.
+//! - MUSE extension (docs/reference.md#zones-announced-during-the-day): `announced`, an RFC 3339
+//!   date-time with an offset, is when the zone becomes known during the day; it binds flights from
+//!   that instant on. Without it (or with `null`) the zone is known from the start. A value that is
+//!   not such a date-time (no offset, finer than a millisecond, not a string) is an error on field
+//!   `announced`.
+//! - MUSE extension (docs/reference.md#zones-announced-during-the-day, written by the service's
+//!   `GET /v1/zones`): `withdrawn`, an RFC 3339 date-time, is when an announced zone was withdrawn;
+//!   from then on it binds nothing (it binds the stays and traversals that begin in `[announced,
+//!   withdrawn)`). It needs `announced` and may not be before it; `null` means not withdrawn.
 //! - A zone whose areas cannot be one [`ZoneArea`] with one vertical band (several circles,
 //!   circles and polygons, e.g. an ED-269 zone with several volumes, or polygons at different
 //!   heights, e.g. ED-318's "inverted wedding cake" of geometries with different `layer`s)

@@ -69,7 +69,8 @@ pub(super) fn parse_common(
     let announced = parse_date_time(ctx, obj, "announced", "")?;
     let withdrawn = parse_date_time(ctx, obj, "withdrawn", "")?;
     if let Some(w) = withdrawn {
-        // Only an announced zone can be withdrawn (SPEC §11), and not before it was announced.
+        // Only an announced zone can be withdrawn
+        // (docs/reference.md#zones-announced-during-the-day), and not before it was announced.
         match announced {
             None => {
                 return Err(ctx.err(

@@ -1,6 +1,6 @@
-//! Vertical limits in zone files (SPEC §13): ED-318's `layer` on a geometry and ED-269's
-//! `lowerLimit` / `upperLimit` on a volume (or in an ED-318 feature's properties), read into a
-//! [`VerticalLimits`] band.
+//! Vertical limits in zone files (docs/reference.md#layered-airspace): ED-318's `layer` on a
+//! geometry and ED-269's `lowerLimit` / `upperLimit` on a volume (or in an ED-318 feature's
+//! properties), read into a [`VerticalLimits`] band.
 //!
 //! - A height is a number (or a numeric string) ≥ 0, in metres or feet (`M`, `FT`, any case;
 //!   1 ft = 0.3048 m exactly), kept to the micrometre. A missing or `null` side is open.

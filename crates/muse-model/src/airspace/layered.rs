@@ -1,12 +1,13 @@
-//! The layered airspace (SPEC §13), built once from the flat one: the graph the planner
-//! searches, with nothing special in the search.
+//! The layered airspace (docs/reference.md#layered-airspace), built once from the flat one: the
+//! graph the planner searches, with nothing special in the search.
 
 use super::{Airspace, AirspaceError, Edge, EdgeKind, Layout, Node, NodeKind};
 use crate::ids::NodeId;
 use crate::layers::{Layers, bearing};
 
 impl Airspace {
-    /// This (flat) airspace flown at `layers.count` cruise altitudes (SPEC §13).
+    /// This (flat) airspace flown at `layers.count` cruise altitudes
+    /// (docs/reference.md#layered-airspace).
     ///
     /// Node `n` at layer `k` is node `n + (k − 1)·N` (`N` the flat node count), so layer 1
     /// keeps the flat indices and ids; the copies above are named `ID@k` and are waypoints

@@ -1,6 +1,7 @@
 //! The airspace graph: nodes (stations and waypoints) joined by undirected corridors, flat
-//! (one cruise altitude) or layered ([`Airspace::layered`], SPEC §13: every node and corridor
-//! at each layer, vertical links between layers, corridors one-way under a heading rule).
+//! (one cruise altitude) or layered ([`Airspace::layered`], docs/reference.md#layered-airspace:
+//! every node and corridor at each layer, vertical links between layers, corridors one-way under a
+//! heading rule).
 //!
 //! Built once, queried many times. Node and edge ids from files map to dense indices;
 //! adjacency is stored in compressed-sparse-row form (one offsets array and one flat array
@@ -81,7 +82,7 @@ pub enum EdgeKind {
         one_way: bool,
     },
     /// The vertical link at a node between layer `layer` (its `from` end) and `layer + 1`
-    /// (its `to` end), crossed in `time`, one drone at a time (SPEC §13).
+    /// (its `to` end), crossed in `time`, one drone at a time (docs/reference.md#layered-airspace).
     Vertical {
         /// The lower layer.
         layer: u32,

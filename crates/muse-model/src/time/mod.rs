@@ -1,8 +1,8 @@
 //! Integer-millisecond time.
 //!
-//! The planner never does floating-point time arithmetic (SPEC §1): an [`Instant`] is a count
-//! of milliseconds since the Unix epoch and a [`Millis`] is a signed duration in milliseconds.
-//! Conversion to and from RFC 3339 text happens only at the I/O edge
+//! The planner never does floating-point time arithmetic (docs/reference.md#time): an [`Instant`]
+//! is a count of milliseconds since the Unix epoch and a [`Millis`] is a signed duration in
+//! milliseconds. Conversion to and from RFC 3339 text happens only at the I/O edge
 //! ([`Instant::parse_rfc3339`], [`Instant::to_rfc3339`], [`parse_clock`]), in exact integer
 //! arithmetic on the proleptic Gregorian calendar.
 //!

@@ -8,12 +8,13 @@
 //! by one Dijkstra search backwards from the destination (a corridor may be one-way under a
 //! heading rule), and then shared.
 //!
-//! A diversion (SPEC §11) goes to whichever station it can land at earliest; its heuristic is
-//! the free-flow time to the *nearest* station, one multi-source search from all stations,
-//! equally exact and consistent.
+//! A diversion (docs/reference.md#zones-announced-during-the-day) goes to whichever station it can
+//! land at earliest; its heuristic is the free-flow time to the *nearest* station, one multi-source
+//! search from all stations, equally exact and consistent.
 //!
-//! With battery swaps (SPEC §12) the remaining time also depends on how long the current leg
-//! has flown: [`swaps`] holds those tables, built from the same free-flow times.
+//! With battery swaps (docs/reference.md#multi-leg-trips) the remaining time also depends on how
+//! long the current leg has flown: [`swaps`] holds those tables, built from the same free-flow
+//! times.
 //!
 //! A node from which the destination cannot be reached has the time `Millis::INF`, the
 //! planner's one infinity.
@@ -63,9 +64,9 @@ impl Heuristics {
         &self.times
     }
 
-    /// The multi-leg tables for `destination` (SPEC §12), or `None` when the parameters
-    /// allow no battery swaps. Computed on the first call for this destination (the first
-    /// call at all computes every station's free-flow table).
+    /// The multi-leg tables for `destination` (docs/reference.md#multi-leg-trips), or `None` when
+    /// the parameters allow no battery swaps. Computed on the first call for this destination (the
+    /// first call at all computes every station's free-flow table).
     pub fn swaps_to(&self, airspace: &Airspace, destination: NodeId) -> Option<&SwapTable> {
         let swap = self.params.battery_swap?;
         let t_max = self.params.max_flight;
@@ -89,7 +90,8 @@ impl Heuristics {
     pub fn to(&self, airspace: &Airspace, destination: NodeId) -> &[Millis] {
         self.tables[destination.index()].get_or_init(|| {
             let mut search = Dijkstra::new(airspace.node_count());
-            // Backwards: corridors may be one-way (SPEC §13's heading rule).
+            // Backwards: corridors may be one-way (docs/reference.md#layered-airspace's heading
+            // rule).
             search.run_towards_all(airspace, &self.times, &[destination]);
             times(&search)
         })

@@ -1,5 +1,5 @@
-//! The heuristic of multi-leg trips (SPEC §12): the exact remaining time on the empty graph
-//! when the drone may land at stations and swap its battery.
+//! The heuristic of multi-leg trips (docs/reference.md#multi-leg-trips): the exact remaining time
+//! on the empty graph when the drone may land at stations and swap its battery.
 //!
 //! # The relaxed problem
 //!
@@ -36,7 +36,7 @@ use crate::time::Unbounded;
 
 /// Stations within one battery of each node: `(station, free-flow time)`, nearest first;
 /// and, per station, the stations within one battery of it the other way (a corridor may be
-/// one-way under a heading rule, SPEC §13).
+/// one-way under a heading rule, docs/reference.md#layered-airspace).
 #[derive(Debug)]
 pub struct Near {
     offsets: Vec<u32>,
@@ -194,8 +194,8 @@ impl SwapTable {
     }
 
     /// The free-flow trip from the ground at station `v` with at most the leg limit, swaps
-    /// included (SPEC §12: `free_flow_s`), or `None` when no chain of legs within range joins
-    /// `v` to the destination (`out_of_range`).
+    /// included (docs/reference.md#multi-leg-trips: `free_flow_s`), or `None` when no chain of legs
+    /// within range joins `v` to the destination (`out_of_range`).
     pub fn free_flow(&self, v: NodeId) -> Option<Millis> {
         let t = self.ground_within_limit[v.index()];
         (t != Millis::INF).then_some(t)

@@ -13,17 +13,17 @@
 //!
 //! Every reservation is a *barrier* `(L, R)`: another flight's stay `[x, y]` at the node (or,
 //! on an edge, its entry instant `x = y`) is compatible with it exactly when `y ≤ L` or
-//! `x ≥ R`. This is the SPEC's rules rewritten once:
+//! `x ≥ R`. This is the reference's rules rewritten once:
 //!
-//! - a stay `[a, d]` at a node: `(a − τ, d + τ)` (SPEC §3 node rule: `x ≥ d + τ` or
-//!   `a ≥ y + τ`). With `τ = 0` a zero-length stay gives `L = R`: nobody may *hover across*
-//!   that instant, though others may arrive or leave at it;
+//! - a stay `[a, d]` at a node: `(a − τ, d + τ)` (docs/reference.md#flight-model-and-separation
+//!   node rule: `x ≥ d + τ` or `a ≥ y + τ`). With `τ = 0` a zero-length stay gives `L = R`: nobody
+//!   may *hover across* that instant, though others may arrive or leave at it;
 //! - a traversal entering edge `e` at `s`: for entries in the same direction `(s − h, s + h)`
 //!   (`h = w(e)` under `exclusive`, the headway under `headway`); for entries in the opposite
 //!   direction `(s − w, s + w)`;
 //! - a zone window `[start, end)`: `(start − 1, end)` at a node and `(start − 1 − w, end)` for
-//!   entries of an edge (SPEC §4: allowed only if the stay or traversal ends before `start`
-//!   or begins at or after `end`).
+//!   entries of an edge (docs/reference.md#no-fly-zones: allowed only if the stay or traversal ends
+//!   before `start` or begins at or after `end`).
 //!
 //! An instant `t` is *blocked* when `L < t < R` for some barrier. A *safe interval* is a
 //! maximal `[lo, hi]` compatible with every barrier: `lo` is the largest `R ≤ t` and `hi` the
@@ -193,7 +193,8 @@ impl Schedule {
             .map(|(i, &w)| EdgeBook {
                 dirs: [Book::default(), Book::default()],
                 w,
-                // Vertical links are exclusive whatever the corridors' rule (SPEC §13).
+                // Vertical links are exclusive whatever the corridors' rule
+                // (docs/reference.md#layered-airspace).
                 same_grow: match (airspace.edge_kind(EdgeId(i as u32)), params.edge_rule) {
                     (EdgeKind::Vertical { .. }, _) | (_, EdgeRule::Exclusive) => w,
                     (_, EdgeRule::Headway(h)) => h,
@@ -240,8 +241,9 @@ impl Schedule {
         }
     }
 
-    /// Replaces the zone closures (a zone announced or withdrawn during the day, SPEC §11);
-    /// the flights held are kept as they are. `closures` must be for the same airspace.
+    /// Replaces the zone closures (a zone announced or withdrawn during the day,
+    /// docs/reference.md#zones-announced-during-the-day); the flights held are kept as they are.
+    /// `closures` must be for the same airspace.
     pub fn set_closures(&mut self, closures: &Closures) {
         for (i, book) in self.nodes.iter_mut().enumerate() {
             book.zones = barriers(closures.node(NodeId(i as u32)), Millis::ZERO);
@@ -423,7 +425,8 @@ impl Schedule {
     /// Removes every reservation of a plan previously inserted with the same `flight` that
     /// the schedule still holds, and counts the flight out. Unlike [`Schedule::remove`] it
     /// does not mind reservations already [forgotten](Schedule::forget_past): replanning an
-    /// airborne flight (SPEC §11) releases plans that began before now.
+    /// airborne flight (docs/reference.md#zones-announced-during-the-day) releases plans that began
+    /// before now.
     pub fn release(&mut self, airspace: &Airspace, flight: FlightId, plan: &Plan) {
         for_each_reservation(airspace, flight, plan, |target, occ| {
             let book = self.book_mut(target);

@@ -66,8 +66,9 @@ impl Search<'_, '_> {
     }
 
     /// Lands airborne label `idx` (`label`) for a battery swap, if it is at a station where
-    /// it may (SPEC §12): not the destination (reaching it ends the search), not where its leg
-    /// took off (see `Swaps::no_return`), and only if another leg is allowed.
+    /// it may (docs/reference.md#multi-leg-trips): not the destination (reaching it ends the
+    /// search), not where its leg took off (see `Swaps::no_return`), and only if another leg is
+    /// allowed.
     pub(super) fn land(&mut self, idx: LabelId, label: &Label) {
         let p = self.p;
         let Some(swaps) = p.swaps else { return };

@@ -25,9 +25,9 @@ impl LabelId {
 /// take-offs).
 pub(super) const NO_EDGE: EdgeId = EdgeId(u32::MAX);
 
-/// The `lo` of the ground state of a station (SPEC §12: on the ground between legs). Not a
-/// time: the key of that state, below every safe interval's `lo` (which is at least
-/// `Instant::NEG_INF`).
+/// The `lo` of the ground state of a station (docs/reference.md#multi-leg-trips: on the ground
+/// between legs). Not a time: the key of that state, below every safe interval's `lo` (which is at
+/// least `Instant::NEG_INF`).
 pub(super) const GROUND: Instant = Instant(i64::MIN);
 
 /// A safe interval `[lo, hi]` of a node: with the node, the state a label is in.

@@ -1,5 +1,5 @@
 //! Exact safe-interval A* (SIPP) with hovering, a battery limit, ground delay and battery
-//! swaps at stations (multi-leg trips, SPEC §12).
+//! swaps at stations (multi-leg trips, docs/reference.md#multi-leg-trips).
 //!
 //! # States and labels
 //!
@@ -70,7 +70,7 @@
 //! take-off does not move (sliding a member later costs as much in arrival as it gains in
 //! take-off). So the first label popped at the destination lands earliest, among the earliest
 //! landings it has the latest first take-off, and among those the fewest legs — exactly the
-//! SPEC §6 (and §12) objective.
+//! docs/reference.md#planning (and #multi-leg-trips) objective.
 
 mod expand;
 mod label;

@@ -48,7 +48,7 @@ impl Remaining<'_> {
     }
 }
 
-/// Battery swaps as the search applies them (SPEC §12).
+/// Battery swaps as the search applies them (docs/reference.md#multi-leg-trips).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Swaps {
     /// Minimum time on the ground between legs.
@@ -101,8 +101,9 @@ pub(crate) enum Start {
         latest: Instant,
     },
     /// In the air: arriving at `node` at instant `at` (fixed), the current leg (the
-    /// `legs`-th) having taken off at `takeoff` and the trip at `first` (SPEC §11: an airborne
-    /// flight replanned from the first node it reaches).
+    /// `legs`-th) having taken off at `takeoff` and the trip at `first`
+    /// (docs/reference.md#zones-announced-during-the-day: an airborne flight replanned from the
+    /// first node it reaches).
     Airborne {
         node: NodeId,
         at: Instant,
@@ -126,6 +127,6 @@ pub(crate) enum Goal {
     /// Landing at this station.
     Node(NodeId),
     /// Landing at any station: the earliest landing, ties to the lowest node index
-    /// (SPEC §11 diversion).
+    /// (docs/reference.md#zones-announced-during-the-day diversion).
     AnyStation,
 }

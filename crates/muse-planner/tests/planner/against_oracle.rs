@@ -100,9 +100,10 @@ fn online_matches_oracle_crowded() {
     );
 }
 
-/// SPEC §11 (`scenario::announce`): the instance's last zone announced at a random instant
-/// while flights are booked and airborne; every affected flight's fate and plan against the
-/// oracle, the final set against the verifier with the exemption rule.
+/// docs/reference.md#zones-announced-during-the-day (`scenario::announce`): the instance's last
+/// zone announced at a random instant while flights are booked and airborne; every affected
+/// flight's fate and plan against the oracle, the final set against the verifier with the exemption
+/// rule.
 fn property_announce(shape: Shape, cases: u32, seed: u64) -> scenario::announce::Announcements {
     let total = std::cell::Cell::new(scenario::announce::Announcements::default());
     let strategy = (scenario::instances(shape), 0..=shape.horizon);

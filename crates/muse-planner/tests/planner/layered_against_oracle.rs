@@ -1,8 +1,8 @@
-//! Layered airspace (SPEC §13): the planner against the oracle and the verifier on random
-//! layered instances (2 to 4 layers, vertical links of whole units, with and without the
-//! `sectors` heading rule, zones closing a band of layers or the whole sky), single legs and
-//! multi-leg trips, batch and online. The oracle takes vertical links' times, one-way
-//! corridors and zones per layer straight from the SPEC (`scenario::Instance::zones`,
+//! Layered airspace (docs/reference.md#layered-airspace): the planner against the oracle and the
+//! verifier on random layered instances (2 to 4 layers, vertical links of whole units, with and
+//! without the `sectors` heading rule, zones closing a band of layers or the whole sky), single
+//! legs and multi-leg trips, batch and online. The oracle takes vertical links' times, one-way
+//! corridors and zones per layer straight from the reference (`scenario::Instance::zones`,
 //! `oracle::weight`, `oracle::ends`, `oracle::rule_of`).
 
 use crate::scenario::multileg::multileg_instances;

@@ -1,8 +1,9 @@
-//! Multi-leg trips (SPEC §12: battery swaps at stations): the planner against the brute-force
-//! multi-leg oracle (`oracle/multileg.rs`) and the verifier, on random small instances whose
-//! batteries are short against their paths, so that many trips need two or three legs, plus
-//! hand-made cases checked by hand, and checks of the oracle itself; and the resumption of a
-//! trip under way (`Planner::resume`, SPEC §11 replanning with swaps) against the oracle's.
+//! Multi-leg trips (docs/reference.md#multi-leg-trips: battery swaps at stations): the planner
+//! against the brute-force multi-leg oracle (`oracle/multileg.rs`) and the verifier, on random
+//! small instances whose batteries are short against their paths, so that many trips need two or
+//! three legs, plus hand-made cases checked by hand, and checks of the oracle itself; and the
+//! resumption of a trip under way (`Planner::resume`,
+//! docs/reference.md#zones-announced-during-the-day replanning with swaps) against the oracle's.
 //!
 //! Property runs are deterministic: a fixed `ChaCha` seed per test, no failure persistence
 //! (see `scenario::runner` for soak runs). On a failure proptest shrinks the instance and the
@@ -443,8 +444,8 @@ fn hand_resume() {
 }
 
 // ---------------------------------------------------------------------------------------
-// Resuming a trip (SPEC §11 replanning with swaps): `Planner::resume` against
-// `multileg::resume`.
+// Resuming a trip (docs/reference.md#zones-announced-during-the-day replanning with swaps):
+// `Planner::resume` against `multileg::resume`.
 
 /// What the resume property met, to check that the generator reaches every case.
 #[derive(Clone, Copy, Debug, Default)]
@@ -549,8 +550,9 @@ fn resume_case(
     let mut prefix: Vec<Stay> = Vec::new();
     let mut state = None;
     for (k, &leg) in legs.iter().enumerate() {
-        // As SPEC §11 replanning sees it (`replan::Commitment::at`): on the ground before leg
-        // `k` up to its take-off instant included (k >= 1: n is after the first take-off).
+        // As docs/reference.md#zones-announced-during-the-day replanning sees it
+        // (`replan::Commitment::at`): on the ground before leg `k` up to its take-off instant
+        // included (k >= 1: n is after the first take-off).
         if n < leg[0].arrive.0 || (k > 0 && n == leg[0].arrive.0) {
             let landed = prefix.last().expect("a leg before").depart.0;
             let at = Instant(n.max(landed + swap));

@@ -1,5 +1,6 @@
 //! Small multiples: several maps of one place side by side in one SVG, on one load scale —
-//! e.g. a layered airspace's corridor load, one panel per layer (SPEC §13).
+//! e.g. a layered airspace's corridor load, one panel per layer
+//! (docs/reference.md#layered-airspace).
 //!
 //! Each panel is a whole map ([`render_map`]) with its own title and legend, nested in the
 //! page as an `<svg>` element at its place; the page adds a title above and the attribution

@@ -6,7 +6,7 @@
 //! | `GET /v1/flights` | the caller's flights (every flight for an authority), filtered |
 //! | `GET /v1/flights/{id}` | one flight |
 //! | `DELETE /v1/flights/{id}` | cancel before take-off (`409` after) |
-//! | `GET /v1/airspace` | the airspace, SPEC §2 GeoJSON |
+//! | `GET /v1/airspace` | the airspace, docs/reference.md#airspace GeoJSON |
 //! | `GET /v1/zones` | the no-fly zones, ED-318 GeoJSON, announced ones included |
 //! | `POST /v1/zones` | announce a zone now (authority): `201` with every flight it changed |
 //! | `DELETE /v1/zones/{id}` | withdraw an announced zone (authority); replans nothing |
@@ -29,9 +29,10 @@
 //!
 //! The handlers are grouped by concept: `error` (the error answer and JSON bodies),
 //! `caller` (who calls: token and rate limit), `flights` (the flight routes and their
-//! input checks), `zones` (the zone routes: announce, withdraw, list, closures; SPEC §11;
-//! the zones themselves, reading a body and deciding, are in [`crate::zones`]), [`events`]
-//! (the event stream) and `info` (airspace, the API description, health and metrics).
+//! input checks), `zones` (the zone routes: announce, withdraw, list, closures;
+//! docs/reference.md#zones-announced-during-the-day; the zones themselves, reading a body and
+//! deciding, are in [`crate::zones`]), [`events`] (the event stream) and `info` (airspace, the API
+//! description, health and metrics).
 //!
 //! Zones: `POST /v1/zones` takes one ED-318 feature (or a `FeatureCollection` of one)
 //! without `announced`: the service announces it at its clock's now. `422` names the field

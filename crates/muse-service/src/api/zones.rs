@@ -1,7 +1,7 @@
-//! The zone routes (SPEC §11): announce and withdraw (the authority only), list, and what
-//! each zone closes. Only the HTTP face of zones is here, beside every other route: reading
-//! a body, the zones known and deciding an announcement or a withdrawal are in
-//! [`crate::zones`].
+//! The zone routes (docs/reference.md#zones-announced-during-the-day): announce and withdraw (the
+//! authority only), list, and what each zone closes. Only the HTTP face of zones is here, beside
+//! every other route: reading a body, the zones known and deciding an announcement or a withdrawal
+//! are in [`crate::zones`].
 
 use std::sync::Arc;
 
@@ -193,9 +193,9 @@ struct ClosuresBody {
     zones: Vec<ZoneClosureBody>,
 }
 
-/// What one zone closes while it is active. In a layered airspace (SPEC §13) nodes and
-/// corridors are the flat ones, closed at each of `layers` where they are flown, and the
-/// vertical links it closes are listed apart.
+/// What one zone closes while it is active. In a layered airspace
+/// (docs/reference.md#layered-airspace) nodes and corridors are the flat ones, closed at each of
+/// `layers` where they are flown, and the vertical links it closes are listed apart.
 #[derive(Serialize)]
 struct ZoneClosureBody {
     zone: String,

@@ -1,10 +1,10 @@
-//! Requests that arrive together, planned as one batch (SPEC §14; `muse serve
-//! --batch-window-ms W`): after a command arrives the planner task waits up to `W` for others,
-//! and each run of plan commands in the group is planned together on top of the live schedule
-//! by the optimiser (`muse_optimize::optimize_on`), which never does worse than planning them
-//! one by one in order of arrival. The flights are numbered, stored and answered in order of
-//! arrival; retries and conflicts are answered as always. A window of zero is first come,
-//! first served, as without batching.
+//! Requests that arrive together, planned as one batch (docs/reference.md#batch-planning; `muse
+//! serve --batch-window-ms W`): after a command arrives the planner task waits up to `W` for
+//! others, and each run of plan commands in the group is planned together on top of the live
+//! schedule by the optimiser (`muse_optimize::optimize_on`), which never does worse than planning
+//! them one by one in order of arrival. The flights are numbered, stored and answered in order of
+//! arrival; retries and conflicts are answered as always. A window of zero is first come, first
+//! served, as without batching.
 
 use std::mem::take;
 use std::panic::{AssertUnwindSafe, catch_unwind};

@@ -33,7 +33,8 @@ pub enum Command {
         /// Where to send the answer.
         reply: oneshot::Sender<CancelReply>,
     },
-    /// Announce a zone now (SPEC §11); the caller is the authority.
+    /// Announce a zone now (docs/reference.md#zones-announced-during-the-day); the caller is the
+    /// authority.
     Announce {
         /// The zone, read and checked.
         zone: NewZone,

@@ -15,8 +15,8 @@
 //!
 //! So nothing is acknowledged before it is durable, planning is serialized against one
 //! schedule (no double booking under any interleaving), and reads never wait for planning. A
-//! zone announcement or withdrawal (SPEC §11) is a group of its own: decided by
-//! [`crate::zones::decide`], then stored and applied here like any command.
+//! zone announcement or withdrawal (docs/reference.md#zones-announced-during-the-day) is a group of
+//! its own: decided by [`crate::zones::decide`], then stored and applied here like any command.
 //!
 //! If the store fails, the schedule may hold what the store does not: the task answers the
 //! group's commands with an error, stops, and reports the failure to [`crate::Running`],
@@ -389,7 +389,8 @@ impl Engine<'_> {
 
     fn cancel(&mut self, caller: &Caller, id: &str) -> CancelReply {
         let metrics = &self.state.metrics;
-        // Only the owner may cancel (SPEC §10); to anyone else the flight does not exist.
+        // Only the owner may cancel (docs/reference.md#the-planning-service); to anyone else the
+        // flight does not exist.
         let known = match self.lookup(id) {
             Ok(known) => known,
             Err(e) => return CancelReply::Failed(format!("reading the store failed ({e})")),

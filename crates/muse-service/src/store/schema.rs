@@ -45,7 +45,7 @@ CREATE TABLE flights (
 CREATE INDEX flights_by_operator ON flights (operator, seq);
 CREATE INDEX flights_holding ON flights (holds_until_ms) WHERE holds_until_ms IS NOT NULL;
 
--- Zones announced during the day (SPEC §11), in announcement order.
+-- Zones announced during the day (docs/reference.md#zones-announced-during-the-day), in announcement order.
 CREATE TABLE zones (
     seq          INTEGER PRIMARY KEY,
     id           TEXT NOT NULL UNIQUE,

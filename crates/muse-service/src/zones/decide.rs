@@ -1,8 +1,8 @@
-//! A zone announcement or withdrawal decided against the live schedule (SPEC §11), without
-//! changing anything: which flights an announcement replans, diverts, cancels or leaves in
-//! contingency (worked out on a copy of the schedule), and the planner task's answers. The
-//! planner task (the engine) then stores the decision with its group and applies it, as
-//! it does every command's.
+//! A zone announcement or withdrawal decided against the live schedule
+//! (docs/reference.md#zones-announced-during-the-day), without changing anything: which flights an
+//! announcement replans, diverts, cancels or leaves in contingency (worked out on a copy of the
+//! schedule), and the planner task's answers. The planner task (the engine) then stores the
+//! decision with its group and applies it, as it does every command's.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Arc;

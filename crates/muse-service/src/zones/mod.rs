@@ -1,5 +1,6 @@
-//! Zones announced during the day (SPEC §11), in one place: the zones the service knows,
-//! reading an announcement, and deciding what an announcement or a withdrawal does.
+//! Zones announced during the day (docs/reference.md#zones-announced-during-the-day), in one place:
+//! the zones the service knows, reading an announcement, and deciding what an announcement or a
+//! withdrawal does.
 //!
 //! An announced zone is one ED-318 feature. The service sets its announcement instant (its
 //! clock's now when the planner takes it); a body that gives one is refused. Its id is the

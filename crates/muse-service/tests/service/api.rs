@@ -574,8 +574,8 @@ async fn pages_after_concurrent_requests_list_each_flight_once() {
     assert_eq!((seen.len(), unique.len()), (64, 64), "{seen:?}");
 }
 
-/// Ids are forever (SPEC §10): a departure in the past, however old, is answered and stored,
-/// and its id names that answer from then on.
+/// Ids are forever (docs/reference.md#the-planning-service): a departure in the past, however old,
+/// is answered and stored, and its id names that answer from then on.
 #[tokio::test]
 async fn departures_in_the_past_are_answered_and_kept() {
     let s = Service::start("past", |_| {}).await;
@@ -753,7 +753,8 @@ fn openapi_describes_every_route() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Zones announced during the day (SPEC §11) and the event stream.
+// Zones announced during the day (docs/reference.md#zones-announced-during-the-day) and the event
+// stream.
 // ---------------------------------------------------------------------------------------------
 
 /// `now + ms`, as RFC 3339 in Singapore time.
@@ -803,9 +804,10 @@ impl Service {
 }
 
 /// Checks every flight the service holds as it finally stands (first plan, or replanned,
-/// diverted, committed), with the zones as `GET /v1/zones` lists them, against SPEC §3, §4
-/// and §11 (an announced zone binds only what begins after its announcement and before its
-/// withdrawal). Returns how many flights fly.
+/// diverted, committed), with the zones as `GET /v1/zones` lists them, against
+/// docs/reference.md#flight-model-and-separation, #no-fly-zones and
+/// docs/reference.md#zones-announced-during-the-day (an announced zone binds only what begins after
+/// its announcement and before its withdrawal). Returns how many flights fly.
 async fn verify_everything(s: &Service, token: Option<&str>) -> usize {
     let air = airspace();
     let (code, list) = s.get("/v1/flights", token).await;

@@ -1,5 +1,5 @@
-//! Demand from customers (SPEC §15): each customer is served by its nearest pad within a
-//! last-mile distance (straight line: the geodesic on WGS84), or by none.
+//! Demand from customers (docs/reference.md#airspace-from-pads): each customer is served by its
+//! nearest pad within a last-mile distance (straight line: the geodesic on WGS84), or by none.
 //!
 //! [`serving_pads`] finds them exactly without comparing every customer with every pad: the
 //! stations sorted by latitude, only those whose latitude is within the last mile of the

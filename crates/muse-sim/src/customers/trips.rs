@@ -1,5 +1,6 @@
-//! Trips between customers (SPEC §15): who sends to whom and when, drawn once by weight, then
-//! turned into the requests of any airspace by each customer's serving pad.
+//! Trips between customers (docs/reference.md#airspace-from-pads): who sends to whom and when,
+//! drawn once by weight, then turned into the requests of any airspace by each customer's serving
+//! pad.
 //!
 //! Trip `i` (0-based) draws, from one `ChaCha8` stream of the seed, its departure (a uniform
 //! whole millisecond in `[start, end)`), then its sender and its receiver, each with a chance
@@ -46,7 +47,7 @@ pub struct Trip {
     pub submitted: Instant,
 }
 
-/// Why a trip makes no request (SPEC §15, reason `unserved`).
+/// Why a trip makes no request (docs/reference.md#airspace-from-pads, reason `unserved`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Unserved {
     /// A customer (the sender, the receiver, or both) has no pad within the last mile.

@@ -1,4 +1,4 @@
-//! Run metrics and the `summary.json` document (SPEC §7).
+//! Run metrics and the `summary.json` document (docs/reference.md#plans).
 
 use std::collections::BTreeMap;
 
@@ -19,7 +19,7 @@ pub use optimizer::{ObjectiveRecord, OptimizerSummary};
 pub use recorded::WorldRecord;
 pub use replanning::ReplanSummary;
 
-/// The legs of planned trips (SPEC §12), when battery swaps are on.
+/// The legs of planned trips (docs/reference.md#multi-leg-trips), when battery swaps are on.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct LegsRecord {
     /// Mean legs per planned trip.
@@ -76,9 +76,9 @@ pub struct Summary {
     pub rejected: usize,
     /// Rejected, by reason (every reason listed, zero included).
     pub rejected_by_reason: BTreeMap<&'static str, usize>,
-    /// Demand from customers (SPEC §15): requests never planned because a customer has no
-    /// pad in reach or both share one, counted apart from the planner's rejections (in
-    /// `requests`, not in `rejected`); absent for other demand.
+    /// Demand from customers (docs/reference.md#airspace-from-pads): requests never planned because
+    /// a customer has no pad in reach or both share one, counted apart from the planner's
+    /// rejections (in `requests`, not in `rejected`); absent for other demand.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unserved: Option<usize>,
     /// `planned / requests` (1 for an empty run).
@@ -107,8 +107,8 @@ pub struct Summary {
     /// answers, as given at submission.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub replanning: Option<ReplanSummary>,
-    /// The day planned as one batch (SPEC §14): first come, first served beside the
-    /// optimised schedule (only with `--optimize`). `planned`, `rejected` and the delays
+    /// The day planned as one batch (docs/reference.md#batch-planning): first come, first served
+    /// beside the optimised schedule (only with `--optimize`). `planned`, `rejected` and the delays
     /// above are the optimised schedule's.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub optimizer: Option<OptimizerSummary>,
@@ -220,8 +220,9 @@ impl Summary {
         self
     }
 
-    /// Counts `n` unserved requests of demand from customers apart (SPEC §15): they join the
-    /// requests, not the rejections, and the success rate is over all requests.
+    /// Counts `n` unserved requests of demand from customers apart
+    /// (docs/reference.md#airspace-from-pads): they join the requests, not the rejections, and the
+    /// success rate is over all requests.
     ///
     /// ```
     /// use muse_model::FlightParams;

@@ -1,5 +1,6 @@
-//! The `optimizer` section of `summary.json` (SPEC §14): first come, first served beside the
-//! optimised schedule, the search's budget and effort, and the displaced requests.
+//! The `optimizer` section of `summary.json` (docs/reference.md#batch-planning): first come, first
+//! served beside the optimised schedule, the search's budget and effort, and the displaced
+//! requests.
 
 use muse_model::Request;
 use muse_optimize::{Objective, Report};

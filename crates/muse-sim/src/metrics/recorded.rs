@@ -25,12 +25,12 @@ pub struct WorldRecord {
     /// `None` for the airspace's own zones (a built-in scenario's; none for a file or a
     /// synthetic airspace).
     pub zones: Option<Vec<String>>,
-    /// The layering (SPEC §13), when there is more than one layer.
+    /// The layering (docs/reference.md#layered-airspace), when there is more than one layer.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub layers: Option<LayersRecord>,
 }
 
-/// A layered airspace, as a summary records it (SPEC §13).
+/// A layered airspace, as a summary records it (docs/reference.md#layered-airspace).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LayersRecord {

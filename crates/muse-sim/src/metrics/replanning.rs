@@ -1,4 +1,5 @@
-//! What zone announcements did to a day (SPEC §11), as `summary.json` reports it.
+//! What zone announcements did to a day (docs/reference.md#zones-announced-during-the-day), as
+//! `summary.json` reports it.
 
 use muse_model::plan::Fate;
 use muse_model::{Millis, Plan, UtcOffset};

@@ -93,7 +93,7 @@ export function pushLayerPoint(z, t, layer) {
 }
 
 /**
- * The layer of flight `f` at `t` (SPEC §13): 1 in a flat airspace; between two layers, a
+ * The layer of flight `f` at `t` (docs/reference.md#layered-airspace): 1 in a flat airspace; between two layers, a
  * fraction, while it climbs or descends over a vertical link; before take-off and after
  * landing, the first and last.
  */

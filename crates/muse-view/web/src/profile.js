@@ -1,4 +1,4 @@
-// The side view of a layered airspace (SPEC §13): the selected flight's altitude over time,
+// The side view of a layered airspace (docs/reference.md#layered-airspace): the selected flight's altitude over time,
 // from its take-off to its landing, on the layers' altitudes, with the clock's instant marked;
 // a click on it moves the clock there. Drawn in the request's panel by `drawProfile`, which
 // `draw` calls every frame (it does nothing unless a flight with a profile is selected).

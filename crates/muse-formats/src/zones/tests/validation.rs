@@ -162,7 +162,8 @@ fn a_zone_file_without_zones_is_refused() {
 #[test]
 fn withdrawn_is_read_checked_and_written_back() {
     let at = |t: &str| Some(Instant::parse_rfc3339(t).unwrap());
-    // As `GET /v1/zones` lists a withdrawn zone: announced, then withdrawn (SPEC §11).
+    // As `GET /v1/zones` lists a withdrawn zone: announced, then withdrawn
+    // (docs/reference.md#zones-announced-during-the-day).
     let text = ed318_with(|props, _| {
         props.insert("announced".into(), json!("2026-01-05T14:00:00.000+08:00"));
         props.insert("withdrawn".into(), json!("2026-01-05T15:30:00.250+08:00"));

@@ -1,5 +1,5 @@
-//! Vertical limits (SPEC §13): ED-318's geometry `layer` and ED-269's volume limits, read,
-//! refused, and written back.
+//! Vertical limits (docs/reference.md#layered-airspace): ED-318's geometry `layer` and ED-269's
+//! volume limits, read, refused, and written back.
 
 use muse_model::{Metres, VerticalLimit, VerticalLimits, VerticalReference};
 

@@ -1,13 +1,13 @@
 //! The first conflict between two plans on the grid, and the two ranges that split it.
 //!
-//! Both rules of SPEC §3 come down to two times closer than some gap `g`: stays at one
-//! node conflict when some second `x` of one and `y` of the other have `|x − y| < tau`
-//! (with `tau >= 1 s`); traversals of one edge when their starts have `|s1 − s2| < w`
-//! (either direction under `exclusive`, opposite directions under `headway`) or `< h` (same
-//! direction under `headway`). For such a pair `(x, y)`, every `x'` in `[x, y + g − 1]` and
-//! `y'` in `[y, x + g − 1]` still have `|x' − y'| <= g − 1`: so no valid schedule has the one
-//! flight in its range and the other in its own, and forbidding either range (one branch
-//! each) loses no valid schedule, while each branch rules out the current pair.
+//! Both rules of docs/reference.md#flight-model-and-separation come down to two times closer than
+//! some gap `g`: stays at one node conflict when some second `x` of one and `y` of the other have
+//! `|x − y| < tau` (with `tau >= 1 s`); traversals of one edge when their starts have `|s1 − s2| <
+//! w` (either direction under `exclusive`, opposite directions under `headway`) or `< h` (same
+//! direction under `headway`). For such a pair `(x, y)`, every `x'` in `[x, y + g − 1]` and `y'` in
+//! `[y, x + g − 1]` still have `|x' − y'| <= g − 1`: so no valid schedule has the one flight in its
+//! range and the other in its own, and forbidding either range (one branch each) loses no valid
+//! schedule, while each branch rules out the current pair.
 
 use super::grid::{Forbid, Grid, GridPlan};
 

@@ -1,6 +1,6 @@
-//! The true optimum of a small batch (SPEC §14's objective: most requests planned, then
-//! least total delay), over every valid schedule, by conflict-based search (Sharon et al.,
-//! 2015) on the grid of whole seconds. Tests only: it shares nothing with the planner or the
+//! The true optimum of a small batch (docs/reference.md#batch-planning's objective: most requests
+//! planned, then least total delay), over every valid schedule, by conflict-based search (Sharon et
+//! al., 2015) on the grid of whole seconds. Tests only: it shares nothing with the planner or the
 //! optimiser but the airspace, the parameters and the objective's type.
 //!
 //! # Why whole seconds are exact

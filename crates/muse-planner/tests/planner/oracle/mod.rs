@@ -1,8 +1,8 @@
 //! A brute-force, time-expanded reference planner for small instances (tests only).
 //!
 //! It shares nothing with the planner: separation is checked pairwise against the other
-//! flights' plans, straight from SPEC §3, and closures are the raw zone windows of the
-//! instance (not `muse_airspace`'s merged windows).
+//! flights' plans, straight from docs/reference.md#flight-model-and-separation, and closures are
+//! the raw zone windows of the instance (not `muse_airspace`'s merged windows).
 //!
 //! # Why a grid search is exact here
 //!
@@ -32,7 +32,7 @@
 //!
 //! States are arrivals `(node, arrival time)` valued by the latest take-off that reaches them
 //! (a later take-off is never worse: the only rule linking a plan's past to its future is the
-//! battery). A stay `[a, d]` is checked whole, by the SPEC formulas: it is allowed exactly for
+//! battery). A stay `[a, d]` is checked whole, by the reference formulas: it is allowed exactly for
 //! `d` in `[a, dmax(a)]`, where `dmax` is the tightest of `a1 - tau` over other stays with
 //! `a < d1 + tau` and `start - 1 ms` over windows with `a < end` (both rules are monotone in
 //! `d`). From a node the drone may leave at any grid instant covered by one of its stays there;
@@ -98,8 +98,9 @@ pub fn free_flow(
     (dist[to.index()] != i64::MAX).then_some(Millis(dist[to.index()]))
 }
 
-/// Traversal time of edge `e`, ms, straight from the SPEC: a corridor's at cruise speed
-/// (§3), a vertical link's `ceil(Δ_mm · 1000 / c_mm_per_s)` (§13).
+/// Traversal time of edge `e`, ms, straight from the reference: a corridor's at cruise speed
+/// (docs/reference.md#flight-model-and-separation), a vertical link's `ceil(Δ_mm · 1000 /
+/// c_mm_per_s)` (#layered-airspace).
 pub fn weight(airspace: &Airspace, params: &FlightParams, e: EdgeId) -> i64 {
     match (airspace.edge_kind(e), airspace.layers()) {
         (EdgeKind::Vertical { .. }, Some(l)) => {
@@ -111,7 +112,7 @@ pub fn weight(airspace: &Airspace, params: &FlightParams, e: EdgeId) -> i64 {
 }
 
 /// The directions edge `e` may be flown in, as `(from, to)`: a one-way corridor only from
-/// its `from` end (§13's heading rule).
+/// its `from` end (docs/reference.md#layered-airspace heading rule).
 pub fn ends(airspace: &Airspace, e: EdgeId) -> Vec<(NodeId, NodeId)> {
     let edge = airspace.edge(e);
     match airspace.edge_kind(e) {
@@ -120,7 +121,8 @@ pub fn ends(airspace: &Airspace, e: EdgeId) -> Vec<(NodeId, NodeId)> {
     }
 }
 
-/// The edge rule on `e`: vertical links are exclusive whatever the corridors' (§13).
+/// The edge rule on `e`: vertical links are exclusive whatever the corridors'
+/// (docs/reference.md#layered-airspace).
 pub fn rule_of(airspace: &Airspace, params: &FlightParams, e: EdgeId) -> EdgeRule {
     match airspace.edge_kind(e) {
         EdgeKind::Vertical { .. } => EdgeRule::Exclusive,
@@ -130,9 +132,9 @@ pub fn rule_of(airspace: &Airspace, params: &FlightParams, e: EdgeId) -> EdgeRul
 
 /// The other flights' stays per node `(a, d)` and traversals per edge `(s, f, forward)`.
 ///
-/// Other flights may be multi-leg trips (SPEC §12): every stay of every leg occupies its node
-/// (landing and take-off stays included), every traversal within a leg its edge, and the time
-/// on the ground between legs nothing.
+/// Other flights may be multi-leg trips (docs/reference.md#multi-leg-trips): every stay of every
+/// leg occupies its node (landing and take-off stays included), every traversal within a leg its
+/// edge, and the time on the ground between legs nothing.
 struct Traffic {
     stays: Vec<Vec<(i64, i64)>>,
     traversals: Vec<Vec<(i64, i64, bool)>>,
@@ -185,13 +187,13 @@ impl Traffic {
 fn dmax(v: NodeId, a: i64, tau: i64, traffic: &Traffic, closures: &RawClosures) -> Option<i64> {
     let mut bound = i64::MAX;
     for &(a1, d1) in &traffic.stays[v.index()] {
-        // SPEC: a >= d1 + tau || a1 >= d + tau.
+        // the rule: a >= d1 + tau || a1 >= d + tau.
         if a < d1 + tau {
             bound = bound.min(a1 - tau);
         }
     }
     for &(start, end) in &closures.nodes[v.index()] {
-        // SPEC: d < start || a >= end.
+        // the rule: d < start || a >= end.
         if a < end {
             bound = bound.min(start - 1);
         }
@@ -212,16 +214,16 @@ fn traversal_ok(
     let finish = start + weight;
     for &(s1, f1, forward1) in &traffic.traversals[edge.index()] {
         let ok = match rule {
-            // SPEC: same direction under headway: |s2 - s1| >= h.
+            // the rule: same direction under headway: |s2 - s1| >= h.
             EdgeRule::Headway(h) if forward == forward1 => (start - s1).abs() >= h.0,
-            // SPEC: s2 >= f1 || s1 >= f2.
+            // the rule: s2 >= f1 || s1 >= f2.
             _ => start >= f1 || s1 >= finish,
         };
         if !ok {
             return false;
         }
     }
-    // SPEC: f < start || s >= end.
+    // the rule: f < start || s >= end.
     closures.edges[edge.index()]
         .iter()
         .all(|&(from, to)| finish < from || start >= to)
@@ -355,10 +357,10 @@ pub enum Goal {
     AnyStation,
 }
 
-/// Plans the rest of a flight in the air (SPEC §11): it arrives at `node` at `at` (any
-/// millisecond), took off at `takeoff`, and must land at `goal` within `T_max` of take-off:
-/// the plan with the earliest landing (any station: the lowest node index among the
-/// earliest), starting with the stay at `node`, or `None`.
+/// Plans the rest of a flight in the air (docs/reference.md#zones-announced-during-the-day): it
+/// arrives at `node` at `at` (any millisecond), took off at `takeoff`, and must land at `goal`
+/// within `T_max` of take-off: the plan with the earliest landing (any station: the lowest node
+/// index among the earliest), starting with the stay at `node`, or `None`.
 ///
 /// The grid argument holds with `at`'s offset added: it is a lower bound (the stay at `node`
 /// begins then), and the battery is an upper bound, which only decides feasibility.

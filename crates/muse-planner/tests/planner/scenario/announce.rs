@@ -1,15 +1,16 @@
-//! SPEC §11 against the oracle: a zone announced while flights are booked and in the air.
+//! docs/reference.md#zones-announced-during-the-day against the oracle: a zone announced while
+//! flights are booked and in the air.
 //!
 //! The instance's last zone is held back and announced at instant `n`; the others are known
 //! from the start. Every request is booked first (on the online planner), then the clock
-//! moves to `n` (forgetting the past) and the zone is announced. The test then replays §11 by
-//! itself: it finds the affected flights from the raw zone windows with the exemption rule,
-//! orders them by original take-off then id, and for each one, against the flights as they
-//! then stand, asks the oracle for the earliest plan: from the take-off window
-//! `[max(departure, n), max(departure + G_max, n)]`, or from the committed node with the
-//! battery left, to the destination and else to any station. The library must agree on the
-//! set, the order, every fate and every landing (and take-off), and the final set of flights
-//! must pass the verifier with the exemption rule.
+//! moves to `n` (forgetting the past) and the zone is announced. The test then replays
+//! docs/reference.md#zones-announced-during-the-day by itself: it finds the affected flights from
+//! the raw zone windows with the exemption rule, orders them by original take-off then id, and for
+//! each one, against the flights as they then stand, asks the oracle for the earliest plan: from
+//! the take-off window `[max(departure, n), max(departure + G_max, n)]`, or from the committed node
+//! with the battery left, to the destination and else to any station. The library must agree on the
+//! set, the order, every fate and every landing (and take-off), and the final set of flights must
+//! pass the verifier with the exemption rule.
 
 use std::collections::HashMap;
 
@@ -51,7 +52,8 @@ impl Announcements {
     }
 }
 
-/// Whether `plan` breaks the raw windows of a zone announced at `n` (SPEC §11, written out).
+/// Whether `plan` breaks the raw windows of a zone announced at `n`
+/// (docs/reference.md#zones-announced-during-the-day, written out).
 fn breaks(
     airspace: &Airspace,
     params: &FlightParams,
@@ -119,7 +121,7 @@ impl Replay<'_> {
         &self.base.requests[f.index()]
     }
 
-    /// The affected flights by the SPEC, in their order.
+    /// The affected flights by the reference, in their order.
     fn affected(&self) -> Vec<FlightId> {
         let b = self.base;
         let mut hit: Vec<FlightId> = self
@@ -182,7 +184,8 @@ impl Replay<'_> {
             .collect()
     }
 
-    /// Not taken off: the plan of §6 with take-off in `[max(dep, n), max(dep + G, n)]`.
+    /// Not taken off: the plan of docs/reference.md#planning with take-off in `[max(dep, n),
+    /// max(dep + G, n)]`.
     fn grounded(&mut self, f: FlightId, fate: &Fate) -> Result<Option<(Plan, Ending)>, String> {
         let (r, params, n) = (self.request(f), self.base.params, self.n);
         let earliest = r.departure.0.max(n);

@@ -68,12 +68,12 @@ pub fn run(instance: &Instance) -> Result<Tally, String> {
     Ok(tally)
 }
 
-/// The online path (SPEC §10) against the oracle: the instance's requests arrive in their
-/// generated order, not by departure, while the clock moves evenly over three quarters of the
-/// instance's departures (forgetting the past at every step), so some departures are already
-/// past and must be rejected as such; after every third booking, an older booked flight is cancelled (refused once it has taken
-/// off). Every answer is compared with the oracle's against the flights still booked, and the
-/// final booked set must pass the verifier.
+/// The online path (docs/reference.md#the-planning-service) against the oracle: the instance's
+/// requests arrive in their generated order, not by departure, while the clock moves evenly over
+/// three quarters of the instance's departures (forgetting the past at every step), so some
+/// departures are already past and must be rejected as such; after every third booking, an older
+/// booked flight is cancelled (refused once it has taken off). Every answer is compared with the
+/// oracle's against the flights still booked, and the final booked set must pass the verifier.
 pub fn run_online(instance: &Instance) -> Result<Tally, String> {
     let context: Arc<str> = format!("online {instance:?}").into();
     let mut b = instance.build();

@@ -69,9 +69,9 @@ pub struct Instance {
     pub requests: Vec<(usize, usize, i64)>,
     /// Zones.
     pub zones: Vec<ZoneSpec>,
-    /// Battery swaps at stations (SPEC §12), or none: single legs only.
+    /// Battery swaps at stations (docs/reference.md#multi-leg-trips), or none: single legs only.
     pub swap: Option<SwapSpec>,
-    /// Layers (SPEC §13), or none: the flat airspace.
+    /// Layers (docs/reference.md#layered-airspace), or none: the flat airspace.
     pub layers: Option<LayerSpec>,
 }
 
@@ -233,9 +233,9 @@ impl Instance {
     }
 
     /// Zones as `muse_model` zones, and their windows per element for the oracle (on a
-    /// layered airspace, straight from SPEC §13: the copies of a listed node or corridor at
-    /// the layers in the zone's band, and the vertical links at a listed node whose span
-    /// meets the band).
+    /// layered airspace, straight from docs/reference.md#layered-airspace: the copies of a listed
+    /// node or corridor at the layers in the zone's band, and the vertical links at a listed node
+    /// whose span meets the band).
     fn zones(&self, airspace: &Airspace) -> (Vec<Zone>, RawClosures) {
         let flat = airspace.flat();
         let n = flat.node_count();

@@ -1,7 +1,7 @@
-//! Battery swaps (SPEC §12) in the random instances: the swap parameters, the shapes and the
-//! strategy that draw them, the judging of every multi-leg answer against the multi-leg oracle
-//! with checks of a trip by itself and of its rules against the accepted set, and the watchdog
-//! that ends a test process whose planner call hangs (tests only).
+//! Battery swaps (docs/reference.md#multi-leg-trips) in the random instances: the swap parameters,
+//! the shapes and the strategy that draw them, the judging of every multi-leg answer against the
+//! multi-leg oracle with checks of a trip by itself and of its rules against the accepted set, and
+//! the watchdog that ends a test process whose planner call hangs (tests only).
 
 use std::io::Write as _;
 use std::sync::{Arc, Mutex, Once};
@@ -64,10 +64,11 @@ pub fn multileg_instances(shape: Shape) -> impl Strategy<Value = Instance> {
     (instances(shape), swap).prop_map(|(instance, swap)| Instance { swap, ..instance })
 }
 
-/// Compares the planner's answer for one request with the multi-leg oracle's (SPEC §12):
-/// free flow, then landing, first take-off and legs or the rejection reason. Both plans must
-/// be well-formed trips ([`check_trip`]) that keep every rule against the accepted set
-/// ([`check_rules`], written out here) and pass the verifier ([`check_valid`], checked last).
+/// Compares the planner's answer for one request with the multi-leg oracle's
+/// (docs/reference.md#multi-leg-trips): free flow, then landing, first take-off and legs or the
+/// rejection reason. Both plans must be well-formed trips ([`check_trip`]) that keep every rule
+/// against the accepted set ([`check_rules`], written out here) and pass the verifier
+/// ([`check_valid`], checked last).
 pub(super) fn judge_multileg(
     b: &Built,
     accepted: &[(usize, Plan)],
@@ -168,11 +169,12 @@ pub(super) fn judge_multileg(
     Ok(())
 }
 
-/// Whether `plan` is a well-formed trip for `request` (SPEC §3, §12), by itself: it starts at
-/// the origin in the take-off window and ends at the destination; every stay has
-/// `arrive <= depart`; every leg takes off at a station, follows edges at cruise speed, lands
-/// (instantaneous last stay) at another station within `T_max`; the next leg takes off where
-/// the previous one landed, at least `S` later; at most `K` legs (one without swaps).
+/// Whether `plan` is a well-formed trip for `request`
+/// (docs/reference.md#flight-model-and-separation, #multi-leg-trips), by itself: it starts at the
+/// origin in the take-off window and ends at the destination; every stay has `arrive <= depart`;
+/// every leg takes off at a station, follows edges at cruise speed, lands (instantaneous last stay)
+/// at another station within `T_max`; the next leg takes off where the previous one landed, at
+/// least `S` later; at most `K` legs (one without swaps).
 pub fn check_trip(b: &Built, request: &Request, plan: &Plan) -> Result<(), String> {
     let p = &b.params;
     let (Some(first), Some(last)) = (plan.path.first(), plan.path.last()) else {
@@ -231,9 +233,10 @@ pub fn check_trip(b: &Built, request: &Request, plan: &Plan) -> Result<(), Strin
     Ok(())
 }
 
-/// Whether `plan` keeps the node, edge and zone rules (SPEC §3-§4) against the accepted plans
-/// and the raw zone windows, every stay and every traversal within a leg of every trip, written
-/// out pairwise (independent of the verifier, which checks them too).
+/// Whether `plan` keeps the node, edge and zone rules
+/// (docs/reference.md#flight-model-and-separation and #no-fly-zones) against the accepted plans and
+/// the raw zone windows, every stay and every traversal within a leg of every trip, written out
+/// pairwise (independent of the verifier, which checks them too).
 pub fn check_rules(built: &Built, accepted: &[(usize, Plan)], plan: &Plan) -> Result<(), String> {
     let params = &built.params;
     let tau = params.node_separation;

@@ -2,12 +2,12 @@
 //! becomes active keeps the cost of announcing it low?
 //!
 //! An announcement-lead sweep plans the same demand once per lead `L`: each zone to announce
-//! is announced (SPEC §11) at the start of its first active window on the day minus `L`, and
-//! the day is [replayed](crate::replay). Every lead plans the same days of the grid, so the
-//! differences between leads are the lead's effect, not sampling noise. Two reference cases
-//! run on the same seeds: the zones known from the start ([`LeadCase::Known`], the limit of a
-//! long lead) and, optionally, never announced at all ([`LeadCase::NoZone`]). Zones known
-//! from the start (`base` zones) apply in every case.
+//! is announced (docs/reference.md#zones-announced-during-the-day) at the start of its first active
+//! window on the day minus `L`, and the day is [replayed](crate::replay). Every lead plans the same
+//! days of the grid, so the differences between leads are the lead's effect, not sampling noise.
+//! Two reference cases run on the same seeds: the zones known from the start ([`LeadCase::Known`],
+//! the limit of a long lead) and, optionally, never announced at all ([`LeadCase::NoZone`]). Zones
+//! known from the start (`base` zones) apply in every case.
 //!
 //! - [`Lead`]: the kind, with its [`LeadSpec`] (leads, zones, the day);
 //! - [`LeadWorld`]: the zones resolved once, and one planned day per case;

@@ -209,8 +209,8 @@ impl<'a> LeadWorld<'a> {
     }
 
     /// Plans `requests` (in planning order `(submitted, id)`) in `case`: replayed with the
-    /// announcements of a lead (SPEC §11), or planned first come, first served against zones
-    /// all known from the start.
+    /// announcements of a lead (docs/reference.md#zones-announced-during-the-day), or planned first
+    /// come, first served against zones all known from the start.
     pub fn run(&self, case: LeadCase, requests: &[Request]) -> Result<DayRun, LeadError> {
         let zones = self.zones(case);
         if zones.announced.is_empty() {

@@ -1,6 +1,6 @@
-//! The airspace each variant of a sweep is flown on: the flat one, or it layered (SPEC §13),
-//! each built once before the sweep runs. Demand is drawn on the flat airspace, whose station
-//! indices layer 1 keeps, so every variant plans the same days.
+//! The airspace each variant of a sweep is flown on: the flat one, or it layered
+//! (docs/reference.md#layered-airspace), each built once before the sweep runs. Demand is drawn on
+//! the flat airspace, whose station indices layer 1 keeps, so every variant plans the same days.
 
 use muse_model::{Airspace, AirspaceError, Layers};
 

@@ -41,7 +41,8 @@ pub struct RunRecord {
     pub expanded_per_request: f64,
     /// Mean legs per planned trip (1 without battery swaps).
     pub legs_per_trip: f64,
-    /// On a layered airspace (SPEC §13), how the vertical links were used; `None` when flat.
+    /// On a layered airspace (docs/reference.md#layered-airspace), how the vertical links were
+    /// used; `None` when flat.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub layer_use: Option<LayerUse>,
 }

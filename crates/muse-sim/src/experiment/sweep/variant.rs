@@ -14,8 +14,8 @@ pub struct Variant {
     pub zones: Vec<Zone>,
     /// Flight parameters.
     pub params: FlightParams,
-    /// First come, first served, or as one batch (SPEC §14).
+    /// First come, first served, or as one batch (docs/reference.md#batch-planning).
     pub planning: Planning,
-    /// The layers the airspace is flown at (SPEC §13; one: flat).
+    /// The layers the airspace is flown at (docs/reference.md#layered-airspace; one: flat).
     pub layers: Layers,
 }

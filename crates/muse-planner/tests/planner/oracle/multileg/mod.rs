@@ -1,4 +1,5 @@
-//! Multi-leg trips (SPEC §12: battery swaps at stations) by brute force (tests only).
+//! Multi-leg trips (docs/reference.md#multi-leg-trips: battery swaps at stations) by brute force
+//! (tests only).
 //!
 //! Like the single-leg oracle in the parent module, this one shares nothing with the planner:
 //! separation and zones are checked pairwise against the other flights' plans and the raw zone
@@ -203,10 +204,10 @@ impl Chains {
     }
 }
 
-/// The free-flow time of SPEC §12 from `origin` to `destination`: the least chain time with
-/// at most `K` legs (single legs without swaps) when a chain exists (the direct shortest time
-/// whenever that is within `T_max`); otherwise the plain shortest time, battery ignored;
-/// `None` if unreachable.
+/// The free-flow time of docs/reference.md#multi-leg-trips from `origin` to `destination`: the
+/// least chain time with at most `K` legs (single legs without swaps) when a chain exists (the
+/// direct shortest time whenever that is within `T_max`); otherwise the plain shortest time,
+/// battery ignored; `None` if unreachable.
 pub fn free_flow_time(
     airspace: &Airspace,
     params: &FlightParams,
@@ -348,9 +349,9 @@ pub enum Resume {
     },
 }
 
-/// Resumes a trip (SPEC §11 replanning with swaps): from `from`, with the first take-off
-/// fixed at `first_takeoff` and `legs` legs begun so far (`>= 1`; on the ground, the next
-/// take-off begins leg `legs + 1`, so it needs `legs < K`), to `goal`:
+/// Resumes a trip (docs/reference.md#zones-announced-during-the-day replanning with swaps): from
+/// `from`, with the first take-off fixed at `first_takeoff` and `legs` legs begun so far (`>= 1`;
+/// on the ground, the next take-off begins leg `legs + 1`, so it needs `legs < K`), to `goal`:
 ///
 /// - [`Goal::Node`]: the destination, with further legs if swaps are on (at most `K` in all):
 ///   the earliest landing, ties to the fewest legs;

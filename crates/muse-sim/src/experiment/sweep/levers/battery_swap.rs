@@ -8,8 +8,8 @@ use crate::experiment::sweep::variant::Variant;
 /// The longest swap time `--swap-min` compares: a day, as `--battery-swap-s`.
 const MAX_SWAP_MIN: f64 = 1_440.0;
 
-/// Single legs against swaps at stations of each `--swap-min` time (SPEC §12); the leg limit
-/// is the base one (`--max-legs`).
+/// Single legs against swaps at stations of each `--swap-min` time
+/// (docs/reference.md#multi-leg-trips); the leg limit is the base one (`--max-legs`).
 pub struct BatterySwaps;
 
 impl Lever for BatterySwaps {

@@ -1,6 +1,6 @@
-//! `--vary heading-rule`: no heading rule against `sectors` (SPEC §13: layer `k` of `L` flown
-//! only on bearings in `[(k−1)·360/L, k·360/L)`). With one layer the two are the same
-//! airspace, so only `none` is run.
+//! `--vary heading-rule`: no heading rule against `sectors` (docs/reference.md#layered-airspace:
+//! layer `k` of `L` flown only on bearings in `[(k−1)·360/L, k·360/L)`). With one layer the two are
+//! the same airspace, so only `none` is run.
 
 use muse_model::{HeadingRule, Layers};
 

@@ -1,5 +1,6 @@
 //! `--vary layers`: the airspace flown at each number of cruise layers of `--layer-counts`
-//! (SPEC §13), the layers' other values the defaults (60 m, 9.144 m apart, 5 m/s).
+//! (docs/reference.md#layered-airspace), the layers' other values the defaults (60 m, 9.144 m
+//! apart, 5 m/s).
 
 use muse_model::Layers;
 
@@ -15,7 +16,7 @@ impl Lever for LayerCounts {
     }
 
     fn help(&self) -> &'static str {
-        "The airspace flown at each number of cruise layers of --layer-counts (SPEC §13)"
+        "The airspace flown at each number of cruise layers of --layer-counts (docs/reference.md#layered-airspace)"
     }
 
     fn setting(&self) -> Option<Setting> {

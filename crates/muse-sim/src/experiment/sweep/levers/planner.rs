@@ -1,5 +1,5 @@
-//! `--vary planner`: first come, first served against the optimiser (SPEC §14), with
-//! `--optimize-iterations` steps of search.
+//! `--vary planner`: first come, first served against the optimiser
+//! (docs/reference.md#batch-planning), with `--optimize-iterations` steps of search.
 
 use muse_optimize::Options;
 

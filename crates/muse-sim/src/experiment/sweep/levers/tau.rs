@@ -1,5 +1,6 @@
-//! `--vary tau`: the node separation `tau` of the flight model (SPEC §3: two stays at a node
-//! at least `tau` apart), one variant per `--tau-s` value.
+//! `--vary tau`: the node separation `tau` of the flight model
+//! (docs/reference.md#flight-model-and-separation: two stays at a node at least `tau` apart), one
+//! variant per `--tau-s` value.
 
 use muse_model::FlightParams;
 
