@@ -118,8 +118,28 @@ impl Book {
 
 /// Where `occ` is in a sorted list, if it is there.
 pub(super) fn position(list: &[Occ], occ: Occ) -> Option<usize> {
-    let i = list.partition_point(|o| o.order() < occ.order());
+    let i = insertion_point(list, occ);
     (list.get(i) == Some(&occ)).then_some(i)
+}
+
+/// The index of the first entry of the sorted `list` not before `occ` (where `occ` goes), as
+/// `partition_point` gives it, found from the end: steps of 1, 2, 4, … back from the last
+/// entry bracket it, then a binary search inside the bracket. A day is planned in time order,
+/// so a new reservation goes among the last few entries of a list, which are in cache, and a
+/// binary search over the whole list would touch its cold middle (a cache miss per step).
+pub(super) fn insertion_point(list: &[Occ], occ: Occ) -> usize {
+    let key = occ.order();
+    let mut hi = list.len();
+    let mut step = 1;
+    while hi > 0 {
+        let probe = hi.saturating_sub(step);
+        if list[probe].order() < key {
+            return probe + 1 + list[probe + 1..hi].partition_point(|o| o.order() < key);
+        }
+        hi = probe;
+        step *= 2;
+    }
+    0
 }
 
 /// Zone windows `[start, end)` of one element as merged barriers `(start − 1 − before, end)`
@@ -194,4 +214,43 @@ pub(super) fn slot<const N: usize>(views: &[View<'_>; N], t: Instant) -> NodeSlo
         }
     }
     NodeSlot::Safe { lo, hi, next }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn occ(start: i64, end: i64, flight: u64) -> Occ {
+        Occ {
+            start: Instant(start),
+            end: Instant(start + end),
+            flight: FlightId(flight),
+        }
+    }
+
+    proptest! {
+        /// From the end or over the whole list, the same place: every key, present or not,
+        /// on lists with repeated starts.
+        #[test]
+        fn insertion_point_is_partition_point(
+            mut list in prop::collection::vec((0i64..50, 0i64..5, 0u64..4), 0..200),
+            key in (0i64..55, 0i64..5, 0u64..4),
+        ) {
+            list.sort_unstable();
+            let list: Vec<Occ> = list.into_iter().map(|(s, e, f)| occ(s, e, f)).collect();
+            let key = occ(key.0, key.1, key.2);
+            let whole = list.partition_point(|o| o.order() < key.order());
+            prop_assert_eq!(insertion_point(&list, key), whole);
+        }
+    }
+
+    #[test]
+    fn insertion_point_of_empty_and_ends() {
+        assert_eq!(insertion_point(&[], occ(1, 0, 0)), 0);
+        let list = [occ(1, 0, 0), occ(2, 0, 0), occ(3, 0, 0)];
+        assert_eq!(insertion_point(&list, occ(0, 0, 0)), 0);
+        assert_eq!(insertion_point(&list, occ(2, 0, 0)), 1);
+        assert_eq!(insertion_point(&list, occ(9, 0, 0)), 3);
+    }
 }

@@ -50,7 +50,7 @@ use muse_model::{
 };
 
 use crate::time::Unbounded;
-use barriers::{Book, Occ, View, barriers, position, slot};
+use barriers::{Book, Occ, View, barriers, insertion_point, position, slot};
 
 /// An identifier of an accepted flight in a schedule (the caller's choice, e.g. the request's
 /// position in the day, or the service's sequence number).
@@ -398,7 +398,7 @@ impl Schedule {
             let grow_max = self.grow_max(target);
             self.quiet_from = self.quiet_from.max(occ.end + grow_max + Millis(1));
             let book = self.book_mut(target);
-            let i = book.occ.partition_point(|o| o.order() < occ.order());
+            let i = insertion_point(&book.occ, occ);
             book.occ.insert(i, occ);
             if i < book.floor {
                 book.floor += 1;
