@@ -7,6 +7,7 @@ use anyhow::Context as _;
 use clap::Args;
 use muse_formats::plans::PlanRecord;
 use muse_formats::requests::{UnservedRequest, read_demand_file};
+use muse_model::FlightParams;
 use muse_sim::day::DayRun;
 use muse_sim::demand::BookingLead;
 use muse_sim::metrics::{Provenance, ReplanSummary, Summary};
@@ -27,13 +28,7 @@ pub struct PlanArgs {
     #[arg(long, value_name = "FILE")]
     requests: PathBuf,
     #[command(flatten)]
-    world: WorldArgs,
-    #[command(flatten)]
-    layers: LayersArgs,
-    #[command(flatten)]
-    flight: FlightArgs,
-    #[command(flatten)]
-    optimize: OptimizeArgs,
+    day: DayArgs,
     /// Output folder for `plans.jsonl`, `summary.json`, `flights.csv` and `stays.csv`.
     #[arg(long, value_name = "DIR", default_value = "out")]
     out: PathBuf,
@@ -42,20 +37,44 @@ pub struct PlanArgs {
     no_csv: bool,
 }
 
+/// What a planned day is planned on and how, as `muse plan` and `muse simulate` take it: the
+/// world, its layers, the flight parameters and the planning (first come, first served, or
+/// optimised).
+#[derive(Debug, Args)]
+pub struct DayArgs {
+    #[command(flatten)]
+    pub world: WorldArgs,
+    #[command(flatten)]
+    pub layers: LayersArgs,
+    #[command(flatten)]
+    pub flight: FlightArgs,
+    #[command(flatten)]
+    pub optimize: OptimizeArgs,
+}
+
+impl DayArgs {
+    /// The flight parameters and the layered world, refused with a withdrawn zone (`command`
+    /// names the command in the message).
+    pub fn open(&self, command: &str) -> anyhow::Result<(FlightParams, World)> {
+        let params = self.flight.params()?;
+        let world = layered(self.world.load()?, &self.layers)?;
+        refuse_withdrawn(&world, command)?;
+        Ok((params, world))
+    }
+}
+
 /// Runs `muse plan`.
 pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
-    let params = args.flight.params()?;
-    let world = layered(args.world.load()?, &args.layers)?;
-    refuse_withdrawn(&world, "plan")?;
+    let (params, world) = args.day.open("plan")?;
     let out = output::folder(
         "--out",
         &args.out,
         &output::Inputs::new()
             .add("--requests", &args.requests)
-            .world(&args.world),
+            .world(&args.day.world),
     )?;
     let demand = read_demand_file(&args.requests, &world.airspace, world.day())?;
-    let run = args.optimize.plan(&world, params, demand.requests)?;
+    let run = args.day.optimize.plan(&world, params, demand.requests)?;
     let provenance = world.provenance(args.requests.display().to_string(), None);
     let tables = !args.no_csv;
     let (summary, _) = write_outputs(

@@ -15,14 +15,13 @@ use muse_sim::demand::{BookingLead, generate};
 use muse_sim::metrics::Summary;
 use muse_verify::{Flight, verify_known_in};
 
-use super::common::{FlightArgs, World, WorldArgs, refuse_withdrawn, render_world_map};
+use super::common::{World, render_world_map};
 use super::demand::DemandArgs;
 use super::layer_map::render_layer_map;
-use super::layers::{LayersArgs, layered};
-use super::optimize::{OptimizeArgs, report_lines};
+use super::optimize::report_lines;
 use super::output;
 use super::output::write_atomically;
-use super::plan::write_outputs;
+use super::plan::{DayArgs, write_outputs};
 use super::view::write_view;
 
 /// Arguments of `muse simulate`.
@@ -38,13 +37,7 @@ pub struct SimulateArgs {
     )]
     requests: Option<PathBuf>,
     #[command(flatten)]
-    world: WorldArgs,
-    #[command(flatten)]
-    layers: LayersArgs,
-    #[command(flatten)]
-    flight: FlightArgs,
-    #[command(flatten)]
-    optimize: OptimizeArgs,
+    day: DayArgs,
     /// Output folder, written whole: it replaces an earlier run's folder as a whole, and a
     /// folder holding files muse does not write is refused (docs/reference.md#outputs).
     #[arg(long, value_name = "DIR", default_value = "out")]
@@ -56,17 +49,15 @@ pub struct SimulateArgs {
 
 /// Runs `muse simulate`; exits 1 if the verifier finds a violation.
 pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
-    let params = args.flight.params()?;
-    let world = layered(args.world.load()?, &args.layers)?;
-    refuse_withdrawn(&world, "simulate")?;
-    let inputs = output::Inputs::new().world(&args.world);
+    let (params, world) = args.day.open("simulate")?;
+    let inputs = output::Inputs::new().world(&args.day.world);
     let inputs = match &args.requests {
         Some(path) => inputs.add("--requests", path),
         None => inputs,
     };
     let out = output::folder("--out", &args.out, &inputs)?;
     let (demand, source, seed, booking_lead) = demand_of(args, &world)?;
-    let run = args.optimize.plan(&world, params, demand.requests)?;
+    let run = args.day.optimize.plan(&world, params, demand.requests)?;
 
     let day = &run.replay;
     let flights: Vec<Flight<'_>> = run
@@ -140,7 +131,7 @@ fn demand_of(
             None,
         )
     } else {
-        let spec = args.demand.spec(world, args.flight.range)?;
+        let spec = args.demand.spec(world, args.day.flight.range)?;
         let reqs = generate(&world.airspace, &spec)?;
         let od = match args.demand.od {
             super::demand::OdArg::Uniform => "uniform",
