@@ -40,7 +40,7 @@ pub fn verify<'py>(
         let zones =
             zones_for(a, &world.zones, &flights).map_err(|e| error(format!("zones: {e}")))?;
         let violations: Vec<String> =
-            verify_known_in(a, &zones, &opts.params, &flights, world.offset)
+            verify_known_in(a, &zones, &opts.params, &flights, world.day.offset)
                 .iter()
                 .map(ToString::to_string)
                 .collect();

@@ -37,7 +37,7 @@ pub fn plan<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let opts = options(kwargs)?;
     let world = world_of(airspace.as_deref(), zones, &opts.layers)?;
-    let demand = read_demand(requests, source, &world.airspace, world.day()).map_err(error)?;
+    let demand = read_demand(requests, source, &world.airspace, world.day).map_err(error)?;
     let provenance = world.provenance(source.to_owned(), None);
     let texts = py.detach(|| run_day(&world, opts.params, demand, provenance, None))?;
     texts_dict(py, &texts)
@@ -67,7 +67,7 @@ pub fn simulate<'py>(
     let world = world_of(airspace.as_deref(), zones, &opts.layers)?;
     let clock = |name: &str, text: &str| {
         parse_clock(text)
-            .map(|t| Instant::at_local(world.date, t, world.offset))
+            .map(|t| Instant::at_local(world.day.date, t, world.day.offset))
             .map_err(|e| {
                 error(format!(
                     "{name} `{text}` is not a local time HH:MM[:SS]: {e}"
@@ -162,7 +162,7 @@ fn run_day(
             ..DayContext::on(world, &params, provenance)
         },
     );
-    Ok(DayFiles::of(&outputs, &world.airspace, world.day(), true))
+    Ok(DayFiles::of(&outputs, &world.airspace, world.day, true))
 }
 
 /// The texts as a dict: `plans`, `summary`, `flights` and `stays`.

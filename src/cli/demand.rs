@@ -143,8 +143,8 @@ impl DemandArgs {
                     .context(format!("--{name} `{v}` is not a local time HH:MM[:SS]")),
             })
         };
-        let start = Instant::at_local(world.date, clock("from", &self.from)?, world.offset);
-        let end = Instant::at_local(world.date, clock("to", &self.to)?, world.offset);
+        let start = Instant::at_local(world.day.date, clock("from", &self.from)?, world.day.offset);
+        let end = Instant::at_local(world.day.date, clock("to", &self.to)?, world.day.offset);
         if end <= start {
             anyhow::bail!("--to {} must be after --from {}", self.to, self.from);
         }
@@ -203,7 +203,11 @@ pub fn run(args: &DemandCmd) -> anyhow::Result<ExitCode> {
         return from_customers(args, path, &world, &spec, &out);
     }
     let requests = generate(&world.airspace, &spec)?;
-    out.write(&write_requests(&requests, &world.airspace, world.offset))?;
+    out.write(&write_requests(
+        &requests,
+        &world.airspace,
+        world.day.offset,
+    ))?;
     let booked = args
         .demand
         .booking_note()
@@ -261,7 +265,7 @@ fn from_customers(
             }
         })
         .collect();
-    out.write(&write_demand(&rows, &world.airspace, world.offset))?;
+    out.write(&write_demand(&rows, &world.airspace, world.day.offset))?;
     let unserved: usize = why.values().sum();
     let causes: Vec<String> = why.iter().map(|(k, v)| format!("{v} {k}")).collect();
     let causes = if causes.is_empty() {

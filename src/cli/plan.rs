@@ -73,7 +73,7 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
             .add("--requests", &args.requests)
             .world(&args.day.world),
     )?;
-    let demand = read_demand_file(&args.requests, &world.airspace, world.day())?;
+    let demand = read_demand_file(&args.requests, &world.airspace, world.day)?;
     let run = args.day.optimize.plan(&world, params, demand.requests)?;
     let provenance = world.provenance(args.requests.display().to_string(), None);
     let tables = !args.no_csv;
@@ -135,7 +135,7 @@ pub fn write_outputs(
             ..DayContext::on(world, params, provenance)
         },
     );
-    let files = DayFiles::of(&outputs, &world.airspace, world.day(), tables);
+    let files = DayFiles::of(&outputs, &world.airspace, world.day, tables);
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     for (name, text) in files.iter() {
         write_atomically(&out.join(name), text)?;

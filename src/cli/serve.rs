@@ -143,7 +143,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         world.airspace,
         world.zones,
         params,
-        world.offset,
+        world.day.offset,
         Millis::from_secs(i64::from(args.booking_horizon_days) * 86_400),
         clock.now(),
     )?;

@@ -67,19 +67,25 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
         .enumerate()
         .filter_map(|(i, (r, o))| Flight::last(&r.id, r, o.result.as_ref().ok(), day.fate(i)))
         .collect();
-    let violations = verify_known_in(&world.airspace, &run.zones, &params, &flights, world.offset);
+    let violations = verify_known_in(
+        &world.airspace,
+        &run.zones,
+        &params,
+        &flights,
+        world.day.offset,
+    );
 
     let provenance = world.provenance(source.clone(), seed);
     // The requests as read (demand from customers: every row, customer ids kept), by id.
     let from_customers = demand.rows.is_some();
     let requests_csv = if let Some(mut rows) = demand.rows {
         rows.sort_by(|a, b| a.id.cmp(&b.id));
-        write_demand(&rows, &world.airspace, world.offset)
+        write_demand(&rows, &world.airspace, world.day.offset)
     } else {
         let mut sorted_by_id: Vec<&Request> = run.requests.iter().collect();
         sorted_by_id.sort_by(|a, b| a.id.cmp(&b.id));
         let owned: Vec<Request> = sorted_by_id.into_iter().cloned().collect();
-        write_requests(&owned, &world.airspace, world.offset)
+        write_requests(&owned, &world.airspace, world.day.offset)
     };
     write_atomically(&out.path().join("requests.csv"), &requests_csv)?;
     let tables = !args.no_csv;
@@ -125,7 +131,7 @@ fn demand_of(
 ) -> anyhow::Result<(Demand, String, Option<u64>, Option<BookingLead>)> {
     Ok(if let Some(path) = &args.requests {
         (
-            read_demand_file(path, &world.airspace, world.day())?,
+            read_demand_file(path, &world.airspace, world.day)?,
             path.display().to_string(),
             None,
             None,
@@ -180,7 +186,7 @@ fn write_maps(
         .collect();
     write_atomically(
         &out.join("flights.geojson"),
-        &write_flights(&features, &world.airspace, world.offset),
+        &write_flights(&features, &world.airspace, world.day.offset),
     )?;
     let svg = if let Some(svg) = render_layer_map(world, flights)? {
         svg

@@ -62,7 +62,7 @@ pub fn run(args: &VerifyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> 
         Recorded::new(records, a).map_err(|e| anyhow::anyhow!("{}: {e}", run.plans.display()))?;
     let flights = recorded.flights();
     let zones = zones_for(a, &world.zones, &flights)?;
-    let violations = verify_known_in(a, &zones, &params, &flights, world.offset);
+    let violations = verify_known_in(a, &zones, &params, &flights, world.day.offset);
     let read = lines_read(entries);
     let mut report = String::new();
     let code = if violations.is_empty() {

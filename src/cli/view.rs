@@ -121,7 +121,7 @@ fn scene_of(
     range: (Instant, Instant),
 ) -> anyhow::Result<muse_view::Scene> {
     let land = super::common::world_land(world);
-    let mut input = muse_view::SceneInput::new(&world.airspace, world.offset, range);
+    let mut input = muse_view::SceneInput::new(&world.airspace, world.day.offset, range);
     input.title.clone_from(&world.title);
     if world.scenario.is_some() {
         muse_scenario::ATTRIBUTION.clone_into(&mut input.attribution);
@@ -165,7 +165,7 @@ fn day_range(
     if let (Some(lo), Some(hi)) = (lo, hi) {
         (lo, hi)
     } else {
-        let midnight = Instant::at_local(world.date, Millis::ZERO, world.offset);
+        let midnight = Instant::at_local(world.day.date, Millis::ZERO, world.day.offset);
         (midnight, midnight + Millis::from_mins(24 * 60))
     }
 }

@@ -497,24 +497,8 @@ fn a_killed_run_leaves_nothing_that_looks_whole() {
     use std::os::unix::process::ExitStatusExt as _;
     let dir = scratch("killed");
     // A day of 300,000 requests takes far longer to plan than the wait below.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_muse"))
-        .args(["simulate", "--count", "300000", "--out", "day"])
-        .current_dir(&dir)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .expect("muse starts");
-    let temp = format!(".day.partial-{}", child.id());
-    let started = std::time::Instant::now();
-    while !dir.join(&temp).is_dir() {
-        assert!(
-            started.elapsed().as_secs() < 10,
-            "no {temp} after 10 s: {:?}",
-            names(&dir)
-        );
-        std::thread::sleep(std::time::Duration::from_millis(10));
-    }
-    std::thread::sleep(std::time::Duration::from_millis(200));
+    let (mut child, temp) =
+        started_folder_run(&dir, &["simulate", "--count", "300000", "--out", "day"]);
     child.kill().expect("SIGKILL");
     let status = child.wait().expect("reaped");
     assert_eq!(status.signal(), Some(9), "ended before the kill: {status}");
@@ -524,6 +508,32 @@ fn a_killed_run_leaves_nothing_that_looks_whole() {
     ok(&dir, &["simulate", "--count", "20", "--out", "day"]);
     assert_eq!(names(&dir), ["day"]);
     assert!(dir.join("day/summary.json").is_file());
+}
+
+/// `muse ARGS` (its last argument the output folder) started in `dir`, once its temporary
+/// folder exists and 200 ms more have passed; with the temporary folder's name. Its standard
+/// error is piped, its standard output dropped.
+fn started_folder_run(dir: &Path, args: &[&str]) -> (std::process::Child, String) {
+    let child = Command::new(env!("CARGO_BIN_EXE_muse"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("muse starts");
+    let out = args[args.len() - 1];
+    let temp = format!(".{out}.partial-{}", child.id());
+    let started = std::time::Instant::now();
+    while !dir.join(&temp).is_dir() {
+        assert!(
+            started.elapsed().as_secs() < 10,
+            "no {temp} after 10 s: {:?}",
+            names(dir)
+        );
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(200));
+    (child, temp)
 }
 
 /// A run interrupted by SIGTERM or SIGINT (Ctrl-C) removes its temporary folder and exits
@@ -552,25 +562,7 @@ fn an_interrupted_run_removes_its_temporary_folder() {
         ),
     ];
     for (args, signal, code) in runs {
-        let child = Command::new(env!("CARGO_BIN_EXE_muse"))
-            .args(args)
-            .current_dir(&dir)
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .expect("muse starts");
-        let out = args[args.len() - 1];
-        let temp = format!(".{out}.partial-{}", child.id());
-        let started = std::time::Instant::now();
-        while !dir.join(&temp).is_dir() {
-            assert!(
-                started.elapsed().as_secs() < 10,
-                "no {temp} after 10 s: {:?}",
-                names(&dir)
-            );
-            std::thread::sleep(std::time::Duration::from_millis(10));
-        }
-        std::thread::sleep(std::time::Duration::from_millis(200));
+        let (child, _) = started_folder_run(&dir, args);
         let sent = Command::new("kill")
             .args([format!("-{signal}"), child.id().to_string()])
             .status()

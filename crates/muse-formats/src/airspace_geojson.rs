@@ -283,11 +283,6 @@ fn show_number(x: f64) -> String {
     }
 }
 
-/// Reads an airspace GeoJSON file.
-pub fn read_airspace_file(path: &Path) -> Result<Airspace, InputError> {
-    read_airspace(&crate::read_to_string(path)?, &path.display().to_string())
-}
-
 /// An airspace file's nodes, each node's feature index, and its corridors, unresolved.
 type GraphFeatures = (Vec<Node>, Vec<usize>, Vec<PendingEdge>);
 

@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use muse_formats::airspace_geojson::read_airspace_file;
+use muse_formats::airspace_geojson::AirspaceFile;
 use muse_formats::plans::{PlanRecord, plan_line, read_plans_file, write_plan_line};
 use muse_model::plan::Change;
 use muse_model::plan::{Fate, FateKind};
@@ -18,7 +18,9 @@ fn fixture(name: &str) -> PathBuf {
 
 /// `A - B - W - C` (`W` a waypoint), 1 km per edge: 120 s at 30 km/h.
 fn air() -> Airspace {
-    read_airspace_file(&fixture("air.geojson")).unwrap()
+    AirspaceFile::read(&fixture("air.geojson"))
+        .unwrap()
+        .airspace
 }
 
 /// 2026-01-05 08:00 in Singapore, plus `s` seconds.

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use muse_formats::Location;
-use muse_formats::airspace_geojson::read_airspace_file;
+use muse_formats::airspace_geojson::AirspaceFile;
 use muse_formats::day::LocalDay;
 use muse_formats::requests::{read_requests, read_requests_file, write_requests};
 use muse_model::testing::request;
@@ -22,7 +22,9 @@ fn fixture_text(name: &str) -> String {
 }
 
 fn air() -> Airspace {
-    read_airspace_file(&fixture("air.geojson")).unwrap()
+    AirspaceFile::read(&fixture("air.geojson"))
+        .unwrap()
+        .airspace
 }
 
 const DAY: LocalDay = LocalDay {

@@ -43,7 +43,7 @@ impl<'a> DayContext<'a> {
     pub fn on(world: &'a World, params: &'a FlightParams, provenance: Provenance) -> Self {
         DayContext {
             airspace: &world.airspace,
-            offset: world.offset,
+            offset: world.day.offset,
             params,
             provenance,
             world: world.record.clone(),

@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use muse_formats::InputError;
 use muse_formats::airspace_geojson::AirspaceFile;
 use muse_formats::day::{FileDay, LocalDay};
-use muse_model::{Airspace, AirspaceError, Layers, UtcOffset, Zone};
+use muse_model::{Airspace, AirspaceError, Layers, Zone};
 use muse_scenario::{Layout, Scenario, ScenarioError, SyntheticSpec};
 
 use crate::metrics::Provenance;
@@ -167,13 +167,11 @@ pub struct World {
     pub land_outline: Vec<geo_types::Polygon<f64>>,
     /// A one-line description for map titles.
     pub title: String,
-    /// The date of the day, for local clock times.
-    pub date: jiff::civil::Date,
-    /// The day's UTC offset.
-    pub offset: UtcOffset,
+    /// The day planned on, its date and UTC offset: the scenario's, the one the airspace file
+    /// carries, or the default's.
+    pub day: LocalDay,
     /// The day an airspace file carries (with its time zone's name, if it gives one), which
-    /// `date` and `offset` are then; `None` for a scenario, a synthetic airspace or a file
-    /// without one.
+    /// `day` is then; `None` for a scenario, a synthetic airspace or a file without one.
     pub file_day: Option<FileDay>,
     /// Where the airspace and zones came from, as `summary.json` records it.
     pub record: WorldRecord,
@@ -378,8 +376,7 @@ impl World {
             land: scenario.is_some_and(|s| s.land),
             land_outline,
             title,
-            date: day.date,
-            offset: day.offset,
+            day,
             file_day,
             record,
         })
@@ -395,14 +392,6 @@ impl World {
             self.record.layers = Some(LayersRecord::of(layers));
         }
         Ok(self)
-    }
-
-    /// The day planned on: its date and UTC offset.
-    pub fn day(&self) -> LocalDay {
-        LocalDay {
-            date: self.date,
-            offset: self.offset,
-        }
     }
 
     /// The day an airspace file carries, for the summary's demand line: ` on 2026-01-05 at
@@ -473,8 +462,8 @@ impl World {
                     warnings.push(format!(
                         "warning: zone `{id}` is announced at {}, when its last window has \
                          already ended ({}): it closes nothing",
-                        announced.to_rfc3339(self.offset),
-                        ended.to_rfc3339(self.offset)
+                        announced.to_rfc3339(self.day.offset),
+                        ended.to_rfc3339(self.day.offset)
                     ));
                 }
                 _ => {}
@@ -507,7 +496,10 @@ mod tests {
         .load()
         .unwrap();
         let default = muse_scenario::by_name(muse_scenario::SINGAPORE_77).unwrap();
-        assert_eq!((world.date, world.offset), (default.date, default.offset));
+        assert_eq!(
+            (world.day.date, world.day.offset),
+            (default.date, default.offset)
+        );
         assert!(world.zones.is_empty() && world.scenario.is_none() && !world.land);
         let record = world.record.synthetic.as_ref().unwrap();
         assert_eq!((record.layout.as_str(), record.nodes), ("grid", 9));

@@ -50,7 +50,7 @@ pub fn run(args: &BlueskyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode>
     let options = Options {
         aircraft_type: args.aircraft_type.clone(),
         speed: params.speed,
-        offset: world.offset,
+        offset: world.day.offset,
     };
     let written = scenario(&world.airspace, &flights, &options).map_err(|e| {
         if matches!(e, muse_export::bluesky::BlueskyError::Type(_)) {
@@ -61,7 +61,7 @@ pub fn run(args: &BlueskyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode>
     })?;
     out.write(&written.text)?;
     let origin = written.origin.map_or(String::new(), |o| {
-        format!(", time origin {}", o.to_rfc3339(world.offset))
+        format!(", time origin {}", o.to_rfc3339(world.day.offset))
     });
     output::say(
         out.is_stdout(),

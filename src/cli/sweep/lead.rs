@@ -117,7 +117,7 @@ pub fn lead<'w>(
         (Some(b), false) => b,
         (Some(b), true) => format!("{b} (this sweep's default)"),
     };
-    let day_start = Instant::at_local(world.date, Millis::ZERO, world.offset);
+    let day_start = Instant::at_local(world.day.date, Millis::ZERO, world.day.offset);
     let spec = LeadSpec {
         leads,
         base_zones,
@@ -125,12 +125,12 @@ pub fn lead<'w>(
         day: ScenarioDay {
             start: day_start,
             end: day_start + Millis::from_secs(86_400),
-            offset: world.offset,
+            offset: world.day.offset,
         },
         no_zone_reference: true,
     };
     let kind = Lead::new(&world.airspace, &grid, spec, booked.clone())
-        .with_context(|| format!("on the scenario's day {}", world.date))?;
+        .with_context(|| format!("on the scenario's day {}", world.day.date))?;
     let exp = Experiment { grid, kind };
     let leads: Vec<String> = exp
         .kind
