@@ -76,6 +76,8 @@ ranges! {
     booking_horizon_days: u32 = BOOKING_HORIZON_DAYS;
     /// `muse serve --batch-window-ms`: up to 10 s.
     batch_window_ms: u64 = BATCH_WINDOW_MS;
+    /// `muse serve --check-recent`.
+    check_recent: u64 = CHECK_RECENT;
     /// `muse serve --max-body-kib`: up to 1 MiB.
     max_body_kib: usize = MAX_BODY_KIB;
     /// `muse serve --rate-limit` (0: no limit).

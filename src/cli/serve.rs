@@ -90,6 +90,12 @@ pub struct ServeArgs {
     /// it is whole, 2 naming the first damage.
     #[arg(long, conflicts_with = "import_log")]
     check_store: bool,
+    /// How many of the last flights, and of the last events, the start reads and checks whole
+    /// (each row, their order, the indexes that lead to them), from 0 to 1000000000: what a
+    /// crash can have damaged, in time that does not grow with the store. Older rows are
+    /// checked when read, and all by `--check-store`.
+    #[arg(long, value_name = "N", default_value_t = muse_service::RECENT, allow_negative_numbers = true, value_parser = ranges::check_recent)]
+    check_recent: u64,
     /// Largest request body, KiB, from 1 to 1024 (larger: 413).
     #[arg(long, value_name = "KIB", default_value_t = 16, allow_negative_numbers = true, value_parser = ranges::max_body_kib)]
     max_body_kib: usize,
@@ -253,6 +259,7 @@ fn service_options(
     options.burst = args.burst;
     options.page = Some(page);
     options.batch_window = std::time::Duration::from_millis(args.batch_window_ms);
+    options.check_recent = args.check_recent;
     Ok(options)
 }
 
@@ -351,13 +358,16 @@ fn report(
     writeln!(
         out,
         "  store      {}: {} flight(s) stored, {} still ahead or airborne put back into the \
-         schedule, {} zone(s) announced ({} withdrawn), {} event(s); loaded in {:.2} s",
+         schedule, {} zone(s) announced ({} withdrawn), {} event(s); the last {} flight(s) \
+         and {} event(s) checked whole; loaded in {:.2} s",
         db.display(),
         r.flights,
         r.held,
         r.zones,
         r.withdrawn,
         r.events,
+        r.checked.flights,
+        r.checked.events,
         secs
     )?;
     Ok(())

@@ -314,6 +314,12 @@ pub const BATCH_WINDOW_MS: Range<u64> = Range {
     hi: 10_000,
     what: "a whole number of milliseconds",
 };
+/// How many of the last flights and events a start checks whole (`muse serve --check-recent`).
+pub const CHECK_RECENT: Range<u64> = Range {
+    lo: 0,
+    hi: 1_000_000_000,
+    what: "a whole number of flights",
+};
 /// Largest request body, KiB (`muse serve --max-body-kib`): up to 1 MiB.
 pub const MAX_BODY_KIB: Range<usize> = Range {
     lo: 1,

@@ -54,7 +54,9 @@ pub use auth::{KnownTokens, Tokens, TokensError};
 pub use engine::Restored;
 pub use http::{Limits, connection_cap, open_file_limit};
 pub use state::{Clock, ServiceWorld};
-pub use store::{Checked, DB_FILE, ImportReport, LOG_FILE, Opening, Store, StoreError};
+pub use store::{
+    Checked, DB_FILE, ImportReport, LOG_FILE, Opening, RECENT, Recent, Store, StoreError,
+};
 
 use std::net::SocketAddr;
 use std::path::PathBuf;
@@ -95,12 +97,17 @@ pub struct Options {
     /// How long the planner waits, after a request arrives, for others to plan with it as one
     /// batch (docs/reference.md#batch-planning); zero plans each request first come, first served.
     pub batch_window: std::time::Duration,
+    /// How many of the last flights, and of the last events, the start reads and checks whole
+    /// (rows, their order and the indexes that lead to them): the writes a crash can have
+    /// damaged, in time that does not grow with the days served. 0: only what it loads.
+    pub check_recent: u64,
 }
 
 impl Options {
     /// Defaults: open, system clock, 16 KiB bodies, 20,000 requests per second per token with
     /// bursts of 40,000; HTTP timeouts of 10 s for headers, 30 s for bodies and 60 s idle,
-    /// at most 10,000 connections; no batch window.
+    /// at most 10,000 connections; no batch window; the last [`RECENT`] flights and events checked
+    /// at start.
     pub fn new(data: PathBuf) -> Self {
         Options {
             data,
@@ -113,6 +120,7 @@ impl Options {
             page: None,
             http: Limits::default(),
             batch_window: std::time::Duration::ZERO,
+            check_recent: store::RECENT,
         }
     }
 }
@@ -218,9 +226,12 @@ pub async fn launch(
     let description = world.description();
     let legacy = world.legacy_fingerprint();
     let data = options.data.clone();
-    let opening = tokio::task::spawn_blocking(move || Opening::open(&data, &description, &legacy))
-        .await
-        .map_err(|e| ServeError::Stopped(format!("opening the store: {e}")))??;
+    let recent = options.check_recent;
+    let opening = tokio::task::spawn_blocking(move || {
+        Opening::open(&data, &description, &legacy).map(|o| o.checking_recent(recent))
+    })
+    .await
+    .map_err(|e| ServeError::Stopped(format!("opening the store: {e}")))??;
     let importing = opening.imports().map(std::path::Path::to_path_buf);
     let airspace_geojson = muse_formats::airspace_geojson::write_airspace(&world.airspace);
     let state = Arc::new(State {

@@ -106,6 +106,8 @@ pub struct Restored {
     pub withdrawn: usize,
     /// Events stored (the id of the last one).
     pub events: u64,
+    /// The last flights and events written, checked whole at the start.
+    pub checked: crate::store::Recent,
     /// What the conversion of an earlier version's log did, if there was one.
     pub import: Option<ImportReport>,
 }

@@ -54,6 +54,8 @@ impl Engine<'_> {
         let phase = &state.phase;
         let held = store.holding(&world.airspace, now, &mut |n| phase.set_loaded(n))?;
         restored.held = held.len();
+        let seqs = held.iter().map(|e| e.seq).collect();
+        restored.checked = store.check_recent(&world.airspace, now, &seqs)?;
         self.apply(Change::Flights(held.into_iter().map(Arc::new).collect()));
         let (last_seq, last_event) = store.last_keys()?;
         self.next_seq = last_seq + 1;

@@ -11,7 +11,9 @@
 //! torn by a crash and ignored. A crash can tear only the last transaction (every earlier one
 //! was synced before its commit returned), so a failing frame followed by the commit frames of
 //! two or more transactions is damage, not a torn write: ignoring it would drop committed
-//! transactions, or bring back older copies of pages they changed. It is refused.
+//! transactions, or bring back older copies of pages they changed. It is refused. Damage in
+//! the last transactions looks like a torn write from the WAL alone: `acked` tells them apart,
+//! and [`wal_damage`] names the frame.
 
 use std::collections::HashSet;
 use std::io::Read as _;
@@ -164,6 +166,59 @@ fn check_wal(path: &Path) -> Result<(), StoreError> {
         at += frame;
     }
     Ok(())
+}
+
+/// The first damage in the WAL at `path`, in words, if there is any to see: its header failing
+/// its checksum, a frame failing its checksum, or a frame carrying other salts than the header
+/// with frames of the header's salts after it (a salt flipped, not a frame left over from an
+/// earlier generation of the WAL). A torn last frame is reported too: the caller knows
+/// whether it was acknowledged.
+pub(super) fn wal_damage(path: &Path) -> Option<String> {
+    let bytes = std::fs::read(path).ok()?;
+    if bytes.len() < 32 {
+        return None;
+    }
+    let be32 = |at: usize| u32::from_be_bytes(bytes[at..at + 4].try_into().expect("4 bytes"));
+    let big_endian = match be32(0) {
+        0x377f_0683 => true,
+        0x377f_0682 => false,
+        _ => return Some("the WAL's header does not start with its magic number".into()),
+    };
+    let page_size = be32(8) as usize;
+    let mut sum = wal_sum(&bytes[..24], big_endian, (0, 0));
+    if !page_size.is_power_of_two()
+        || !(512..=65_536).contains(&page_size)
+        || sum != (be32(24), be32(28))
+    {
+        return Some("the WAL's header fails its checksum, so SQLite ignores the whole WAL".into());
+    }
+    let salts = &bytes[16..24];
+    let frame = 24 + page_size;
+    let frames = (bytes.len() - 32) / frame;
+    let at = |k: usize| 32 + k * frame;
+    for k in 0..frames {
+        let a = at(k);
+        if &bytes[a + 8..a + 16] != salts {
+            let later = (k + 1..frames).find(|&j| &bytes[at(j) + 8..at(j) + 16] == salts)?;
+            return Some(format!(
+                "frame {} of the WAL (page {}) carries other salts than the WAL's header, and                  frame {} after it carries the header's",
+                k + 1,
+                be32(a),
+                later + 1
+            ));
+        }
+        let next = wal_sum(&bytes[a..a + 8], big_endian, sum);
+        let next = wal_sum(&bytes[a + 24..a + frame], big_endian, next);
+        if next != (be32(a + 16), be32(a + 20)) {
+            return Some(format!(
+                "frame {} of the WAL (page {}) fails its checksum",
+                k + 1,
+                be32(a)
+            ));
+        }
+        sum = next;
+    }
+    None
 }
 
 /// The page numbers of the WAL's frames of its current generation (those whose salts match

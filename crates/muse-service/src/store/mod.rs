@@ -13,7 +13,8 @@
 //!
 //! Only the planner task writes, through [`Store`]: the rows of a group of decisions go into
 //! one transaction, and [`Store::commit`] returns once it is durable (SQLite syncs the WAL on
-//! every commit with `synchronous=FULL`); only then are the group's answers sent. A crash
+//! every commit with `synchronous=FULL`) and counted in `ACKED` (see `acked`); only then are
+//! the group's answers sent. A crash
 //! leaves every committed transaction and discards the one it tore: nothing acknowledged is
 //! lost, nothing unacknowledged survives half-written. A background thread checkpoints the
 //! WAL into the database file, so commits never wait for it.
@@ -22,10 +23,12 @@
 //!
 //! Every row carries the CRC-32 of its content (see `rows`), checked whenever it is read:
 //! a flipped byte is found and named ([`StoreError::Damaged`]), never reinterpreted. At start
-//! the service reads the `meta` rows, every zone and every flight still holding a reservation,
-//! and checks that the database file is as long as its header says (a file cut short is
-//! refused); reads of older flights go to the database by index, and are checked then. A
-//! damaged row makes the start fail, or the read that meets it fail, naming the row.
+//! the service checks that the database holds every transaction acknowledged (see `acked`)
+//! and every page its header counts (a file cut short is refused), reads the `meta` rows, every
+//! zone and every flight still holding a reservation, and checks the last flights and events
+//! written whole, with the indexes that lead to them (see `recent`); reads of older flights go
+//! to the database by index, and are checked then. Damage makes the start fail, or the read
+//! that meets it fail, naming it; SQLite's own "malformed" is named as damage too.
 //!
 //! # One process per folder
 //!
@@ -37,12 +40,14 @@
 //! A folder written by an earlier version holds `muse.log`, an append-only log; it is
 //! converted once (see [`legacy`]) and kept, renamed `muse.log.imported`.
 
+mod acked;
 mod checkpoint;
 mod file;
 mod legacy;
 mod open;
 mod queries;
 mod reader;
+mod recent;
 mod rows;
 mod schema;
 mod writes;
@@ -58,6 +63,7 @@ pub use open::Opening;
 pub(crate) use open::{connect, sync_dir, write_schema};
 pub use queries::Checked;
 pub use reader::Reader;
+pub use recent::{RECENT, Recent};
 use writes::{write_event, write_flight, write_zone};
 
 use crate::events::Event;
@@ -133,6 +139,27 @@ pub enum StoreError {
     },
 }
 
+impl StoreError {
+    /// This error, as damage of the store at `path` when SQLite found the file malformed (a
+    /// page whose structure a flipped byte broke), so that it is named as damage.
+    pub(crate) fn in_store(self, path: &str) -> StoreError {
+        match self {
+            StoreError::Sql { what, error }
+                if matches!(
+                    error.sqlite_error_code(),
+                    Some(rusqlite::ErrorCode::DatabaseCorrupt | rusqlite::ErrorCode::NotADatabase)
+                ) =>
+            {
+                StoreError::Damaged {
+                    path: path.to_owned(),
+                    what: format!("{what}: SQLite finds it malformed ({error})"),
+                }
+            }
+            other => other,
+        }
+    }
+}
+
 /// An error of the database while doing `what`.
 pub(crate) fn sql(what: &str) -> impl FnOnce(rusqlite::Error) -> StoreError + '_ {
     move |error| StoreError::Sql {
@@ -173,6 +200,12 @@ pub struct Store {
     /// Held for the life of the store.
     _lock: File,
     in_transaction: bool,
+    /// Write transactions committed (see `acked`).
+    count: acked::Count,
+    /// The record of the transactions acknowledged.
+    acked: acked::Acked,
+    /// How many of the last flights and events the start checks whole.
+    recent: u64,
     /// Rows written in the open transaction.
     written: usize,
     /// When the writer last finished a checkpoint itself (see [`Store::tidy`]).
@@ -250,11 +283,18 @@ impl Store {
         if !self.in_transaction {
             return Ok(0);
         }
+        let next = acked::Count {
+            n: self.count.n + 1,
+            ..self.count
+        };
+        acked::write_row(&self.conn, next)?;
         self.conn
             .prepare_cached("COMMIT")
             .and_then(|mut s| s.execute([]))
             .map_err(sql("committing"))?;
         self.in_transaction = false;
+        self.count = next;
+        self.acked.record(next)?;
         Ok(std::mem::take(&mut self.written))
     }
 
@@ -276,12 +316,12 @@ impl Store {
 
     /// Every announced zone, in announcement order.
     pub(crate) fn zones(&self) -> Result<Vec<StoredZone>, StoreError> {
-        queries::zones(&self.conn, &self.label())
+        queries::zones(&self.conn, &self.label()).map_err(|e| e.in_store(&self.label()))
     }
 
     /// How many flights hold a reservation that ends at or after `now`.
     pub(crate) fn count_holding(&self, now: Instant) -> Result<u64, StoreError> {
-        queries::count_holding(&self.conn, now)
+        queries::count_holding(&self.conn, now).map_err(|e| e.in_store(&self.label()))
     }
 
     /// The flights holding a reservation that ends at or after `now` (checked), in answer
@@ -293,6 +333,7 @@ impl Store {
         progress: &mut dyn FnMut(u64),
     ) -> Result<Vec<FlightEntry>, StoreError> {
         queries::holding(&self.conn, airspace, &self.label(), now, progress)
+            .map_err(|e| e.in_store(&self.label()))
     }
 
     /// Reads every row and checks it (see the module docs): the whole store, in time that
@@ -305,12 +346,27 @@ impl Store {
         queries::check_all(&self.conn, airspace, &self.label(), progress)
     }
 
+    /// Checks the last flights and events written (as many as the opening said; see `recent`);
+    /// `held` are the flights read as still holding at `now`.
+    pub(crate) fn check_recent(
+        &self,
+        airspace: &Airspace,
+        now: Instant,
+        held: &std::collections::HashSet<u64>,
+    ) -> Result<Recent, StoreError> {
+        recent::check(&self.conn, airspace, &self.label(), now, held, self.recent)
+            .map_err(|e| e.in_store(&self.label()))
+    }
+
     /// The last sequence number and the last event id stored (0: none).
     pub(crate) fn last_keys(&self) -> Result<(u64, u64), StoreError> {
-        Ok((
-            queries::max_key(&self.conn, "flights", "seq")?,
-            queries::max_key(&self.conn, "events", "id")?,
-        ))
+        let keys = || {
+            Ok((
+                queries::max_key(&self.conn, "flights", "seq")?,
+                queries::max_key(&self.conn, "events", "id")?,
+            ))
+        };
+        keys().map_err(|e: StoreError| e.in_store(&self.label()))
     }
 
     /// Bytes on disk: the database and its WAL.

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use muse_model::Airspace;
 use rusqlite::{Connection, OpenFlags, params};
 
+use super::acked::{self, Acked};
 use super::rows::meta_sum;
 use super::{
     DB_FILE, ImportReport, LOCK_FILE, Store, StoreError, WorldMeta, checkpoint, file, io, legacy,
@@ -20,6 +21,8 @@ pub struct Opening {
     lock: File,
     /// A log of an earlier version to convert first.
     import: Option<PathBuf>,
+    /// How many of the last flights and events the start checks whole.
+    recent: u64,
 }
 
 impl Opening {
@@ -48,8 +51,10 @@ impl Opening {
         let log = dir.join(legacy::LOG_FILE);
         let import = if db.exists() {
             file::check(&db)?;
-            let conn = connect(&db, false)?;
-            check_meta(&conn, &db, world)?;
+            let label = db.display().to_string();
+            let conn = connect(&db, false).map_err(|e| e.in_store(&label))?;
+            check_meta(&conn, &db, world).map_err(|e| e.in_store(&label))?;
+            acked::check(&conn, &db).map_err(|e| e.in_store(&label))?;
             if log.exists() {
                 // Converted, and the process stopped before the log was renamed.
                 legacy::retire(&log)?;
@@ -65,7 +70,15 @@ impl Opening {
             dir: dir.to_path_buf(),
             lock,
             import,
+            recent: super::RECENT,
         })
+    }
+
+    /// Has the start check the last `n` flights and events whole (default [`super::RECENT`]).
+    #[must_use]
+    pub fn checking_recent(mut self, n: u64) -> Opening {
+        self.recent = n;
+        self
     }
 
     /// Whether a log of an earlier version will be converted.
@@ -91,11 +104,15 @@ impl Opening {
             None
         };
         let conn = connect(&db, true)?;
+        let (count, acked) = counted(&conn, &self.dir)?;
         let checkpoints = checkpoint::Checkpointer::start(&db)?;
         Ok((
             Store {
                 path: db,
                 conn,
+                count,
+                acked,
+                recent: self.recent,
                 _lock: self.lock,
                 in_transaction: false,
                 written: 0,
@@ -105,6 +122,31 @@ impl Opening {
             report,
         ))
     }
+}
+
+/// The store's count of transactions (the `commits` table, added to a store written before it)
+/// and its record file, holding that count (created if missing: a folder of an earlier
+/// version, or a database restored from a copy of `muse.db` alone).
+fn counted(conn: &Connection, dir: &Path) -> Result<(acked::Count, Acked), StoreError> {
+    let label = dir.join(DB_FILE).display().to_string();
+    let count = if let Some(c) = acked::read_row(conn, &label)? {
+        c
+    } else {
+        conn.execute_batch("BEGIN IMMEDIATE")
+            .map_err(sql("adding the commits table"))?;
+        let c = acked::create_table(conn)?;
+        conn.execute_batch("COMMIT")
+            .map_err(sql("adding the commits table"))?;
+        c
+    };
+    let file = match acked::read_file(dir)? {
+        Some(a) if a.store == count.store => Acked::open(&dir.join(acked::ACKED_FILE))?,
+        _ => Acked::create(dir, count)?,
+    };
+    // The database may hold one transaction more than was acknowledged (committed, never
+    // answered): from now on it counts as acknowledged.
+    file.record(count)?;
+    Ok((count, file))
 }
 
 /// Opens a connection to the database at `path` with the store's settings (`write`: the
@@ -180,6 +222,7 @@ pub(crate) fn write_schema(conn: &Connection, world: &WorldMeta) -> Result<(), S
         )
         .map_err(sql("writing the meta table"))?;
     }
+    acked::create_table(conn)?;
     conn.execute_batch("COMMIT")
         .map_err(sql("creating the tables"))
 }
@@ -192,7 +235,19 @@ fn check_meta(conn: &Connection, path: &Path, world: &WorldMeta) -> Result<(), S
     };
     let mut stmt = conn
         .prepare("SELECT key, value, crc FROM meta")
-        .map_err(|e| not(format!("it has no readable meta table ({e})")))?;
+        .map_err(|error| {
+            let found = StoreError::Sql {
+                what: "reading the meta table".into(),
+                error,
+            }
+            .in_store(&path.display().to_string());
+            match found {
+                StoreError::Sql { error, .. } => {
+                    not(format!("it has no readable meta table ({error})"))
+                }
+                damage => damage,
+            }
+        })?;
     let rows = stmt
         .query_map([], |r| {
             Ok((

@@ -182,10 +182,10 @@ pub(super) fn holding(
         .map_err(sql("reading the flights still ahead"))?;
     let mut out = Vec::new();
     for row in rows {
-        out.push(
-            row.map_err(sql("reading the flights still ahead"))?
-                .entry(airspace, path)?,
-        );
+        let row = row.map_err(sql("reading the flights still ahead"))?;
+        let entry = row.entry(airspace, path)?;
+        super::recent::held_and_indexed(conn, path, &row, now)?;
+        out.push(entry);
         if out.len() % 1_024 == 0 {
             progress(out.len() as u64);
         }
@@ -236,8 +236,10 @@ pub(super) fn check_all(
     path: &str,
     progress: &mut dyn FnMut(u64),
 ) -> Result<Checked, StoreError> {
+    // Structure and indexes: every index entry matches its row (a damaged index entry would
+    // hide a flight from a read by id, or from its operator's listing).
     let verdict: String = conn
-        .query_row("PRAGMA quick_check", [], |r| r.get(0))
+        .query_row("PRAGMA integrity_check(1)", [], |r| r.get(0))
         .map_err(sql("checking the database's structure"))?;
     if verdict != "ok" {
         return Err(StoreError::Damaged {

@@ -46,7 +46,7 @@ impl Reader {
             Some(c) => c,
             None => connect(&self.path, false)?,
         };
-        let out = f(&conn, &self.label);
+        let out = f(&conn, &self.label).map_err(|e| e.in_store(&self.label));
         let mut idle = self
             .idle
             .lock()

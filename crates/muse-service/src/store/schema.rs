@@ -12,7 +12,18 @@ pub const FORMAT: &str = "muse-store 1";
 /// entries it adds), so small pages keep the bytes written per answer small.
 pub const PAGE_SIZE: u32 = 1024;
 
-/// Creates every table, index and view of a new store.
+/// The count of write transactions and the store's identity (see `acked`): one row, raised by
+/// every transaction. Created in a new store, and added to a store written before it.
+pub const CREATE_COMMITS: &str = "
+CREATE TABLE commits (
+    one   INTEGER PRIMARY KEY CHECK (one = 1),
+    store INTEGER NOT NULL,              -- a random number naming this store (ACKED names it too)
+    n     INTEGER NOT NULL,              -- write transactions committed
+    crc   INTEGER NOT NULL
+);
+";
+
+/// Creates every table, index and view of a new store (and [`CREATE_COMMITS`]'s, after it).
 pub const CREATE: &str = "
 CREATE TABLE meta (
     key   TEXT PRIMARY KEY,

@@ -33,17 +33,17 @@ fn airspace() -> Airspace {
     )
 }
 
-fn temp_dir(name: &str) -> PathBuf {
+pub(crate) fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("muse-api-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     d
 }
 
 /// A running service and a client for it.
-struct Service {
+pub(crate) struct Service {
     base: String,
     client: reqwest::Client,
-    data: PathBuf,
+    pub(crate) data: PathBuf,
     /// The zones known from the start.
     zones: Vec<Zone>,
     /// Stops the server cleanly.
@@ -68,7 +68,7 @@ impl Service {
     }
 
     /// A service on `data`.
-    async fn open(
+    pub(crate) async fn open(
         data: PathBuf,
         zones: Vec<Zone>,
         configure: impl FnOnce(&mut Options),
@@ -144,7 +144,7 @@ impl Service {
         (status, value)
     }
 
-    async fn post(&self, token: Option<&str>, body: &Value) -> (u16, Value) {
+    pub(crate) async fn post(&self, token: Option<&str>, body: &Value) -> (u16, Value) {
         self.send(
             reqwest::Method::POST,
             "/v1/flights",
@@ -154,7 +154,7 @@ impl Service {
         .await
     }
 
-    async fn get(&self, path: &str, token: Option<&str>) -> (u16, Value) {
+    pub(crate) async fn get(&self, path: &str, token: Option<&str>) -> (u16, Value) {
         self.send(reqwest::Method::GET, path, token, None).await
     }
 
@@ -172,11 +172,11 @@ impl Drop for Service {
 }
 
 /// `now + secs`, as RFC 3339 in Singapore time.
-fn in_secs(secs: i64) -> String {
+pub(crate) fn in_secs(secs: i64) -> String {
     (Clock::system().now() + Millis::from_secs(secs)).to_rfc3339(UtcOffset::SINGAPORE)
 }
 
-fn flight(id: &str, from: &str, to: &str, departure: &str) -> Value {
+pub(crate) fn flight(id: &str, from: &str, to: &str, departure: &str) -> Value {
     json!({"id": id, "origin": from, "destination": to, "departure": departure})
 }
 

@@ -2,5 +2,6 @@
 //! HTTP limits (`http_limits`) and the conversion of an earlier version's log (`import`).
 
 mod api;
+mod damage;
 mod http_limits;
 mod import;
