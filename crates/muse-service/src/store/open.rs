@@ -60,11 +60,24 @@ impl Opening {
                 legacy::retire(&log)?;
             }
             None
-        } else if log.exists() {
-            legacy::check_header(&log, legacy_world)?;
-            Some(log)
         } else {
-            None
+            if let Some(acked) = acked::read_file(dir)?.filter(|a| a.n > 0) {
+                return Err(StoreError::Damaged {
+                    path: db.display().to_string(),
+                    what: format!(
+                        "it is missing, but {} records {} acknowledged transaction(s) of a \
+                         store in this folder",
+                        dir.join(acked::ACKED_FILE).display(),
+                        acked.n
+                    ),
+                });
+            }
+            if log.exists() {
+                legacy::check_header(&log, legacy_world)?;
+                Some(log)
+            } else {
+                None
+            }
         };
         Ok(Opening {
             dir: dir.to_path_buf(),

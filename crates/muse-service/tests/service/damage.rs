@@ -216,6 +216,19 @@ async fn a_flip_in_acknowledged_frames_is_refused_and_a_torn_tail_is_not() {
     })
     .await;
     assert!(matches!(o, Outcome::Intact), "a torn tail: {o:?}");
+    // The database gone, its record of acknowledgments left: refused, never started empty.
+    let o = start_on(&c, "wal-db-gone", |d| {
+        std::fs::remove_file(d.join("muse.db")).unwrap();
+        std::fs::remove_file(d.join("muse.db-wal")).unwrap();
+    })
+    .await;
+    match &o {
+        Outcome::Refused(m) => assert!(
+            m.contains("is damaged: it is missing") && m.contains("ACKED"),
+            "{m}"
+        ),
+        other => panic!("the database gone: {other:?}"),
+    }
 }
 
 /// Random single-byte flips anywhere in the WAL and the database, on files a crash left with
