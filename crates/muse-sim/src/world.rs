@@ -338,6 +338,31 @@ fn absolute(path: &Path) -> Result<String, WorldError> {
 }
 
 impl World {
+    /// The local metric plane the airspace is measured in (docs/reference.md#metric-separation):
+    /// SVY21 for a built-in scenario (the plane it is built in), else the UTM zone of the
+    /// nodes' centroid (the default plane of docs/reference.md#airspace-from-pads).
+    #[must_use]
+    pub fn plane(&self) -> muse_airspace::plane::Plane {
+        if self.scenario.is_some() {
+            muse_airspace::plane::Plane::Epsg(3414)
+        } else {
+            muse_airspace::plane::Plane::Utm
+        }
+    }
+
+    /// The positions of the airspace's flat nodes in [`World::plane`], metres east and north.
+    ///
+    /// # Errors
+    /// A node the plane cannot take (see [`muse_airspace::plane::Plane::project`]).
+    pub fn plane_positions(&self) -> Result<Vec<[f64; 2]>, muse_airspace::plane::PlaneError> {
+        Ok(self
+            .plane()
+            .project(self.airspace.flat().nodes())?
+            .into_iter()
+            .map(|p| [p.x, p.y])
+            .collect())
+    }
+
     /// The world of `airspace` with `zones`, on the day the airspace carries: a scenario's,
     /// an airspace file's, or the default scenario's for other airspaces.
     ///

@@ -90,6 +90,7 @@
 
 use std::fmt;
 
+pub mod approach;
 mod legs;
 mod path;
 pub mod recorded;
