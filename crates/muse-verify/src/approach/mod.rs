@@ -162,7 +162,7 @@ mod tests {
     use super::track::Piece;
     use super::*;
 
-    /// Random flights of straight pieces in a 600 m square over a few minutes, at three
+    /// Random flights of straight pieces in a 600 m square about the origin over a few minutes, at three
     /// altitudes, each flight's pieces one after the other.
     fn random_pieces(seed: u64, flights: u32) -> Vec<Piece> {
         let mut x = seed;
@@ -175,15 +175,15 @@ mod tests {
         let mut out = Vec::new();
         for f in 0..flights {
             let mut t = next() * 200.0;
-            let mut p = [next() * 600.0, next() * 600.0, 60.0];
+            let mut p = [next() * 600.0 - 300.0, next() * 600.0 - 300.0, 60.0];
             for _ in 0..5 {
                 let d = 1.0 + next() * 60.0;
                 let q = if next() < 0.3 {
                     p
                 } else {
                     [
-                        next() * 600.0,
-                        next() * 600.0,
+                        next() * 600.0 - 300.0,
+                        next() * 600.0 - 300.0,
                         60.0 + (next() * 3.0).floor() * 9.144,
                     ]
                 };

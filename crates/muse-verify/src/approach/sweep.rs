@@ -7,13 +7,8 @@
 //! lower-left corner of the overlap of their boxes. The work grows with the pieces and the
 //! pairs of pieces near each other, not with the square of the flights.
 
-use std::collections::HashMap;
-
 use super::pair::closest;
 use super::track::Piece;
-
-/// The pieces in each cell of the grid in one window, with their grown boxes.
-type Grid = HashMap<(i64, i64), Vec<(usize, [f64; 4])>>;
 
 /// Seconds per window of the sweep.
 const WINDOW_S: f64 = 10.0;
@@ -34,7 +29,9 @@ pub fn near_pairs(
     let mut start = (first.t0 / WINDOW_S).floor() * WINDOW_S;
     let mut next = 0usize;
     let mut active: Vec<usize> = Vec::new();
-    let mut grid: Grid = HashMap::new();
+    // The grown box of each piece in the window, and the cells each touches.
+    let mut boxes: Vec<(usize, [f64; 4])> = Vec::new();
+    let mut cells: Vec<u128> = Vec::new();
     while next < pieces.len() || !active.is_empty() {
         let end = start + WINDOW_S;
         while next < pieces.len() && pieces[next].t0 < end {
@@ -48,7 +45,8 @@ pub fn near_pairs(
             }
             continue;
         }
-        grid.clear();
+        boxes.clear();
+        cells.clear();
         for &i in &active {
             let piece = &pieces[i];
             let (lo, hi) = (piece.t0.max(start), piece.t1.min(end));
@@ -62,17 +60,21 @@ pub fn near_pairs(
                 first[0].max(last[0]) + grow,
                 first[1].max(last[1]) + grow,
             ];
-            let (cx0, cy0) = (cell_of(bbox[0], cell), cell_of(bbox[1], cell));
-            let (cx1, cy1) = (cell_of(bbox[2], cell), cell_of(bbox[3], cell));
-            for cx in cx0..=cx1 {
-                for cy in cy0..=cy1 {
-                    grid.entry((cx, cy)).or_default().push((i, bbox));
+            let k = boxes.len() as u32;
+            boxes.push((i, bbox));
+            for cx in cell_of(bbox[0], cell)..=cell_of(bbox[2], cell) {
+                for cy in cell_of(bbox[1], cell)..=cell_of(bbox[3], cell) {
+                    cells.push(packed(cx, cy, k));
                 }
             }
         }
-        for (&(cx, cy), members) in &grid {
-            for (k, &(i, bi)) in members.iter().enumerate() {
-                for &(j, bj) in &members[k + 1..] {
+        cells.sort_unstable();
+        for run in cells.chunk_by(|a, b| a >> 32 == b >> 32) {
+            let (cx, cy, _) = unpacked(run[0]);
+            for (m, &a) in run.iter().enumerate() {
+                let (i, bi) = boxes[unpacked(a).2 as usize];
+                for &b in &run[m + 1..] {
+                    let (j, bj) = boxes[unpacked(b).2 as usize];
                     if pieces[i].flight == pieces[j].flight {
                         continue;
                     }
@@ -93,6 +95,18 @@ pub fn near_pairs(
         }
         start = end;
     }
+}
+
+/// A cell and a box number in one sortable number: cells in order, then boxes.
+fn packed(cx: i64, cy: i64, k: u32) -> u128 {
+    let bias = |c: i64| u128::from((c as i32 as u32) ^ 0x8000_0000);
+    (bias(cx) << 64) | (bias(cy) << 32) | u128::from(k)
+}
+
+/// The cell and box number of [`packed`].
+fn unpacked(v: u128) -> (i64, i64, u32) {
+    let unbias = |b: u128| i64::from(((b as u32) ^ 0x8000_0000) as i32);
+    (unbias(v >> 64), unbias(v >> 32), v as u32)
 }
 
 /// The grid cell of a coordinate.
