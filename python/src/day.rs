@@ -159,7 +159,7 @@ fn run_day(
         DayContext {
             booking_lead,
             unserved,
-            ..DayContext::on(world, &params, provenance)
+            ..DayContext::on(world, &params, provenance).map_err(error)?
         },
     );
     Ok(DayFiles::of(&outputs, &world.airspace, world.day, true))

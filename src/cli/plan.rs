@@ -94,6 +94,9 @@ pub fn run(args: &PlanArgs) -> anyhow::Result<ExitCode> {
     for line in summary.optimizer.iter().flat_map(report_lines) {
         println!("{}", line.trim_start());
     }
+    if let Some(sep) = &summary.separation {
+        println!("metric separation: {}", sep.describe());
+    }
     let unserved = summary
         .unserved
         .map_or(String::new(), |n| format!(", {n} unserved"));
@@ -132,7 +135,7 @@ pub fn write_outputs(
         DayContext {
             booking_lead,
             unserved,
-            ..DayContext::on(world, params, provenance)
+            ..DayContext::on(world, params, provenance)?
         },
     );
     let files = DayFiles::of(&outputs, &world.airspace, world.day, tables);

@@ -334,6 +334,9 @@ fn report(
         format!("FAILED, {violations} violation(s)")
     };
     let _ = writeln!(o, "  verified      {verdict}");
+    if let Some(sep) = &s.separation {
+        let _ = writeln!(o, "  separation    {}", sep.describe());
+    }
     let tables = if tables {
         "flights.csv, stays.csv, "
     } else {

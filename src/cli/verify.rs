@@ -6,7 +6,7 @@ use std::process::ExitCode;
 use clap::{ArgMatches, Args};
 use muse_formats::plans::{PlanEntry, PlanItem};
 use muse_model::RejectReason;
-use muse_verify::approach::{self, Positions};
+use muse_sim::metrics::SeparationSummary;
 use muse_verify::recorded::{Recorded, zones_for};
 use muse_verify::verify_known_in;
 
@@ -65,9 +65,8 @@ pub fn run(args: &VerifyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> 
     let zones = zones_for(a, &world.zones, &flights)?;
     let violations = verify_known_in(a, &zones, &params, &flights, world.day.offset);
     let read = lines_read(entries);
-    let positions = Positions::new(a, &world.plane_positions()?);
-    let vertical = a.layers().copied().unwrap_or_default().spacing.m();
-    let approaches = approach::report(&positions, &flights, &approach::REPORTED_M, vertical);
+    let separation =
+        SeparationSummary::of(a, &world.plane_positions()?, &flights, world.day.offset);
     let mut report = String::new();
     let code = if violations.is_empty() {
         let changed = entries.iter().filter(|e| !e.changes().is_empty()).count();
@@ -109,48 +108,9 @@ pub fn run(args: &VerifyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> 
         }
         ExitCode::FAILURE
     };
-    let _ = writeln!(
-        report,
-        "{}",
-        approach_line(&approaches, &flights, a, world.day.offset)
-    );
+    let _ = writeln!(report, "metric separation: {}", separation.describe());
     print_report(&report)?;
     Ok(code)
-}
-
-/// `metric separation: closest approach 2.4 m (r1 and r2 at …, near S012); pairs closer than
-/// 10 m: 7, 20 m: 21, 30 m: 45`: how close the flights come in metres
-/// (docs/reference.md#metric-separation).
-fn approach_line(
-    r: &approach::Report,
-    flights: &[muse_verify::Flight<'_>],
-    airspace: &muse_model::Airspace,
-    offset: muse_model::UtcOffset,
-) -> String {
-    let closest = r.closest.as_ref().map_or_else(
-        || {
-            format!(
-                "no two flights come within {} m of each other",
-                approach::FARTHEST_M
-            )
-        },
-        |c| {
-            format!(
-                "closest approach {:.1} m ({} and {} at {}, near {})",
-                c.distance_m,
-                flights[c.flights.0].id,
-                flights[c.flights.1].id,
-                muse_model::Instant(c.at_ms.round() as i64).to_rfc3339(offset),
-                airspace.node(c.near).id
-            )
-        },
-    );
-    let under: Vec<String> = r.under.iter().map(|(d, n)| format!("{d} m: {n}")).collect();
-    format!(
-        "metric separation: {closest}; pairs closer than {} (vertical separation {} m)",
-        under.join(", "),
-        r.vertical_m
-    )
 }
 
 /// Prints the report on standard output. A reader that stops early (`muse verify … | head`)

@@ -14,8 +14,11 @@ use muse_model::{Airspace, FlightParams, Instant, Millis, NodeId, RejectReason, 
 use crate::day::DayRun;
 use crate::demand::BookingLead;
 use crate::metrics::recorded::WorldRecord;
-use crate::metrics::{OptimizerSummary, Provenance, ReplanSummary, RunItem, Summary};
+use crate::metrics::{
+    OptimizerSummary, Provenance, ReplanSummary, RunItem, SeparationSummary, Summary,
+};
 use crate::world::World;
+use muse_verify::Flight;
 
 /// Where a day was planned and from what, for its summary.
 #[derive(Clone, Debug)]
@@ -35,13 +38,25 @@ pub struct DayContext<'a> {
     /// The requests of demand from customers that no pad serves
     /// (docs/reference.md#airspace-from-pads); `None` for other demand.
     pub unserved: Option<&'a [UnservedRequest]>,
+    /// Where the airspace's flat nodes are in its plane, metres (the world's
+    /// [`World::plane_positions`]): the summary then says how close the flights come
+    /// (docs/reference.md#metric-separation); `None` leaves that out.
+    pub plane: Option<Vec<[f64; 2]>>,
 }
 
 impl<'a> DayContext<'a> {
     /// A day planned on `world` with `params`, from requests read from a file (no booking
-    /// lead) and not from customers (no unserved requests).
-    pub fn on(world: &'a World, params: &'a FlightParams, provenance: Provenance) -> Self {
-        DayContext {
+    /// lead) and not from customers (no unserved requests), its summary saying how close the
+    /// flights come.
+    ///
+    /// # Errors
+    /// A node the world's plane cannot take ([`World::plane_positions`]).
+    pub fn on(
+        world: &'a World,
+        params: &'a FlightParams,
+        provenance: Provenance,
+    ) -> Result<Self, muse_airspace::plane::PlaneError> {
+        Ok(DayContext {
             airspace: &world.airspace,
             offset: world.day.offset,
             params,
@@ -49,7 +64,8 @@ impl<'a> DayContext<'a> {
             world: world.record.clone(),
             booking_lead: None,
             unserved: None,
-        }
+            plane: Some(world.plane_positions()?),
+        })
     }
 }
 
@@ -83,6 +99,7 @@ pub struct DayOutputs {
 ///     world: Default::default(),
 ///     booking_lead: None,
 ///     unserved: None,
+///     plane: None,
 /// };
 /// let day = day_outputs(&run, context);
 /// assert_eq!((day.records.len(), day.summary.planned), (1, 1));
@@ -146,6 +163,19 @@ pub fn day_outputs(run: &DayRun, context: DayContext<'_>) -> DayOutputs {
     if let Some(report) = &run.optimizer {
         summary = summary.with_optimizer(OptimizerSummary::of(report, &run.requests));
     }
+    if let Some(plane) = &context.plane {
+        let flights: Vec<Flight<'_>> = run
+            .requests
+            .iter()
+            .zip(&run.replay.outcomes)
+            .enumerate()
+            .filter_map(|(i, (r, o))| {
+                Flight::last(&r.id, r, o.result.as_ref().ok(), run.replay.fate(i))
+            })
+            .collect();
+        summary =
+            summary.with_separation(SeparationSummary::of(a, plane, &flights, context.offset));
+    }
     DayOutputs { records, summary }
 }
 
@@ -187,6 +217,7 @@ impl DayFiles {
     ///     world: Default::default(),
     ///     booking_lead: None,
     ///     unserved: None,
+    ///     plane: None,
     /// };
     /// let day = LocalDay { date: jiff::civil::date(1970, 1, 1), offset: UtcOffset(0) };
     /// let files = DayFiles::of(&day_outputs(&run, context), &air, day, true);

@@ -12,12 +12,14 @@ mod optimizer;
 mod params;
 pub mod recorded;
 pub mod replanning;
+mod separation;
 
 pub use distribution::Distribution;
 pub use muse_formats::params::{BookingLeadRecord, ParamsRecord};
 pub use optimizer::{ObjectiveRecord, OptimizerSummary};
 pub use recorded::WorldRecord;
 pub use replanning::ReplanSummary;
+pub use separation::{ClosestRecord, SeparationSummary};
 
 /// The legs of planned trips (docs/reference.md#multi-leg-trips), when battery swaps are on.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
@@ -112,6 +114,9 @@ pub struct Summary {
     /// above are the optimised schedule's.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub optimizer: Option<OptimizerSummary>,
+    /// How close the flights come in metres (docs/reference.md#metric-separation).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub separation: Option<SeparationSummary>,
 }
 
 /// One planned-or-rejected request, as the metrics see it.
@@ -199,6 +204,7 @@ impl Summary {
             world: None,
             replanning: None,
             optimizer: None,
+            separation: None,
         }
     }
 
@@ -261,6 +267,13 @@ impl Summary {
     #[must_use]
     pub fn with_optimizer(mut self, optimizer: OptimizerSummary) -> Summary {
         self.optimizer = Some(optimizer);
+        self
+    }
+
+    /// Adds the `separation` section.
+    #[must_use]
+    pub fn with_separation(mut self, separation: SeparationSummary) -> Summary {
+        self.separation = Some(separation);
         self
     }
 
