@@ -6,6 +6,7 @@ use std::process::ExitCode;
 
 use clap::Subcommand;
 use muse_airspace::closures::closed_elements;
+use muse_airspace::corners::{corners, gap_s};
 use muse_airspace::stats::airspace_stats;
 use muse_model::{
     Airspace, EdgeId, EdgeKind, HeadingRule, Layers, Metres, Millis, NodeId, Period, Speed, Zone,
@@ -90,6 +91,11 @@ pub enum AirspaceCommand {
         layers: LayersArgs,
         #[command(flatten)]
         range: RangeArgs,
+        /// Also list the sharpest corners (two corridors at a node, in the airspace's plane)
+        /// and the gap in time a departure and an arrival there need to stay this many metres
+        /// apart at `--speed-kmh` (docs/reference.md#metric-separation), from 0 to 1000.
+        #[arg(long, value_name = "M", allow_negative_numbers = true, value_parser = super::ranges::separation_m)]
+        separation_m: Option<f64>,
     },
     /// Write the airspace as a GeoJSON file (docs/reference.md#airspace; any scenario, e.g.
     /// `singapore-all`, for use by other tools), and optionally its zones as ED-318 GeoJSON.
@@ -148,7 +154,8 @@ pub fn run(cmd: AirspaceCommand) -> anyhow::Result<ExitCode> {
             world,
             layers,
             range,
-        } => info(&world, &layers, range),
+            separation_m,
+        } => info(&world, &layers, range, separation_m),
         AirspaceCommand::Export {
             world,
             out,
@@ -158,7 +165,12 @@ pub fn run(cmd: AirspaceCommand) -> anyhow::Result<ExitCode> {
     }
 }
 
-fn info(world: &WorldArgs, layers: &LayersArgs, range: RangeArgs) -> anyhow::Result<ExitCode> {
+fn info(
+    world: &WorldArgs,
+    layers: &LayersArgs,
+    range: RangeArgs,
+    separation_m: Option<f64>,
+) -> anyhow::Result<ExitCode> {
     let world = layered(world.load()?, layers)?;
     let (speed, t_max) = (range.speed()?, range.t_max()?);
     // The graph's statistics are the flat airspace's; the layering follows them.
@@ -208,6 +220,10 @@ fn info(world: &WorldArgs, layers: &LayersArgs, range: RangeArgs) -> anyhow::Res
     if let Some(layers) = layered.layers() {
         layering(&mut o, layered, layers, speed, t_max);
     }
+    if let Some(d) = separation_m {
+        let plane = world.plane_positions()?;
+        separation(&mut o, a, &plane, d, speed, world.plane());
+    }
     if world.zones.is_empty() {
         let _ = writeln!(o, "zones         none");
     }
@@ -255,6 +271,49 @@ fn info(world: &WorldArgs, layers: &LayersArgs, range: RangeArgs) -> anyhow::Res
     }
     print!("{o}");
     Ok(ExitCode::SUCCESS)
+}
+
+/// How many of the sharpest corners `muse airspace info --separation-m` lists.
+const CORNERS_LISTED: usize = 10;
+
+/// The lines of `muse airspace info --separation-m D` (docs/reference.md#metric-separation): the
+/// sharpest corners of the flat airspace `a` (its nodes at `plane`, in `plane_name`), the gap
+/// in time each needs to keep `d` metres at `speed`, and the uniform `tau` that keeps them all.
+fn separation(
+    o: &mut String,
+    a: &Airspace,
+    plane: &[[f64; 2]],
+    d: f64,
+    speed: Speed,
+    plane_name: muse_airspace::plane::Plane,
+) {
+    let all = corners(a, plane);
+    let v = speed.mps();
+    let _ = writeln!(
+        o,
+        "corners       {} (two corridors at a node, in {plane_name}); the sharpest, and the gap a \
+         departure and an arrival there need to stay {d} m apart at {} km/h:",
+        all.len(),
+        speed.kmh()
+    );
+    for c in all.iter().take(CORNERS_LISTED) {
+        let _ = writeln!(
+            o,
+            "  {:<10} {} / {}  {:>6.2}°  {:>8.1} s",
+            a.node(c.node).id,
+            a.edge(c.edges.0).id,
+            a.edge(c.edges.1).id,
+            c.angle_deg,
+            gap_s(c.angle_deg, d, v)
+        );
+    }
+    if let Some(sharpest) = all.first() {
+        let _ = writeln!(
+            o,
+            "  a uniform tau of {:.1} s keeps {d} m at every corner",
+            gap_s(sharpest.angle_deg, d, v)
+        );
+    }
 }
 
 /// The lines of `muse airspace info` on the layering of a layered airspace `a`.

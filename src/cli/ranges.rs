@@ -64,6 +64,8 @@ ranges! {
     add_pads: usize = ADD_PADS;
     /// `muse siting --days`.
     siting_days: usize = SITING_DAYS;
+    /// `--separation-m`: up to 1 km.
+    separation_m: f64 = SEPARATION_M;
     /// `--last-mile-m`: up to 100 km.
     last_mile_m: f64 = LAST_MILE_M;
     /// `--station-share` of a synthetic airspace.

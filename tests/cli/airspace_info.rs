@@ -291,3 +291,23 @@ zone          MIDP — Mid (permanent)
         said(&o)
     );
 }
+
+/// `muse airspace info --separation-m 30` lists the sharpest corners of the default airspace
+/// and the gap each needs (docs/reference.md#metric-separation): `S011`, where two corridors
+/// leave 6.58° apart, needs 62.7 s between a departure and an arrival at 30 km/h; a value out
+/// of range is refused naming the option.
+#[test]
+fn info_lists_the_sharpest_corners_and_their_gaps() {
+    let o = muse(&["airspace", "info", "--separation-m", "30"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    assert!(
+        out.contains("corners       1011 (two corridors at a node, in EPSG:3414)")
+            && out.contains("  S011       S011-S018 / S011-S020    6.58°      62.7 s")
+            && out.contains("a uniform tau of 62.7 s keeps 30 m at every corner"),
+        "{out}"
+    );
+    let o = muse(&["airspace", "info", "--separation-m", "-5"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--separation-m"), "{}", stderr(&o));
+}

@@ -215,6 +215,13 @@ pub const MAX_CORRIDOR_M: Range<f64> = Range {
     hi: 1_000_000.0,
     what: "a number of metres",
 };
+/// A horizontal separation between flights, metres (`muse airspace info --separation-m`,
+/// docs/reference.md#metric-separation): up to 1 km.
+pub const SEPARATION_M: Range<f64> = Range {
+    lo: 0.0,
+    hi: 1_000.0,
+    what: "a number of metres",
+};
 /// The last mile, metres: a customer is served by its nearest pad within it
 /// (`--last-mile-m`): up to 100 km.
 pub const LAST_MILE_M: Range<f64> = Range {
