@@ -14,6 +14,7 @@
 pub mod announced;
 pub mod builder;
 pub mod closures;
+pub mod conflicts;
 pub mod corners;
 pub mod plane;
 pub mod shortest;
