@@ -59,14 +59,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<ExitCode> {
     let (demand, source, seed, booking_lead) = demand_of(args, &world)?;
     let run = args.day.optimize.plan(&world, params, demand.requests)?;
 
-    let day = &run.replay;
-    let flights: Vec<Flight<'_>> = run
-        .requests
-        .iter()
-        .zip(&day.outcomes)
-        .enumerate()
-        .filter_map(|(i, (r, o))| Flight::last(&r.id, r, o.result.as_ref().ok(), day.fate(i)))
-        .collect();
+    let flights = run.flights();
     let violations = verify_known_in(
         &world.airspace,
         &run.zones,

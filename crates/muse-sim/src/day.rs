@@ -9,6 +9,7 @@ use muse_model::request::sort_for_planning;
 use muse_model::{Airspace, FlightParams, Instant, Millis, Request, Zone};
 use muse_planner::ZoneError;
 use muse_planner::{Outcome, Planner, Schedule, Scratch, plan_day};
+use muse_verify::Flight;
 
 use crate::replay::{Replay, replay};
 
@@ -87,6 +88,20 @@ impl DayRun {
             zones,
             optimizer: None,
         }
+    }
+
+    /// The flights that fly, each as it finally stands after the day's zone announcements
+    /// ([`Flight::last`]), for the verifier and the summary's separation report.
+    #[must_use]
+    pub fn flights(&self) -> Vec<Flight<'_>> {
+        self.requests
+            .iter()
+            .zip(&self.replay.outcomes)
+            .enumerate()
+            .filter_map(|(i, (r, o))| {
+                Flight::last(&r.id, r, o.result.as_ref().ok(), self.replay.fate(i))
+            })
+            .collect()
     }
 }
 

@@ -18,7 +18,6 @@ use crate::metrics::{
     OptimizerSummary, Provenance, ReplanSummary, RunItem, SeparationSummary, Summary,
 };
 use crate::world::World;
-use muse_verify::Flight;
 
 /// Where a day was planned and from what, for its summary.
 #[derive(Clone, Debug)]
@@ -164,15 +163,7 @@ pub fn day_outputs(run: &DayRun, context: DayContext<'_>) -> DayOutputs {
         summary = summary.with_optimizer(OptimizerSummary::of(report, &run.requests));
     }
     if let Some(plane) = &context.plane {
-        let flights: Vec<Flight<'_>> = run
-            .requests
-            .iter()
-            .zip(&run.replay.outcomes)
-            .enumerate()
-            .filter_map(|(i, (r, o))| {
-                Flight::last(&r.id, r, o.result.as_ref().ok(), run.replay.fate(i))
-            })
-            .collect();
+        let flights = run.flights();
         summary =
             summary.with_separation(SeparationSummary::of(a, plane, &flights, context.offset));
     }

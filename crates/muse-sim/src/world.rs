@@ -339,14 +339,14 @@ fn absolute(path: &Path) -> Result<String, WorldError> {
 
 impl World {
     /// The local metric plane the airspace is measured in (docs/reference.md#metric-separation):
-    /// SVY21 for a built-in scenario (the plane it is built in), else the UTM zone of the
+    /// for a built-in scenario the plane it is built in (SVY21), else the UTM zone of the
     /// nodes' centroid (the default plane of docs/reference.md#airspace-from-pads).
     #[must_use]
     pub fn plane(&self) -> muse_airspace::plane::Plane {
         if self.scenario.is_some() {
-            muse_airspace::plane::Plane::Epsg(3414)
+            muse_scenario::singapore_build_options().plane
         } else {
-            muse_airspace::plane::Plane::Utm
+            muse_airspace::plane::Plane::default()
         }
     }
 

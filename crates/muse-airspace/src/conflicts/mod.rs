@@ -68,30 +68,7 @@ pub fn approach(a: &Motion, b: &Motion, delta: f64, vertical: f64) -> Option<f64
     // Difference of positions at t: a.from − b.from + vb·δ + (va − vb)·t.
     let gap = [0, 1, 2].map(|i| a.from[i] - b.from[i] + vb[i] * delta);
     let drift = [0, 1, 2].map(|i| va[i] - vb[i]);
-    let (mut lo, mut hi) = (t0, t1);
-    if drift[2] == 0.0 {
-        if gap[2].abs() >= vertical {
-            return None;
-        }
-    } else {
-        let (s1, s2) = (
-            (-vertical - gap[2]) / drift[2],
-            (vertical - gap[2]) / drift[2],
-        );
-        let (enter, leave) = (s1.min(s2), s1.max(s2));
-        let mut open = false;
-        if enter >= lo {
-            lo = enter;
-            open = true;
-        }
-        if leave <= hi {
-            hi = leave;
-            open = true;
-        }
-        if lo > hi || (open && lo >= hi) {
-            return None;
-        }
-    }
+    let (lo, hi) = within_vertical(gap[2], drift[2], vertical, t0, t1)?;
     let speed2 = drift[0] * drift[0] + drift[1] * drift[1];
     let at = if speed2 == 0.0 {
         lo
@@ -99,6 +76,21 @@ pub fn approach(a: &Motion, b: &Motion, delta: f64, vertical: f64) -> Option<f64
         (-(gap[0] * drift[0] + gap[1] * drift[1]) / speed2).clamp(lo, hi)
     };
     Some((gap[0] + drift[0] * at).hypot(gap[1] + drift[1] * at))
+}
+
+/// The times in `[lo, hi]` at which two drones whose difference in altitude is
+/// `gap + drift·t` are within `vertical` of each other: an interval, open at an end the
+/// vertical bound sets (equality is separation); `None` if there is no such time.
+fn within_vertical(gap: f64, drift: f64, vertical: f64, lo: f64, hi: f64) -> Option<(f64, f64)> {
+    if drift == 0.0 {
+        return (gap.abs() < vertical).then_some((lo, hi));
+    }
+    let (s1, s2) = ((-vertical - gap) / drift, (vertical - gap) / drift);
+    let (enter, leave) = (s1.min(s2), s1.max(s2));
+    let open = enter >= lo || leave <= hi;
+    let (lo, hi) = (lo.max(enter), hi.min(leave));
+    let some = if open { lo < hi } else { lo <= hi };
+    some.then_some((lo, hi))
 }
 
 /// Whether `a` and `b`, `b` started `delta` seconds after `a`, come closer than `distance`
@@ -181,22 +173,7 @@ pub fn near_window(
     // The times `t` at which the distance is under `distance`: an interval (convex in t).
     let pace = b.velocity();
     let gap = [0, 1, 2].map(|i| b.from[i] - point[i]);
-    let (mut lo, mut hi) = (0.0_f64, b.duration);
-    if pace[2] == 0.0 {
-        if gap[2].abs() >= vertical {
-            return None;
-        }
-    } else {
-        let (s1, s2) = (
-            (-vertical - gap[2]) / pace[2],
-            (vertical - gap[2]) / pace[2],
-        );
-        lo = lo.max(s1.min(s2));
-        hi = hi.min(s1.max(s2));
-        if lo >= hi {
-            return None;
-        }
-    }
+    let (lo, hi) = within_vertical(gap[2], pace[2], vertical, 0.0, b.duration)?;
     let speed2 = pace[0] * pace[0] + pace[1] * pace[1];
     let r2 = distance * distance;
     if speed2 == 0.0 {

@@ -55,12 +55,9 @@ fn row_sum(c: Count) -> i64 {
     RowSum::new("commits").int(c.store).int(c.n as i64).finish()
 }
 
-/// Creates the `commits` table and its row in `conn` (inside the caller's transaction), with a
-/// new identity and `n` = 0; nothing if it exists. Returns the row.
+/// Creates the `commits` table and its row in `conn` (inside the caller's transaction, in a
+/// store without it), with a new identity and `n` = 0. Returns the row.
 pub(crate) fn create_table(conn: &Connection) -> Result<Count, StoreError> {
-    if let Some(c) = read_row(conn, "")? {
-        return Ok(c);
-    }
     conn.execute_batch(super::schema::CREATE_COMMITS)
         .map_err(sql("creating the commits table"))?;
     let store: i64 = conn

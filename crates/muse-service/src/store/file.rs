@@ -108,62 +108,133 @@ fn wal_sum(data: &[u8], big_endian: bool, mut s: (u32, u32)) -> (u32, u32) {
     s
 }
 
+/// A WAL file, read whole (see the module docs).
+struct Wal {
+    bytes: Vec<u8>,
+    /// How its checksums read words: `None` if it does not start with the WAL's magic.
+    big_endian: Option<bool>,
+}
+
+/// One whole frame of a WAL file.
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    /// Its number, from 1.
+    n: usize,
+    /// Where it begins in the file.
+    at: usize,
+    /// The database page it holds.
+    page: u32,
+    /// Whether it ends a transaction.
+    commit: bool,
+    /// Whether it carries the header's salts (it is of the WAL's current generation).
+    current: bool,
+}
+
+/// Why SQLite stops reading a WAL at a frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Break {
+    /// The frame carries other salts than the header.
+    Salts,
+    /// The frame fails its chained checksum.
+    Checksum,
+}
+
+impl Wal {
+    /// The WAL at `path`; `None` if there is none (or not even a header's worth of bytes).
+    fn read(path: &Path) -> Option<Wal> {
+        let bytes = std::fs::read(path).ok()?;
+        if bytes.len() < 32 {
+            return None;
+        }
+        let big_endian = match u32::from_be_bytes(bytes[..4].try_into().expect("4 bytes")) {
+            0x377f_0683 => Some(true),
+            0x377f_0682 => Some(false),
+            _ => None,
+        };
+        Some(Wal { bytes, big_endian })
+    }
+
+    fn be32(&self, at: usize) -> u32 {
+        u32::from_be_bytes(self.bytes[at..at + 4].try_into().expect("4 bytes"))
+    }
+
+    /// The page size its header gives.
+    fn page_size(&self) -> usize {
+        self.be32(8) as usize
+    }
+
+    /// Whether its header is one SQLite reads: the magic, a page size, its checksum. (A
+    /// header torn while the WAL was restarted makes SQLite ignore the whole file.)
+    fn header_ok(&self) -> bool {
+        let size = self.page_size();
+        self.big_endian.is_some_and(|big| {
+            size.is_power_of_two()
+                && (512..=65_536).contains(&size)
+                && wal_sum(&self.bytes[..24], big, (0, 0)) == (self.be32(24), self.be32(28))
+        })
+    }
+
+    /// Every whole frame of the file, taken with pages of `page_size` bytes.
+    fn frames(&self, page_size: usize) -> impl Iterator<Item = Frame> + '_ {
+        let size = 24 + page_size;
+        let salts = &self.bytes[16..24];
+        (0..(self.bytes.len() - 32) / size).map(move |k| {
+            let at = 32 + k * size;
+            Frame {
+                n: k + 1,
+                at,
+                page: self.be32(at),
+                commit: self.be32(at + 4) != 0,
+                current: &self.bytes[at + 8..at + 16] == salts,
+            }
+        })
+    }
+
+    /// Where and why SQLite stops reading this WAL (its header read): the first frame of other
+    /// salts or failing its checksum; `None` if it reads every frame.
+    fn first_break(&self) -> Option<(Frame, Break)> {
+        let big = self.big_endian?;
+        let size = 24 + self.page_size();
+        let mut sum = wal_sum(&self.bytes[..24], big, (0, 0));
+        for f in self.frames(self.page_size()) {
+            if !f.current {
+                return Some((f, Break::Salts));
+            }
+            let next = wal_sum(&self.bytes[f.at..f.at + 8], big, sum);
+            let next = wal_sum(&self.bytes[f.at + 24..f.at + size], big, next);
+            if next != (self.be32(f.at + 16), self.be32(f.at + 20)) {
+                return Some((f, Break::Checksum));
+            }
+            sum = next;
+        }
+        None
+    }
+}
+
 /// Refuses a WAL whose failing frame is followed by two or more committed transactions (see
 /// the module docs). No WAL, or a WAL of another generation only, is fine.
 fn check_wal(path: &Path) -> Result<(), StoreError> {
-    let Ok(bytes) = std::fs::read(path) else {
+    let Some(wal) = Wal::read(path).filter(Wal::header_ok) else {
         return Ok(());
     };
-    if bytes.len() < 32 {
+    let Some((bad, Break::Checksum)) = wal.first_break() else {
         return Ok(());
-    }
-    let be32 = |at: usize| u32::from_be_bytes(bytes[at..at + 4].try_into().expect("4 bytes"));
-    let big_endian = match be32(0) {
-        0x377f_0683 => true,
-        0x377f_0682 => false,
-        _ => return Ok(()),
     };
-    let page_size = be32(8) as usize;
-    if !page_size.is_power_of_two() || !(512..=65_536).contains(&page_size) {
-        return Ok(());
-    }
-    let mut sum = wal_sum(&bytes[..24], big_endian, (0, 0));
-    if sum != (be32(24), be32(28)) {
-        // A header torn while the WAL was restarted: SQLite ignores the whole file.
-        return Ok(());
-    }
-    let salts = &bytes[16..24];
-    let frame = 24 + page_size;
-    let mut at = 32;
-    let mut n = 0usize;
-    while at + frame <= bytes.len() {
-        if &bytes[at + 8..at + 16] != salts {
-            return Ok(());
-        }
-        n += 1;
-        let next = wal_sum(&bytes[at..at + 8], big_endian, sum);
-        let next = wal_sum(&bytes[at + 24..at + frame], big_endian, next);
-        if next != (be32(at + 16), be32(at + 20)) {
-            let mut commits = 0;
-            let mut later = at + frame;
-            while later + frame <= bytes.len() && &bytes[later + 8..later + 16] == salts {
-                commits += usize::from(be32(later + 4) != 0);
-                later += frame;
-            }
-            if commits >= 2 {
-                return Err(StoreError::Damaged {
-                    path: path.display().to_string(),
-                    what: format!(
-                        "frame {n} of the WAL (page {}) fails its checksum and {commits} \
-                         committed transactions follow it: not a write torn by a crash",
-                        be32(at)
-                    ),
-                });
-            }
-            return Ok(());
-        }
-        sum = next;
-        at += frame;
+    let commits = wal
+        .frames(wal.page_size())
+        .skip(bad.n)
+        .take_while(|f| f.current)
+        .filter(|f| f.commit)
+        .count();
+    if commits >= 2 {
+        return Err(StoreError::Damaged {
+            path: path.display().to_string(),
+            what: format!(
+                "frame {} of the WAL (page {}) fails its checksum and {commits} committed \
+                 transactions follow it: not a write torn by a crash",
+                bad.n, bad.page
+            ),
+        });
     }
     Ok(())
 }
@@ -174,75 +245,41 @@ fn check_wal(path: &Path) -> Result<(), StoreError> {
 /// earlier generation of the WAL). A torn last frame is reported too: the caller knows
 /// whether it was acknowledged.
 pub(super) fn wal_damage(path: &Path) -> Option<String> {
-    let bytes = std::fs::read(path).ok()?;
-    if bytes.len() < 32 {
-        return None;
+    let wal = Wal::read(path)?;
+    if wal.big_endian.is_none() {
+        return Some("the WAL's header does not start with its magic number".into());
     }
-    let be32 = |at: usize| u32::from_be_bytes(bytes[at..at + 4].try_into().expect("4 bytes"));
-    let big_endian = match be32(0) {
-        0x377f_0683 => true,
-        0x377f_0682 => false,
-        _ => return Some("the WAL's header does not start with its magic number".into()),
-    };
-    let page_size = be32(8) as usize;
-    let mut sum = wal_sum(&bytes[..24], big_endian, (0, 0));
-    if !page_size.is_power_of_two()
-        || !(512..=65_536).contains(&page_size)
-        || sum != (be32(24), be32(28))
-    {
+    if !wal.header_ok() {
         return Some("the WAL's header fails its checksum, so SQLite ignores the whole WAL".into());
     }
-    let salts = &bytes[16..24];
-    let frame = 24 + page_size;
-    let frames = (bytes.len() - 32) / frame;
-    let at = |k: usize| 32 + k * frame;
-    for k in 0..frames {
-        let a = at(k);
-        if &bytes[a + 8..a + 16] != salts {
-            let later = (k + 1..frames).find(|&j| &bytes[at(j) + 8..at(j) + 16] == salts)?;
-            return Some(format!(
-                "frame {} of the WAL (page {}) carries other salts than the WAL's header, and                  frame {} after it carries the header's",
-                k + 1,
-                be32(a),
-                later + 1
-            ));
+    match wal.first_break()? {
+        (bad, Break::Salts) => {
+            let later = wal
+                .frames(wal.page_size())
+                .skip(bad.n)
+                .find(|f| f.current)?;
+            Some(format!(
+                "frame {} of the WAL (page {}) carries other salts than the WAL's header, and \
+                 frame {} after it carries the header's",
+                bad.n, bad.page, later.n
+            ))
         }
-        let next = wal_sum(&bytes[a..a + 8], big_endian, sum);
-        let next = wal_sum(&bytes[a + 24..a + frame], big_endian, next);
-        if next != (be32(a + 16), be32(a + 20)) {
-            return Some(format!(
-                "frame {} of the WAL (page {}) fails its checksum",
-                k + 1,
-                be32(a)
-            ));
-        }
-        sum = next;
+        (bad, Break::Checksum) => Some(format!(
+            "frame {} of the WAL (page {}) fails its checksum",
+            bad.n, bad.page
+        )),
     }
-    None
 }
 
 /// The page numbers of the WAL's frames of its current generation (those whose salts match
-/// the WAL header's); empty if there is no WAL.
+/// the WAL header's), taken with pages of `page_size` bytes; empty if there is no WAL.
 fn wal_pages(path: &Path, page_size: u64) -> HashSet<u64> {
-    let mut out = HashSet::new();
-    let Ok(bytes) = std::fs::read(path) else {
-        return out;
-    };
-    if bytes.len() < 32 {
-        return out;
-    }
-    let salts = &bytes[16..24];
-    let frame = 24 + page_size as usize;
-    let mut at = 32;
-    while at + frame <= bytes.len() {
-        if &bytes[at + 8..at + 16] != salts {
-            break;
-        }
-        let page = u32::from_be_bytes(bytes[at..at + 4].try_into().expect("4 bytes"));
-        out.insert(u64::from(page));
-        at += frame;
-    }
-    out
+    Wal::read(path).map_or_else(HashSet::new, |wal| {
+        wal.frames(page_size as usize)
+            .take_while(|f| f.current)
+            .map(|f| u64::from(f.page))
+            .collect()
+    })
 }
 
 #[cfg(test)]

@@ -184,7 +184,7 @@ pub(super) fn holding(
     for row in rows {
         let row = row.map_err(sql("reading the flights still ahead"))?;
         let entry = row.entry(airspace, path)?;
-        super::recent::held_and_indexed(conn, path, &row, now)?;
+        held_and_indexed(conn, path, &row, now)?;
         out.push(entry);
         if out.len() % 1_024 == 0 {
             progress(out.len() as u64);
@@ -195,6 +195,67 @@ pub(super) fn holding(
     // those that ended), then put in answer order.
     out.sort_unstable_by_key(|e| e.seq);
     Ok(out)
+}
+
+/// Checks that the index of ids and the index of operators lead to the flight `row` (its
+/// checksum checked by the caller): a damaged index entry would otherwise hide the flight
+/// from a read by id (a `404`) or from its operator's listing, or bring another in its place.
+pub(super) fn indexed(conn: &Connection, path: &str, row: &FlightRow) -> Result<(), StoreError> {
+    let damaged = |what: String| StoreError::Damaged {
+        path: path.to_owned(),
+        what: format!("flights row seq {} (id {:?}): {what}", row.seq, row.id),
+    };
+    let by_id: Option<i64> = conn
+        .prepare_cached(
+            "SELECT seq FROM flights INDEXED BY sqlite_autoindex_flights_1 WHERE id = ?1",
+        )
+        .and_then(|mut s| s.query_row([&row.id], |r| r.get(0)).optional())
+        .map_err(sql("reading the index of ids"))?;
+    if by_id != Some(row.seq) {
+        return Err(damaged(format!(
+            "the index of ids leads to {}",
+            by_id.map_or("no flight".to_owned(), |s| format!("seq {s}"))
+        )));
+    }
+    let by_operator: Option<i64> = conn
+        .prepare_cached(
+            "SELECT seq FROM flights INDEXED BY flights_by_operator \
+             WHERE operator = ?1 AND seq = ?2",
+        )
+        .and_then(|mut s| {
+            s.query_row(params![row.operator, row.seq], |r| r.get(0))
+                .optional()
+        })
+        .map_err(sql("reading the index of operators"))?;
+    if by_operator.is_none() {
+        return Err(damaged(format!(
+            "the index of operators has no entry for it under {:?}",
+            row.operator
+        )));
+    }
+    Ok(())
+}
+
+/// Checks a flight the start read by the index of flights still ahead (its checksum checked by
+/// the caller): that it does hold something from `now` on, and that the other indexes lead to
+/// it.
+pub(super) fn held_and_indexed(
+    conn: &Connection,
+    path: &str,
+    row: &FlightRow,
+    now: Instant,
+) -> Result<(), StoreError> {
+    if row.holds_until_ms.is_none_or(|h| h < now.0) {
+        return Err(StoreError::Damaged {
+            path: path.to_owned(),
+            what: format!(
+                "flights row seq {} (id {:?}): the index of flights still ahead lists it, but \
+                 it holds nothing from now on",
+                row.seq, row.id
+            ),
+        });
+    }
+    indexed(conn, path, row)
 }
 
 /// How many flights hold a reservation that ends at or after `now`.
