@@ -18,7 +18,7 @@ use crate::error;
 const LAYER_KEYS: [&str; 5] = LayerField::NAMES;
 
 /// The flight-parameter keywords: the members of a summary's `parameters`.
-const FLIGHT_KEYS: [&str; 9] = Field::NAMES;
+const FLIGHT_KEYS: [&str; 11] = Field::NAMES;
 
 /// The parameters a call's keywords give.
 pub struct Options {

@@ -6,10 +6,12 @@ use std::process::ExitCode;
 
 use clap::Subcommand;
 use muse_airspace::closures::closed_elements;
+use muse_airspace::conflicts::{Movement, Relation};
 use muse_airspace::corners::{corners, gap_s};
 use muse_airspace::stats::airspace_stats;
 use muse_model::{
-    Airspace, EdgeId, EdgeKind, HeadingRule, Layers, Metres, Millis, NodeId, Period, Speed, Zone,
+    Airspace, EdgeId, EdgeKind, FlightParams, HeadingRule, Layers, Metres, Millis, NodeId, Period,
+    Separation, Speed, Zone,
 };
 
 use super::common::{RangeArgs, WorldArgs};
@@ -223,6 +225,7 @@ fn info(
     if let Some(d) = separation_m {
         let plane = world.plane_positions()?;
         separation(&mut o, a, &plane, d, speed, world.plane());
+        relation(&mut o, layered, d, speed)?;
     }
     if world.zones.is_empty() {
         let _ = writeln!(o, "zones         none");
@@ -314,6 +317,49 @@ fn separation(
             gap_s(sharpest.angle_deg, d, v)
         );
     }
+}
+
+/// The line of `muse airspace info --separation-m D` on the conflict relation the planner keeps
+/// `D` with (at `speed`, the other parameters the paper's): how many barriers, on how many of
+/// the movements, the most on one, and how long it takes to work out.
+fn relation(o: &mut String, a: &Airspace, d: f64, speed: Speed) -> anyhow::Result<()> {
+    let params = FlightParams {
+        speed,
+        separation: Separation::horizontal(Metres::from_m(d)?),
+        ..FlightParams::default()
+    };
+    let started = std::time::Instant::now();
+    let relation = Relation::new(a, &params);
+    let took = started.elapsed();
+    let movements = a.node_count() + 2 * a.edge_count();
+    let targets: Vec<(Movement, usize)> = relation.targets().map(|(m, l)| (m, l.len())).collect();
+    let busiest = targets
+        .iter()
+        .max_by_key(|&&(m, n)| (n, std::cmp::Reverse(format!("{m:?}"))));
+    let name = |m: Movement| match m {
+        Movement::Stay(v) => format!("stays at {}", a.node(v).id),
+        Movement::Traversal(e, forward) => {
+            let edge = a.edge(e);
+            let (from, to) = if forward {
+                (edge.from, edge.to)
+            } else {
+                (edge.to, edge.from)
+            };
+            format!("{} from {} to {}", edge.id, a.node(from).id, a.node(to).id)
+        }
+    };
+    let _ = writeln!(
+        o,
+        "  planning    {} barriers between movements beyond tau {} s and the edge rule, on {} of \
+         {movements} movements (the most, {}: {}); worked out in {:.2} s",
+        relation.len(),
+        params.node_separation.as_secs_f64(),
+        targets.len(),
+        busiest.map_or(0, |b| b.1),
+        busiest.map_or("none".to_owned(), |b| name(b.0)),
+        took.as_secs_f64()
+    );
+    Ok(())
 }
 
 /// The lines of `muse airspace info` on the layering of a layered airspace `a`.

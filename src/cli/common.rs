@@ -262,6 +262,15 @@ pub struct FlightArgs {
     /// the time on the ground between legs is otherwise unbounded. From 1 to 1440.
     #[arg(long, value_name = "MIN", allow_negative_numbers = true, value_parser = ranges::max_trip_min)]
     pub max_trip_min: Option<f64>,
+    /// Metric separation `D` (docs/reference.md#metric-separation): at every instant two
+    /// flights are both airborne, at least this many metres apart horizontally (or
+    /// `--vertical-separation-m` apart vertically); from 0 to 1000. Default 0: off.
+    #[arg(long, value_name = "M", allow_negative_numbers = true, value_parser = ranges::separation_m)]
+    pub separation_m: Option<f64>,
+    /// Vertical separation `V` for `--separation-m`, metres, from 0 to 1000 but not 0
+    /// (default: the layers' spacing; accepted on a flat airspace, where it changes nothing).
+    #[arg(long, value_name = "M", allow_negative_numbers = true, value_parser = ranges::separation_m)]
+    pub vertical_separation_m: Option<f64>,
 }
 
 /// The edge rule on the command line.
@@ -291,6 +300,8 @@ impl FlightArgs {
             battery_swap_s: self.battery_swap_s,
             max_legs: self.max_legs,
             max_trip_min: self.max_trip_min,
+            separation_m: self.separation_m.filter(|&d| d > 0.0),
+            vertical_separation_m: self.vertical_separation_m,
         }
     }
 

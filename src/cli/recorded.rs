@@ -191,7 +191,7 @@ fn describe_zones(zones: Option<&[String]>) -> String {
 
 /// The flight options and the summary's field each is recorded in, by clap id (the same
 /// name).
-const FLIGHT_OPTIONS: [&str; 9] = Field::NAMES;
+const FLIGHT_OPTIONS: [&str; 11] = Field::NAMES;
 
 /// The flight parameters: the summary's, each overridden by the option the command line
 /// gives (said in `notes`); the command line's and the defaults without a summary.
@@ -243,6 +243,8 @@ fn args_of(p: &ParamsRecord) -> FlightArgs {
         battery_swap_s: p.battery_swap_s,
         max_legs: p.max_legs,
         max_trip_min: p.max_trip_min,
+        separation_m: p.separation_m,
+        vertical_separation_m: p.vertical_separation_m,
     }
 }
 
@@ -263,6 +265,8 @@ impl Overridable for FlightArgs {
             "battery_swap_s" => opt(self.battery_swap_s),
             "max_legs" => self.max_legs.map_or("none".to_owned(), |k| k.to_string()),
             "max_trip_min" => opt(self.max_trip_min),
+            "separation_m" => opt(self.separation_m),
+            "vertical_separation_m" => opt(self.vertical_separation_m),
             _ => unreachable!("every id of FLIGHT_OPTIONS is listed"),
         }
     }
@@ -278,6 +282,8 @@ impl Overridable for FlightArgs {
             "battery_swap_s" => self.battery_swap_s = from.battery_swap_s,
             "max_legs" => self.max_legs = from.max_legs,
             "max_trip_min" => self.max_trip_min = from.max_trip_min,
+            "separation_m" => self.separation_m = from.separation_m,
+            "vertical_separation_m" => self.vertical_separation_m = from.vertical_separation_m,
             _ => unreachable!("every id of FLIGHT_OPTIONS is listed"),
         }
     }

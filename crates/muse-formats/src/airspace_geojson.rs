@@ -464,7 +464,9 @@ fn airspace_error(
         AirspaceError::NodeOutOfRange { index, id } => at_edge(*index, id, "from"),
         AirspaceError::DuplicateNodeId { id, second, .. } => at_node(*second, id, "id"),
         AirspaceError::BadPosition { index, id } => at_node(*index, id, "geometry.coordinates"),
-        AirspaceError::TooLarge => InputError::new(file, Location::Whole, None, e.to_string()),
+        AirspaceError::TooLarge | AirspaceError::Plane { .. } => {
+            InputError::new(file, Location::Whole, None, e.to_string())
+        }
     }
 }
 

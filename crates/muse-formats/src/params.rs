@@ -16,7 +16,7 @@
 
 use std::fmt;
 
-use muse_model::{BatterySwap, EdgeRule, FlightParams, Millis, Speed};
+use muse_model::{BatterySwap, EdgeRule, FlightParams, Metres, Millis, Separation, Speed};
 use serde::{Deserialize, Serialize};
 
 /// The flight-model parameters in user units (docs/reference.md#flight-model-and-separation,
@@ -54,6 +54,12 @@ pub struct ParamsRecord {
     /// The delivery deadline after the requested departure, minutes; absent when none.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub max_trip_min: Option<f64>,
+    /// Metric separation `D`, metres (docs/reference.md#metric-separation); absent when off.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub separation_m: Option<f64>,
+    /// Vertical separation `V`, metres; absent when it is the layers' spacing.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub vertical_separation_m: Option<f64>,
 }
 
 /// A booking lead as recorded: uniform in `[from, to]` minutes.
@@ -80,6 +86,8 @@ crate::fields::fields! {
         BatterySwapS = "battery_swap_s",
         MaxLegs = "max_legs",
         MaxTripMin = "max_trip_min",
+        SeparationM = "separation_m",
+        VerticalSeparationM = "vertical_separation_m",
     }
 }
 
@@ -182,6 +190,17 @@ impl ParamsRecord {
             .max_trip_min
             .map(|m| duration(Field::MaxTripMin, m, 60.0, "minutes"))
             .transpose()?;
+        let separation = Separation {
+            horizontal: self
+                .separation_m
+                .map(|d| metres(Field::SeparationM, d, false))
+                .transpose()?
+                .unwrap_or(Metres::ZERO),
+            vertical: self
+                .vertical_separation_m
+                .map(|v| metres(Field::VerticalSeparationM, v, true))
+                .transpose()?,
+        };
         Ok(FlightParams {
             speed,
             max_flight,
@@ -190,8 +209,25 @@ impl ParamsRecord {
             max_ground_delay,
             battery_swap,
             max_trip,
+            separation,
         })
     }
+}
+
+/// The most a separation may be, metres: a kilometre.
+const SEPARATION_MAX_M: f64 = 1_000.0;
+
+/// A separation of `value` metres: from 0 (more than 0 when `positive`) to a kilometre.
+fn metres(field: Field, value: f64, positive: bool) -> Result<Metres, ParamsError> {
+    let low_ok = if positive { value > 0.0 } else { value >= 0.0 };
+    if !(low_ok && value <= SEPARATION_MAX_M) {
+        let low = if positive { "more than 0" } else { "from 0" };
+        return Err(ParamsError::new(
+            field,
+            format!("{value} must be a number of metres {low} to {SEPARATION_MAX_M}"),
+        ));
+    }
+    Metres::from_m(value).map_err(|e| ParamsError::new(field, e))
 }
 
 impl From<&FlightParams> for ParamsRecord {
@@ -210,6 +246,8 @@ impl From<&FlightParams> for ParamsRecord {
             battery_swap_s: p.battery_swap.map(|s| s.time.as_secs_f64()),
             max_legs: p.battery_swap.and_then(|s| s.max_legs),
             max_trip_min: p.max_trip.map(|m| m.as_secs_f64() / 60.0),
+            separation_m: p.separation.is_on().then(|| p.separation.horizontal.m()),
+            vertical_separation_m: p.separation.vertical.map(Metres::m),
         }
     }
 }
@@ -231,6 +269,10 @@ mod tests {
                 max_legs: Some(3),
             }),
             max_trip: Some(Millis(3_600_000)),
+            separation: Separation {
+                horizontal: Metres::from_mm(30_000),
+                vertical: Some(Metres::from_mm(12_500)),
+            },
             ..FlightParams::default()
         };
         for p in [FlightParams::default(), headway] {
@@ -252,7 +294,7 @@ mod tests {
     #[test]
     fn each_bad_member_is_named_with_its_value() {
         type Spoil = fn(&mut ParamsRecord);
-        let cases: [(Spoil, Field, &str); 7] = [
+        let cases: [(Spoil, Field, &str); 9] = [
             (|r| r.speed_kmh = 0.0, Field::SpeedKmh, "speed 0 km/h"),
             (
                 |r| r.max_flight_min = 0.0,
@@ -279,6 +321,16 @@ mod tests {
                 |r| r.max_trip_min = Some(f64::NAN),
                 Field::MaxTripMin,
                 "NaN",
+            ),
+            (
+                |r| r.separation_m = Some(1_000.5),
+                Field::SeparationM,
+                "1000.5 must be a number of metres from 0 to 1000",
+            ),
+            (
+                |r| r.vertical_separation_m = Some(0.0),
+                Field::VerticalSeparationM,
+                "more than 0",
             ),
         ];
         for (spoil, field, said) in cases {

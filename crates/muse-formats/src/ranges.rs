@@ -419,6 +419,12 @@ impl ParamsRecord {
         if let Some(m) = self.max_trip_min {
             check(Field::MaxTripMin, MAX_TRIP_MIN, m)?;
         }
+        if let Some(d) = self.separation_m {
+            check(Field::SeparationM, SEPARATION_M, d)?;
+        }
+        if let Some(v) = self.vertical_separation_m {
+            check(Field::VerticalSeparationM, SEPARATION_M, v)?;
+        }
         Ok(())
     }
 }

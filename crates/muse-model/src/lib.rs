@@ -38,7 +38,7 @@ pub use coords::{LonLat, SVY21_PROJ, Svy21, WGS84_PROJ};
 pub use frame::{LocalFrame, MetresPer};
 pub use ids::{EdgeId, NodeId};
 pub use layers::{HeadingRule, Layers, LayersError};
-pub use params::{BatterySwap, EdgeRule, FlightParams};
+pub use params::{BatterySwap, EdgeRule, FlightParams, Separation};
 pub use plan::{Plan, RejectReason, Stay};
 pub use request::Request;
 pub use time::{Instant, Millis, UtcOffset};

@@ -2,7 +2,7 @@
 //! and the verifier.
 
 use crate::time::Millis;
-use crate::units::Speed;
+use crate::units::{Metres, Speed};
 
 /// How two traversals of the same edge must be separated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -44,6 +44,58 @@ pub struct FlightParams {
     /// rather than part of the reference: with battery swaps the time on the ground between legs
     /// is otherwise unbounded, and a saturated airspace answers with trips that wait hours.
     pub max_trip: Option<Millis>,
+    /// Metric separation (docs/reference.md#metric-separation): off by default.
+    pub separation: Separation,
+}
+
+/// Metric separation between flights (docs/reference.md#metric-separation): at every instant
+/// two flights are both airborne, at least `horizontal` apart horizontally or at least the
+/// vertical separation apart vertically.
+///
+/// ```
+/// use muse_model::{Metres, Separation};
+/// assert!(!Separation::OFF.is_on());
+/// let s = Separation::horizontal(Metres::from_mm(30_000));
+/// assert!(s.is_on());
+/// // Unless given, the vertical separation is the layers' spacing.
+/// assert_eq!(s.vertical_or(Metres::from_mm(9_144)), Metres::from_mm(9_144));
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Separation {
+    /// `D`: the least horizontal distance; zero, the default, turns the rule off.
+    pub horizontal: Metres,
+    /// `V`: the vertical distance that separates two drones whatever their horizontal one
+    /// (`None`: the layers' spacing `Δ`).
+    pub vertical: Option<Metres>,
+}
+
+impl Separation {
+    /// No metric separation (every plan as under the time rules alone).
+    pub const OFF: Separation = Separation {
+        horizontal: Metres::ZERO,
+        vertical: None,
+    };
+
+    /// `D = horizontal`, `V` the layers' spacing.
+    #[must_use]
+    pub const fn horizontal(horizontal: Metres) -> Separation {
+        Separation {
+            horizontal,
+            vertical: None,
+        }
+    }
+
+    /// Whether the rule is on (`D > 0`).
+    #[must_use]
+    pub fn is_on(self) -> bool {
+        self.horizontal > Metres::ZERO
+    }
+
+    /// `V`: the vertical separation given, or `spacing` (the layers' `Δ`).
+    #[must_use]
+    pub fn vertical_or(self, spacing: Metres) -> Metres {
+        self.vertical.unwrap_or(spacing)
+    }
 }
 
 /// Multi-leg trips (docs/reference.md#multi-leg-trips): a plan may land at intermediate stations,
@@ -109,6 +161,7 @@ impl Default for FlightParams {
             max_ground_delay: Millis::ZERO,
             battery_swap: None,
             max_trip: None,
+            separation: Separation::OFF,
         }
     }
 }

@@ -144,6 +144,18 @@ impl ServiceWorld {
                 p.max_trip.map_or("none".to_owned(), mins),
             ),
         ];
+        // Only with metric separation on is there the row: a store without it keeps its meta.
+        if p.separation.is_on() {
+            let spacing = self.airspace.layers().copied().unwrap_or_default().spacing;
+            rows.push((
+                "metric separation",
+                format!(
+                    "{} m horizontally or {} m vertically",
+                    p.separation.horizontal,
+                    p.separation.vertical_or(spacing)
+                ),
+            ));
+        }
         // Only a layered world has the row: a flat store's meta is as before layers.
         if let Some(l) = self.airspace.layers() {
             rows.push((

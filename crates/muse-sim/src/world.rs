@@ -393,7 +393,7 @@ impl World {
                 offset: s.offset,
             }
         };
-        Ok(World {
+        let mut world = World {
             airspace_source: source,
             airspace,
             zones: zone_list,
@@ -404,7 +404,19 @@ impl World {
             day,
             file_day,
             record,
-        })
+        };
+        // The plane metric separation is planned and reported in
+        // (docs/reference.md#metric-separation). A plane that cannot take the nodes is named by
+        // the report that needs it ([`World::plane_positions`]); until then the airspace keeps
+        // its tangent plane.
+        // (One position per flat node, each finite: `with_plane` takes them.)
+        if let Ok(placed) = world
+            .plane_positions()
+            .map(|plane| world.airspace.clone().with_plane(plane))
+        {
+            world.airspace = placed.expect("one finite position per flat node");
+        }
+        Ok(world)
     }
 
     /// The world flown at `layers` (unchanged with one layer); `summary.json` records them.

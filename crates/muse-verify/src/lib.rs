@@ -212,11 +212,14 @@ pub enum Rule {
     /// A flight landing at its destination later than its requested departure plus the
     /// delivery deadline ([`FlightParams::max_trip`], when set).
     Deadline,
+    /// Two flights closer than the metric separation allows
+    /// (docs/reference.md#metric-separation, [`FlightParams::separation`], when on).
+    Separation,
 }
 
 impl Rule {
-    /// A short name: `path`, `node`, `edge`, `battery`, `ground_delay`, `zone`, `swap` or
-    /// `deadline`.
+    /// A short name: `path`, `node`, `edge`, `battery`, `ground_delay`, `zone`, `swap`,
+    /// `deadline` or `separation`.
     pub const fn name(self) -> &'static str {
         match self {
             Rule::Path => "path",
@@ -227,6 +230,7 @@ impl Rule {
             Rule::Zone => "zone",
             Rule::Deadline => "deadline",
             Rule::Swap => "swap",
+            Rule::Separation => "separation",
         }
     }
 }
@@ -397,7 +401,44 @@ fn check(
             airspace, closures, announced, params, flight, &mut out, offset,
         );
     }
+    separation_rule(airspace, params, flights, &mut out, offset);
     out
+}
+
+/// Metric separation (docs/reference.md#metric-separation), when on: every pair of flights
+/// closer than `D` horizontally while within `V` vertically, at its closest approach.
+fn separation_rule(
+    airspace: &Airspace,
+    params: &FlightParams,
+    flights: &[Flight<'_>],
+    out: &mut Vec<Violation>,
+    offset: UtcOffset,
+) {
+    let separation = params.separation;
+    if !separation.is_on() {
+        return;
+    }
+    let spacing = airspace.layers().copied().unwrap_or_default().spacing;
+    let (d, v) = (
+        separation.horizontal.m(),
+        separation.vertical_or(spacing).m(),
+    );
+    let positions = approach::Positions::new(airspace, &airspace.plane());
+    for a in approach::closer_than(&positions, flights, d, v) {
+        out.push(Violation {
+            rule: Rule::Separation,
+            flights: vec![
+                flights[a.flights.0].id.to_owned(),
+                flights[a.flights.1].id.to_owned(),
+            ],
+            element: node_name(airspace, a.near),
+            detail: format!(
+                "{:.3} m apart horizontally at {} (at least {d} m, or {v} m vertically)",
+                a.distance_m,
+                stamp(Instant(a.at_ms.floor() as i64), offset),
+            ),
+        });
+    }
 }
 
 /// Names the element in a message (nothing for a whole-flight violation).
@@ -541,6 +582,7 @@ pub(crate) mod tests {
             max_ground_delay: Millis::from_secs(30),
             battery_swap: None,
             max_trip: None,
+            separation: muse_model::Separation::OFF,
         }
     }
 

@@ -26,6 +26,10 @@
 //! assert!((lo + 100.0).abs() < 1e-5 && (hi - (-100.0 + 2.828_427)).abs() < 1e-5);
 //! ```
 
+mod relation;
+
+pub use relation::{Link, Movement, Relation};
+
 /// A straight flight at constant pace: from `from` to `to` (metres east, north, up) over
 /// `duration` seconds (zero: an instant).
 #[derive(Clone, Copy, Debug, PartialEq)]

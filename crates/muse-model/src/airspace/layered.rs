@@ -113,14 +113,16 @@ impl Airspace {
             base: flat.clone(),
             origin,
         };
-        Ok(Airspace::index(
+        let mut layered = Airspace::index(
             checked.nodes,
             checked.edges,
             kinds,
             checked.by_id,
             checked.edge_by_id,
             Some(Box::new(layout)),
-        ))
+        );
+        layered.plane.clone_from(&flat.plane);
+        Ok(layered)
     }
 }
 

@@ -24,7 +24,7 @@ impl Occ {
     }
 }
 
-/// A read-only view of a sorted list whose barriers are `(start − grow, end + grow)`.
+/// A read-only view of a sorted list whose barriers are `(start + lo, end + hi)`.
 ///
 /// `occ` may be a suffix of the list (see [`Book`]); `before` is then the last entry left
 /// out, whose `R` is all the left-out entries can still answer (read only when needed: it is
@@ -32,19 +32,28 @@ impl Occ {
 #[derive(Clone, Copy)]
 pub(super) struct View<'a> {
     pub(super) occ: &'a [Occ],
-    pub(super) grow: Millis,
+    pub(super) lo: Millis,
+    pub(super) hi: Millis,
     pub(super) before: Option<&'a Occ>,
 }
 
 impl View<'_> {
+    /// A view of nothing.
+    pub(super) const EMPTY: View<'static> = View {
+        occ: &[],
+        lo: Millis::ZERO,
+        hi: Millis::ZERO,
+        before: None,
+    };
+
     #[inline]
     pub(super) fn l(self, o: &Occ) -> Instant {
-        o.start - self.grow
+        o.start + self.lo
     }
 
     #[inline]
     pub(super) fn r(self, o: &Occ) -> Instant {
-        o.end + self.grow
+        o.end + self.hi
     }
 
     /// The index of the first entry with `R > t`: every entry before it ends by `t`, and it
@@ -92,17 +101,32 @@ impl Book {
     /// The view with widening `grow`, skipping the floor when `t` is at or after `horizon`.
     #[inline]
     pub(super) fn view(&self, grow: Millis, t: Instant, horizon: Instant) -> View<'_> {
+        self.view_within(Millis(-grow.0), grow, t, horizon)
+    }
+
+    /// The view with barriers `(start + lo, end + hi)`, skipping the floor when `t` is at or
+    /// after `horizon`.
+    #[inline]
+    pub(super) fn view_within(
+        &self,
+        lo: Millis,
+        hi: Millis,
+        t: Instant,
+        horizon: Instant,
+    ) -> View<'_> {
         if t >= horizon && self.floor > 0 {
             let (left_out, rest) = self.occ.split_at(self.floor);
             View {
                 occ: rest,
-                grow,
+                lo,
+                hi,
                 before: left_out.last(),
             }
         } else {
             View {
                 occ: &self.occ,
-                grow,
+                lo,
+                hi,
                 before: None,
             }
         }
@@ -172,8 +196,65 @@ pub(super) fn barriers(windows: &[muse_airspace::closures::Window], before: Mill
 /// that only move forward while blocked stretches are skipped.
 #[inline]
 pub(super) fn slot<const N: usize>(views: &[View<'_>; N], t: Instant) -> NodeSlot {
+    slot_of(views, &mut [0usize; N], t)
+}
+
+/// [`slot`] over `count` views made on demand by `view(k)` (the time rules' and those metric
+/// separation adds, which are many and made from the relation as they are read): passes of
+/// one binary search per view, until a pass no view blocks.
+pub(super) fn slot_of_views<'a>(
+    count: usize,
+    view: impl Fn(usize) -> View<'a>,
+    t: Instant,
+) -> NodeSlot {
     let mut t = t;
-    let mut idx = [0usize; N];
+    let mut blocked = false;
+    loop {
+        let mut lo = Instant::NEG_INF;
+        let (mut hi, mut next) = (Instant::INF, Instant::INF);
+        let mut moved = false;
+        for k in 0..count {
+            let list = view(k);
+            // Most lists are all behind `t` or all ahead of it: no binary search then.
+            let at = match (list.occ.first(), list.occ.last()) {
+                (None, _) => 0,
+                (_, Some(last)) if list.r(last) <= t => list.occ.len(),
+                (Some(first), _) if list.r(first) > t => 0,
+                _ => list.first_after(t),
+            };
+            match list.occ.get(at) {
+                Some(o) if list.l(o) < t => {
+                    t = list.r(o);
+                    moved = true;
+                }
+                Some(o) if !moved => {
+                    lo = lo.max(list.r_before(at));
+                    let (l, r) = (list.l(o), list.r(o));
+                    if l < hi {
+                        (hi, next) = (l, r);
+                    } else if l == hi {
+                        next = next.max(r);
+                    }
+                }
+                None if !moved => lo = lo.max(list.r_before(at)),
+                _ => {}
+            }
+        }
+        if !moved {
+            return if blocked {
+                NodeSlot::Blocked { next_free: t }
+            } else {
+                NodeSlot::Safe { lo, hi, next }
+            };
+        }
+        blocked = true;
+    }
+}
+
+/// [`slot`] with one cursor per view in `idx`.
+#[inline]
+fn slot_of<const N: usize>(views: &[View<'_>; N], idx: &mut [usize; N], t: Instant) -> NodeSlot {
+    let mut t = t;
     for (i, v) in idx.iter_mut().zip(views) {
         *i = v.first_after(t);
     }

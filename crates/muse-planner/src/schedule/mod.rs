@@ -44,13 +44,16 @@
 
 mod barriers;
 
+use std::sync::Arc;
+
 use muse_airspace::closures::Closures;
+use muse_airspace::conflicts::{Movement, Relation};
 use muse_model::{
     Airspace, EdgeId, EdgeKind, EdgeRule, FlightParams, Instant, Millis, NodeId, Plan,
 };
 
 use crate::time::Unbounded;
-use barriers::{Book, Occ, View, barriers, insertion_point, position, slot};
+use barriers::{Book, Occ, View, barriers, insertion_point, position, slot, slot_of_views};
 
 /// An identifier of an accepted flight in a schedule (the caller's choice, e.g. the request's
 /// position in the day, or the service's sequence number).
@@ -153,6 +156,9 @@ pub struct Schedule {
     quiet_from: Instant,
     flights: usize,
     reservations: usize,
+    /// Metric separation's barriers between movements (docs/reference.md#metric-separation),
+    /// when it is on and adds any.
+    relation: Option<Arc<Relation>>,
 }
 
 /// Everything a query about one node reads, kept together.
@@ -178,8 +184,26 @@ struct EdgeBook {
 }
 
 impl Schedule {
-    /// An empty schedule (no flights) with the zone closures as permanent blocks.
+    /// An empty schedule (no flights) with the zone closures as permanent blocks. With metric
+    /// separation on (`params.separation`), the airspace's conflict relation is worked out here
+    /// ([`Relation::new`]); [`Schedule::with_relation`] takes one already made.
     pub fn new(airspace: &Airspace, params: &FlightParams, closures: &Closures) -> Self {
+        let relation = params
+            .separation
+            .is_on()
+            .then(|| Arc::new(Relation::new(airspace, params)));
+        Schedule::with_relation(airspace, params, closures, relation)
+    }
+
+    /// [`Schedule::new`] with the conflict relation of `airspace` under `params` given (or
+    /// `None`: the time rules only), as [`crate::Planner::schedule`] passes the one it keeps.
+    pub fn with_relation(
+        airspace: &Airspace,
+        params: &FlightParams,
+        closures: &Closures,
+        relation: Option<Arc<Relation>>,
+    ) -> Self {
+        let relation = relation.filter(|r| !r.is_empty());
         let nodes = (0..airspace.node_count())
             .map(|i| NodeBook {
                 stays: Book::default(),
@@ -210,6 +234,7 @@ impl Schedule {
             quiet_from: Instant::NEG_INF,
             flights: 0,
             reservations: 0,
+            relation,
         };
         schedule.note_zone_changes();
         schedule
@@ -278,11 +303,36 @@ impl Schedule {
             book.stays.view(self.tau, t, self.horizon),
             View {
                 occ: &book.zones,
-                grow: Millis::ZERO,
-                before: None,
+                ..View::EMPTY
             },
         ];
-        slot(&views, t)
+        match &self.relation {
+            Some(r) if !r.links(Movement::Stay(v)).is_empty() => {
+                self.slot_separated(&views, r, Movement::Stay(v), t)
+            }
+            _ => slot(&views, t),
+        }
+    }
+
+    /// The slot of `t` over `views` and the barriers metric separation puts on `target`.
+    fn slot_separated(
+        &self,
+        views: &[View<'_>],
+        relation: &Relation,
+        target: Movement,
+        t: Instant,
+    ) -> NodeSlot {
+        let links = relation.links(target);
+        let (horizon, base) = (self.horizon, views.len());
+        let view = |i: usize| match i.checked_sub(base) {
+            None => views[i],
+            Some(k) => {
+                let link = &links[k];
+                self.book(target_of(link.source))
+                    .view_within(link.lo, link.hi, t, horizon)
+            }
+        };
+        slot_of_views(base + links.len(), view, t)
     }
 
     /// The first instant `p ≥ t` at which edge `e` may be entered in direction `dir`, and the
@@ -296,22 +346,26 @@ impl Schedule {
             if book.same_grow > Millis::ZERO {
                 book.dirs[dir.index()].view(book.same_grow, t, h)
             } else {
-                View {
-                    occ: &[],
-                    grow: Millis::ZERO,
-                    before: None,
-                }
+                View::EMPTY
             },
             book.dirs[dir.opposite().index()].view(book.w, t, h),
             View {
                 occ: &book.zones,
-                grow: Millis::ZERO,
-                before: None,
+                ..View::EMPTY
             },
         ];
+        let target = Movement::Traversal(e, dir == Dir::Forward);
+        let separated = self
+            .relation
+            .as_deref()
+            .filter(|r| !r.links(target).is_empty());
         let mut p = t;
         loop {
-            match slot(&views, p) {
+            let at = match separated {
+                Some(rel) => self.slot_separated(&views, rel, target, p),
+                None => slot(&views, p),
+            };
+            match at {
                 NodeSlot::Safe { hi, .. } => return (p, hi),
                 NodeSlot::Blocked { next_free } => p = next_free,
             }
@@ -379,15 +433,19 @@ impl Schedule {
             .sum()
     }
 
-    /// The widest widening any view applies to a list.
+    /// The widest widening any view applies to a list: how long after its end a
+    /// reservation there still forbids anything.
     fn grow_max(&self, target: Target) -> Millis {
-        match target {
+        let rules = match target {
             Target::Node(_) => self.tau,
             Target::Edge(e, _) => {
                 let book = &self.edges[e.index()];
                 book.same_grow.max(book.w)
             }
-        }
+        };
+        self.relation
+            .as_deref()
+            .map_or(rules, |r| rules.max(r.reach(movement_of(target))))
     }
 
     /// Adds an accepted plan. The plan must be valid against the schedule (the planner's
@@ -461,6 +519,22 @@ impl Schedule {
 enum Target {
     Node(NodeId),
     Edge(EdgeId, Dir),
+}
+
+/// The movement whose reservations a list holds.
+fn movement_of(target: Target) -> Movement {
+    match target {
+        Target::Node(v) => Movement::Stay(v),
+        Target::Edge(e, dir) => Movement::Traversal(e, dir == Dir::Forward),
+    }
+}
+
+/// The list that holds a movement's reservations.
+fn target_of(m: Movement) -> Target {
+    match m {
+        Movement::Stay(v) => Target::Node(v),
+        Movement::Traversal(e, forward) => Target::Edge(e, Dir::of(forward)),
+    }
 }
 
 /// Calls `f` on every reservation a plan makes: a stay per node visited and an entry instant

@@ -381,6 +381,7 @@ fn oracle_free_flow_and_plan_shape() {
         max_ground_delay: Millis::ZERO,
         battery_swap: None,
         max_trip: None,
+        separation: muse_model::Separation::OFF,
     };
     assert_eq!(
         oracle::free_flow(&airspace, &params, NodeId(0), NodeId(2)),

@@ -12,3 +12,4 @@ mod layered_against_oracle;
 mod multileg_against_oracle;
 mod regressions;
 mod schedule_remove;
+mod separation_against_oracle;

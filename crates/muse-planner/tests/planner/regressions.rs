@@ -32,6 +32,7 @@ fn tau_zero() -> FlightParams {
         max_ground_delay: Millis::ZERO,
         battery_swap: None,
         max_trip: None,
+        separation: muse_model::Separation::OFF,
     }
 }
 

@@ -36,7 +36,7 @@
 //! assert_eq!(r.under, vec![(10.0, 1), (30.0, 1)]);
 //! ```
 
-mod pair;
+pub mod pair;
 mod sweep;
 pub mod track;
 
@@ -50,6 +50,11 @@ use crate::Flight;
 
 /// The distances every report counts pairs under, metres.
 pub const REPORTED_M: [f64; 3] = [10.0, 20.0, 30.0];
+
+/// Two altitudes this close to `V` apart count as `V` apart, metres (a micrometre, the
+/// resolution of every height MUSE reads): layers exactly `Δ = V` apart are separated
+/// whatever the rounding of their altitudes.
+pub const VERTICAL_TOLERANCE_M: f64 = 1e-6;
 
 /// The farthest the closest approach is looked for, metres: flights never closer than this
 /// have no closest approach reported.
@@ -89,55 +94,31 @@ pub fn report(
     distances: &[f64],
     vertical_m: f64,
 ) -> Report {
-    let origin = flights
-        .iter()
-        .filter_map(|f| f.plan.path.first())
-        .map(|s| s.arrive.0)
-        .min()
-        .unwrap_or(0);
-    let mut pieces = Vec::new();
-    for (k, f) in flights.iter().enumerate() {
-        track::pieces(positions, f.plan, k as u32, origin, &mut pieces);
-    }
-    pieces.sort_by(|a, b| a.t0.total_cmp(&b.t0));
+    let origin = time_origin(flights);
+    let pieces = all_pieces(positions, flights, origin);
     let widest = distances.iter().copied().fold(REPORTED_M[2], f64::max);
     let mut r = widest;
     loop {
         let mut pairs: HashMap<(u32, u32), f64> = HashMap::new();
         let mut best: Option<(f64, f64, usize, usize)> = None;
-        sweep::near_pairs(&pieces, r, vertical_m, |i, j, d, t| {
-            let (a, b) = (pieces[i].flight, pieces[j].flight);
-            let key = (a.min(b), a.max(b));
-            let e = pairs.entry(key).or_insert(d);
-            *e = e.min(d);
-            let better =
-                best.is_none_or(|(bd, bt, bi, bj)| (d, t, i.min(j), i.max(j)) < (bd, bt, bi, bj));
-            if better {
-                best = Some((d, t, i.min(j), i.max(j)));
-            }
-        });
-        if best.is_some() || r >= FARTHEST_M {
-            let closest = best.map(|(d, t, i, j)| {
-                let (pi, pj) = (&pieces[i], &pieces[j]);
-                let (first, second) = if pi.flight <= pj.flight {
-                    (pi, pj)
-                } else {
-                    (pj, pi)
-                };
-                let at = first.at(t);
-                let near = [first.from, first.to]
-                    .into_iter()
-                    .min_by(|&m, &n| {
-                        dist2(positions.at(m), at).total_cmp(&dist2(positions.at(n), at))
-                    })
-                    .unwrap_or(first.from);
-                Approach {
-                    flights: (first.flight as usize, second.flight as usize),
-                    distance_m: d,
-                    at_ms: origin as f64 + t * 1000.0,
-                    near,
+        sweep::near_pairs(
+            &pieces,
+            r,
+            vertical_m - VERTICAL_TOLERANCE_M,
+            |i, j, d, t| {
+                let (a, b) = (pieces[i].flight, pieces[j].flight);
+                let key = (a.min(b), a.max(b));
+                let e = pairs.entry(key).or_insert(d);
+                *e = e.min(d);
+                let better = best
+                    .is_none_or(|(bd, bt, bi, bj)| (d, t, i.min(j), i.max(j)) < (bd, bt, bi, bj));
+                if better {
+                    best = Some((d, t, i.min(j), i.max(j)));
                 }
-            });
+            },
+        );
+        if best.is_some() || r >= FARTHEST_M {
+            let closest = best.map(|(d, t, i, j)| approach(positions, &pieces, origin, d, t, i, j));
             let under = distances
                 .iter()
                 .map(|&x| (x, pairs.values().filter(|&&d| d < x).count()))
@@ -149,6 +130,92 @@ pub fn report(
             };
         }
         r = (r * 4.0).min(FARTHEST_M);
+    }
+}
+
+/// Every pair of `flights` that comes closer than `distance` metres horizontally while
+/// within `vertical_m` vertically, flown over `positions` (the pairs breaking metric separation
+/// with `D = distance`), each with its closest approach, in the order of their flights.
+#[must_use]
+pub fn closer_than(
+    positions: &Positions,
+    flights: &[Flight<'_>],
+    distance: f64,
+    vertical_m: f64,
+) -> Vec<Approach> {
+    let origin = time_origin(flights);
+    let pieces = all_pieces(positions, flights, origin);
+    let mut pairs: HashMap<(u32, u32), (f64, f64, usize, usize)> = HashMap::new();
+    let within = vertical_m - VERTICAL_TOLERANCE_M;
+    sweep::near_pairs(&pieces, distance, within, |i, j, d, t| {
+        if d >= distance {
+            return;
+        }
+        let (a, b) = (pieces[i].flight, pieces[j].flight);
+        let candidate = (d, t, i.min(j), i.max(j));
+        pairs
+            .entry((a.min(b), a.max(b)))
+            .and_modify(|e| {
+                if candidate < *e {
+                    *e = candidate;
+                }
+            })
+            .or_insert(candidate);
+    });
+    let mut out: Vec<Approach> = pairs
+        .into_values()
+        .map(|(d, t, i, j)| approach(positions, &pieces, origin, d, t, i, j))
+        .collect();
+    out.sort_by_key(|a| a.flights);
+    out
+}
+
+/// The instant every piece's time is counted from: the first take-off.
+fn time_origin(flights: &[Flight<'_>]) -> i64 {
+    flights
+        .iter()
+        .filter_map(|f| f.plan.path.first())
+        .map(|s| s.arrive.0)
+        .min()
+        .unwrap_or(0)
+}
+
+/// The pieces of every flight, by their start.
+fn all_pieces(positions: &Positions, flights: &[Flight<'_>], origin: i64) -> Vec<track::Piece> {
+    let mut pieces = Vec::new();
+    for (k, f) in flights.iter().enumerate() {
+        track::pieces(positions, f.plan, k as u32, origin, &mut pieces);
+    }
+    pieces.sort_by(|a, b| a.t0.total_cmp(&b.t0));
+    pieces
+}
+
+/// The approach of pieces `i` and `j`, `d` apart at `t` seconds after `origin`.
+fn approach(
+    positions: &Positions,
+    pieces: &[track::Piece],
+    origin: i64,
+    d: f64,
+    t: f64,
+    i: usize,
+    j: usize,
+) -> Approach {
+    let (pi, pj) = (&pieces[i], &pieces[j]);
+    let (first, second) = if pi.flight <= pj.flight {
+        (pi, pj)
+    } else {
+        (pj, pi)
+    };
+    let at = first.at(t);
+    let near = [first.from, first.to]
+        .into_iter()
+        .min_by(|&m, &n| dist2(positions.at(m), at).total_cmp(&dist2(positions.at(n), at)))
+        .unwrap_or(first.from);
+    Approach {
+        flights: (first.flight as usize, second.flight as usize),
+        distance_m: d,
+        at_ms: origin as f64 + t * 1000.0,
+        near,
     }
 }
 

@@ -44,6 +44,7 @@
 //! exact: with `tau = 0` a stay `[x - 1 s, x + 1 s]` conflicts with another flight's
 //! instantaneous stay `[x, x]`, although both hover seconds only touch it at an end.)
 
+pub mod metric;
 pub mod multileg;
 
 use muse_model::{

@@ -173,6 +173,7 @@ impl Instance {
                 max_legs: s.max_legs,
             }),
             max_trip: None,
+            separation: muse_model::Separation::OFF,
         };
         let (zones, raw) = self.zones(&airspace);
         let closures =
