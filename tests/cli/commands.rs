@@ -383,6 +383,58 @@ fn verify_reports_how_close_the_default_day_comes() {
     );
 }
 
+/// `--separation-m 30` (docs/reference.md#metric-separation): the default day planned with the
+/// rule keeps every pair 30 m apart, and says so; its summary records the rule, which `muse
+/// verify` then checks; today's plans checked with the rule break it 45 times.
+#[test]
+fn the_default_day_keeps_thirty_metres_with_the_rule() {
+    let dir = scratch_dir("separation_30");
+    let out = dir.join("out").display().to_string();
+    let o = muse(&[
+        "simulate",
+        "--out",
+        &out,
+        "--no-csv",
+        "--separation-m",
+        "30",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let said = stdout(&o);
+    assert!(
+        said.contains("verified      OK")
+            && said.contains("pairs closer than 10 m: 0, 20 m: 0, 30 m: 0"),
+        "{said}"
+    );
+    let summary = std::fs::read_to_string(format!("{out}/summary.json")).unwrap();
+    assert!(summary.contains("\"separation_m\": 30.0"), "{summary}");
+    let o = muse(&["verify", "--plans", &format!("{out}/plans.jsonl")]);
+    assert!(o.status.success(), "{}", stdout(&o));
+
+    let plain = dir.join("plain").display().to_string();
+    let o = muse(&["simulate", "--out", &plain, "--no-csv"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let plans = format!("{plain}/plans.jsonl");
+    let o = muse(&[
+        "verify",
+        "--plans",
+        &plans,
+        "--separation-m",
+        "30",
+        "--max-listed",
+        "100",
+    ]);
+    assert_eq!(o.status.code(), Some(1), "{}", stdout(&o));
+    let said = stdout(&o);
+    assert!(
+        said.contains("FAILED: 45 violation(s)")
+            && said.contains(
+                "separation rule violated by r1612, r2935 at `S011`: 2.428 m apart horizontally \
+                 at 2026-01-05T13:44:22.382+08:00 (at least 30 m, or 9.144 m vertically)"
+            ),
+        "{said}"
+    );
+}
+
 #[test]
 fn bad_requests_fail_with_line_numbers_and_leave_no_output() {
     let dir = scratch_dir("bad_requests");

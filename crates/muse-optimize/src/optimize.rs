@@ -130,7 +130,7 @@ pub fn optimize(
     options: &Options,
     progress: impl FnMut(u64),
 ) -> Optimized {
-    let base = Schedule::new(planner.airspace(), planner.params(), closures);
+    let base = planner.schedule(closures);
     let ids: Vec<FlightId> = (0..requests.len()).map(FlightId::from).collect();
     optimize_on(planner, &base, requests, &ids, options, progress)
 }

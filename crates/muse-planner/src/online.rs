@@ -133,7 +133,7 @@ pub struct Live<'a> {
 impl<'a> Live<'a> {
     /// An empty live schedule over `closures`, with the clock at `now`.
     pub fn new(planner: Planner<'a>, closures: &Closures, now: Instant) -> Self {
-        let mut schedule = Schedule::new(planner.airspace(), planner.params(), closures);
+        let mut schedule = planner.schedule(closures);
         schedule.set_horizon(now);
         Live {
             planner,

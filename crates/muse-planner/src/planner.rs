@@ -1,5 +1,9 @@
 //! The planner: prepared once for an airspace and parameters, then asked many times.
 
+use std::sync::{Arc, OnceLock};
+
+use muse_airspace::closures::Closures;
+use muse_airspace::conflicts::Relation;
 use muse_model::{Airspace, FlightParams, Instant, Millis, NodeId, Plan, RejectReason, Request};
 
 use crate::heuristic::Heuristics;
@@ -14,6 +18,8 @@ pub struct Planner<'a> {
     airspace: &'a Airspace,
     params: FlightParams,
     heuristics: Heuristics,
+    /// Metric separation's conflict relation, worked out at the first schedule that needs it.
+    relation: OnceLock<Option<Arc<Relation>>>,
 }
 
 /// What the planner says about one request ([`Planner::plan`]) or the rest of a trip
@@ -36,7 +42,21 @@ impl<'a> Planner<'a> {
             airspace,
             params,
             heuristics: Heuristics::new(airspace, &params),
+            relation: OnceLock::new(),
         }
+    }
+
+    /// An empty schedule for this planner's airspace and parameters, with the zone closures
+    /// as permanent blocks: [`Schedule::new`], but with metric separation on the conflict
+    /// relation is worked out once per planner, not once per schedule.
+    pub fn schedule(&self, closures: &Closures) -> Schedule {
+        let relation = self.relation.get_or_init(|| {
+            self.params
+                .separation
+                .is_on()
+                .then(|| Arc::new(Relation::new(self.airspace, &self.params)))
+        });
+        Schedule::with_relation(self.airspace, &self.params, closures, relation.clone())
     }
 
     /// The airspace planned on.

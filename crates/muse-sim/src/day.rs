@@ -8,7 +8,7 @@ use muse_airspace::closures::{ClosureError, Closures};
 use muse_model::request::sort_for_planning;
 use muse_model::{Airspace, FlightParams, Instant, Millis, Request, Zone};
 use muse_planner::ZoneError;
-use muse_planner::{Outcome, Planner, Schedule, Scratch, plan_day};
+use muse_planner::{Outcome, Planner, Scratch, plan_day};
 use muse_verify::Flight;
 
 use crate::replay::{Replay, replay};
@@ -206,7 +206,7 @@ pub fn plan_sorted(
     requests: &[Request],
     progress: impl FnMut(usize),
 ) -> (Vec<Outcome>, Duration) {
-    let mut schedule = Schedule::new(planner.airspace(), planner.params(), closures);
+    let mut schedule = planner.schedule(closures);
     let mut scratch = Scratch::new();
     let started = std::time::Instant::now();
     let outcomes = plan_day(planner, &mut schedule, requests, &mut scratch, progress);

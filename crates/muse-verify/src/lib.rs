@@ -435,7 +435,7 @@ fn separation_rule(
             detail: format!(
                 "{:.3} m apart horizontally at {} (at least {d} m, or {v} m vertically)",
                 a.distance_m,
-                stamp(Instant(a.at_ms.floor() as i64), offset),
+                stamp(Instant(a.at_ms.round() as i64), offset),
             ),
         });
     }

@@ -7,8 +7,8 @@ use muse_model::Airspace;
 use muse_planner::Planner;
 
 use super::airspaces::Airspaces;
-use super::record::{RunRecord, columns, layer_columns};
-use super::report::{layer_metrics, plots, summary, table};
+use super::record::{Approach, RunRecord, approach_columns, columns, layer_columns};
+use super::report::{approach_metrics, layer_metrics, plots, summary, table};
 use super::variant::Variant;
 use crate::day::{Planning, plan_sorted};
 use crate::demand::DemandError;
@@ -88,6 +88,17 @@ impl<'a> Sweep<'a> {
     fn layered(&self) -> bool {
         self.variants.iter().any(|v| v.layers.is_layered())
     }
+
+    /// Whether the sweep compares separations (some variant keeps metric separation, or the
+    /// variants' node separations differ): then each run says how close its flights come.
+    fn compares_separation(&self) -> bool {
+        let taus = |v: &Variant| v.params.node_separation;
+        self.variants.iter().any(|v| v.params.separation.is_on())
+            || self
+                .variants
+                .first()
+                .is_some_and(|first| self.variants.iter().any(|v| taus(v) != taus(first)))
+    }
 }
 
 impl Kind for Sweep<'_> {
@@ -117,14 +128,21 @@ impl Kind for Sweep<'_> {
             }
         };
         let variant = &self.variants[case];
-        Ok(RunRecord::of(
+        let airspace = self.airspaces.of(&variant.layers);
+        let mut record = RunRecord::of(
             &variant.name,
             (day.rep, day.seed, grid.booking_lead),
             day.requests,
             &outcomes,
             wall,
         )
-        .with_layers(self.airspaces.of(&variant.layers), &outcomes))
+        .with_layers(airspace, &outcomes);
+        if self.compares_separation() {
+            let spacing = airspace.layers().copied().unwrap_or_default().spacing;
+            let vertical = variant.params.separation.vertical_or(spacing).m();
+            record.approach = Some(Approach::of(airspace, day.requests, &outcomes, vertical));
+        }
+        Ok(record)
     }
 
     fn runs_file(&self) -> &'static str {
@@ -136,6 +154,9 @@ impl Kind for Sweep<'_> {
         if self.layered() {
             all.extend(layer_columns());
         }
+        if self.compares_separation() {
+            all.extend(approach_columns());
+        }
         all
     }
 
@@ -143,6 +164,9 @@ impl Kind for Sweep<'_> {
         let mut spec = summary();
         if self.layered() {
             spec.metrics.extend(layer_metrics());
+        }
+        if self.compares_separation() {
+            spec.metrics.extend(approach_metrics());
         }
         Some(spec)
     }
@@ -152,7 +176,7 @@ impl Kind for Sweep<'_> {
     }
 
     fn table(&self, _: &Grid, _: &[RunRecord], groups: &[Group<RunRecord>]) -> String {
-        table(groups, self.layered())
+        table(groups, self.layered(), self.compares_separation())
     }
 
     fn plots(&self, grid: &Grid, _: &[RunRecord], groups: &[Group<RunRecord>]) -> Vec<Plot> {

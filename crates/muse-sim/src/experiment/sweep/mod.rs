@@ -16,6 +16,6 @@ mod variant;
 
 pub use airspaces::Airspaces;
 pub use kind::{Sweep, SweepError};
-pub use record::{LayerUse, RunRecord, columns, layer_columns};
+pub use record::{Approach, LayerUse, RunRecord, approach_columns, columns, layer_columns};
 pub use report::{SUMMARY_FILE, layer_metrics, summary};
 pub use variant::Variant;

@@ -45,6 +45,55 @@ pub struct RunRecord {
     /// used; `None` when flat.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub layer_use: Option<LayerUse>,
+    /// How close the day's flights come in metres (docs/reference.md#metric-separation), when
+    /// the sweep compares separations; `None` otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub approach: Option<Approach>,
+}
+
+/// How close a day's planned flights come, flown exactly as planned.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Approach {
+    /// The closest approach of any two flights, metres (`None`: never two within 5 km).
+    pub closest_m: Option<f64>,
+    /// Pairs of flights closer than 10 m.
+    pub pairs_under_10m: usize,
+    /// Pairs of flights closer than 30 m.
+    pub pairs_under_30m: usize,
+}
+
+impl Approach {
+    /// How close the planned `outcomes` of `requests` (one each, in order) come over
+    /// `airspace` (its nodes where its plane puts them), with the vertical separation
+    /// `vertical_m`.
+    #[must_use]
+    pub fn of(
+        airspace: &Airspace,
+        requests: &[Request],
+        outcomes: &[Outcome],
+        vertical_m: f64,
+    ) -> Approach {
+        use muse_verify::approach::{Positions, report};
+        let flights: Vec<muse_verify::Flight<'_>> = requests
+            .iter()
+            .zip(outcomes)
+            .filter_map(|(r, o)| {
+                o.result
+                    .as_ref()
+                    .ok()
+                    .map(|p| muse_verify::Flight::new(&r.id, r, p))
+            })
+            .collect();
+        let positions = Positions::new(airspace, &airspace.plane());
+        let r = report(&positions, &flights, &[10.0, 30.0], vertical_m);
+        // `under` answers in the order asked: 10 m, then 30 m.
+        let under = |k: usize| r.under.get(k).map_or(0, |u| u.1);
+        Approach {
+            closest_m: r.closest.map(|c| (c.distance_m * 1000.0).round() / 1000.0),
+            pairs_under_10m: under(0),
+            pairs_under_30m: under(1),
+        }
+    }
 }
 
 /// How a day's planned flights used the vertical links of a layered airspace.
@@ -138,6 +187,7 @@ impl RunRecord {
             expanded_per_request: 0.0,
             legs_per_trip: 0.0,
             layer_use: None,
+            approach: None,
         };
         let (mut air, mut ground, mut expanded, mut legs) = (0i64, 0i64, 0u64, 0usize);
         for (req, o) in requests.iter().zip(outcomes) {
@@ -217,6 +267,22 @@ pub fn columns() -> Vec<Column<'static, RunRecord>> {
         Column::new("booking_lead_min_to", |r: &RunRecord| {
             minutes(r.booking_lead.max)
         }),
+    ]
+}
+
+/// The columns a sweep that compares separations adds to `sweep.csv`: how close the flights
+/// come ([`Approach`]; the closest approach empty when no two come within 5 km).
+pub fn approach_columns() -> Vec<Column<'static, RunRecord>> {
+    let cell = |f: fn(&Approach) -> String| {
+        move |r: &RunRecord| r.approach.as_ref().map_or(String::new(), f)
+    };
+    vec![
+        Column::new(
+            "closest_m",
+            cell(|a| a.closest_m.map_or(String::new(), |d| format!("{d:.3}"))),
+        ),
+        Column::new("pairs_under_10m", cell(|a| a.pairs_under_10m.to_string())),
+        Column::new("pairs_under_30m", cell(|a| a.pairs_under_30m.to_string())),
     ]
 }
 

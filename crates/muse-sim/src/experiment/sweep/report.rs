@@ -62,6 +62,21 @@ pub fn summary() -> SummarySpec<RunRecord> {
     }
 }
 
+/// The metrics a sweep that compares separations adds to `sweep_summary.csv`: the closest
+/// approach and the pairs closer than 30 m.
+pub fn approach_metrics() -> Vec<Metric<RunRecord>> {
+    vec![
+        Metric {
+            name: "closest_m",
+            value: |r| r.approach.and_then(|a| a.closest_m),
+        },
+        Metric {
+            name: "pairs_under_30m",
+            value: |r| r.approach.map(|a| a.pairs_under_30m as f64),
+        },
+    ]
+}
+
 /// The metrics a sweep with layered variants adds to `sweep_summary.csv`: the share of
 /// airborne time spent climbing or descending, and vertical links crossed per flight (none for
 /// a flat variant).
@@ -85,7 +100,7 @@ pub fn layer_metrics() -> Vec<Metric<RunRecord>> {
 /// The table printed at the end: per variant and count, success rate, planner time and air
 /// delay (mean ± half-width of the 95% CI), labels expanded per request; when `layered`, the
 /// share of airborne time spent climbing or descending too.
-pub fn table(groups: &[Group<RunRecord>], layered: bool) -> String {
+pub fn table(groups: &[Group<RunRecord>], layered: bool, approach: bool) -> String {
     let mut columns = vec![
         ("variant", 28, Align::Left),
         ("count", 7, Align::Right),
@@ -96,6 +111,10 @@ pub fn table(groups: &[Group<RunRecord>], layered: bool) -> String {
     ];
     if layered {
         columns.push(("climbing %", 12, Align::Right));
+    }
+    if approach {
+        columns.push(("closest m", 10, Align::Right));
+        columns.push(("pairs < 30 m", 14, Align::Right));
     }
     let mut t = TextTable::new(&columns);
     for g in groups {
@@ -114,6 +133,15 @@ pub fn table(groups: &[Group<RunRecord>], layered: bool) -> String {
             } else {
                 "–".to_owned()
             });
+        }
+        if approach {
+            let closest = g.metric("closest_m");
+            row.push(if closest.n > 0 {
+                format!("{:.1}", closest.mean)
+            } else {
+                "–".to_owned()
+            });
+            row.push(format!("{:.1}", g.metric("pairs_under_30m").mean));
         }
         t.row(row);
     }

@@ -5,7 +5,7 @@
 
 mod lever;
 
-pub use lever::{Base, Lever, LeverError, MAX_LIST, Setting, durations, with_params};
+pub use lever::{Base, Lever, LeverError, MAX_LIST, Setting, durations, list, with_params};
 
 use crate::day::Planning;
 use crate::experiment::sweep::variant::Variant;
@@ -26,6 +26,7 @@ levers! {
     ground_delay::GroundDelay,
     battery_swap::BatterySwaps,
     tau::Tau,
+    separation::Separations,
     planner::Planners,
     layers::LayerCounts,
     heading::HeadingRules,
