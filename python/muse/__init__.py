@@ -16,7 +16,8 @@ True
 
 Keyword parameters (the paper's defaults): ``speed_kmh`` (30), ``max_flight_min`` (20),
 ``node_separation_s`` (5), ``edge_rule`` (``"exclusive"`` or ``"headway"``), ``headway_s``,
-``max_ground_delay_s`` (0), ``battery_swap_s``, ``max_legs``, ``max_trip_min``; layers
+``max_ground_delay_s`` (0), ``battery_swap_s``, ``max_legs``, ``max_trip_min``,
+``separation_m`` (0: off) and ``vertical_separation_m`` (docs/reference.md#metric-separation); layers
 (docs/reference.md#layered-airspace): ``layers`` (1), ``base_altitude_m`` (60), ``layer_spacing_m`` (9.144),
 ``climb_mps`` (5), ``heading_rule`` (``"none"`` or ``"sectors"``).
 """
@@ -203,6 +204,9 @@ class Verification:
     """The plans read."""
     violations: list[str]
     """Each violation, as ``muse verify`` prints it."""
+    separation: dict[str, Any] = field(default_factory=dict)
+    """How close the flights come in metres, as a summary's ``separation``: ``closest_m``,
+    ``closest`` (``requests``, ``at``, ``near``), ``pairs_under_m`` and ``vertical_m``."""
 
     def __bool__(self) -> bool:
         return self.ok
@@ -295,6 +299,7 @@ def verify(
         flights=out["flights"],
         lines=out["lines"],
         violations=list(out["violations"]),
+        separation=json.loads(out["separation"]),
     )
 
 

@@ -52,6 +52,26 @@ def test_verify_accepts_a_day_and_finds_a_conflict(tmp_path):
     assert not found.ok
     assert found.flights == 2
     assert any(flown["path"][0]["node"] in v for v in found.violations), found.violations
+    # Flown on one path, the twins are 0 m apart: the separation report says so.
+    assert found.separation["closest_m"] == 0.0
+    assert found.separation["pairs_under_m"] == {"10": 1, "20": 1, "30": 1}
+
+
+def test_separation_keeps_the_flights_apart_in_metres():
+    # The default day: 45 pairs closer than 30 m without the rule.
+    day = muse.simulate(count=5000, seed=1, separation_m=30)
+    assert day.params["separation_m"] == 30
+    checked = muse.verify(day)
+    assert checked.ok, checked
+    assert checked.separation["pairs_under_m"]["30"] == 0
+    assert checked.separation["closest_m"] >= 30
+    plain = muse.simulate(count=5000, seed=1)
+    # Checked with the rule, the day planned without it breaks it wherever it comes close.
+    broken = muse.verify(plain, separation_m=30)
+    under = muse.verify(plain).separation["pairs_under_m"]["30"]
+    assert under == 45 and len(broken.violations) == under
+    with pytest.raises(muse.MuseError, match="separation_m: 1001"):
+        muse.simulate(count=10, separation_m=1001)
 
 
 def test_plan_reads_dicts_dataframes_and_files(tmp_path, muse_cli):

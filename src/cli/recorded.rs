@@ -384,5 +384,16 @@ fn describe_params(p: &FlightParams) -> String {
     if let Some(m) = p.max_trip {
         parts.push(format!("deadline {} min", secs(m) / 60.0));
     }
+    // Only when on: the description of a day without it is as before the rule.
+    if p.separation.is_on() {
+        let vertical = p
+            .separation
+            .vertical
+            .map_or(String::new(), |v| format!(" or {v} m vertically"));
+        parts.push(format!(
+            "metric separation {} m{vertical}",
+            p.separation.horizontal
+        ));
+    }
     parts.join(", ")
 }
