@@ -19,10 +19,16 @@
 //!   before it, `FLYBY` after), since BlueSky starts a fly-by turn `R·tan(turn/2)` ahead of
 //!   the waypoint, without bound as the turn nears a U-turn;
 //! - `AT CALLSIGN0NN DO DEL CALLSIGN`: it is deleted (it lands) as it passes its destination;
+//! - `RTA CALLSIGN CALLSIGN0NN T`, a required time of arrival at each waypoint, its planned
+//!   arrival there, and `VNAV CALLSIGN ON`: BlueSky's autopilot sets the speed, all along, that
+//!   reaches the next waypoint at its planned instant (closed loop: turns, accelerations and
+//!   BlueSky's Earth model are made up for as they happen), instead of flying open loop at
+//!   cruise speed; `Options::open_loop` leaves them out;
 //! - a hover at a node, from the planned arrival to the planned departure: `SPD CALLSIGN 0` at
 //!   the arrival, the cruise speed again at the departure (timed, so a late drone is never
-//!   held for ever); a change of layer at a node (docs/reference.md#layered-airspace) is an `ALT`
-//!   command at the planned instant, at the layers' vertical speed.
+//!   held for ever), then `VNAV CALLSIGN ON` again (a speed command switches the autopilot's
+//!   speed guidance off); a change of layer at a node (docs/reference.md#layered-airspace) is
+//!   an `ALT` command at the planned instant, at the layers' vertical speed.
 //!
 //! Units are BlueSky's: altitudes in feet, speeds in knots calibrated airspeed (the cruise
 //! true airspeed converted at the altitude flown, in BlueSky's standard atmosphere), vertical
@@ -96,6 +102,9 @@ pub struct Options {
     pub speed: Speed,
     /// UTC offset of the times said in comments.
     pub offset: UtcOffset,
+    /// Without the required times of arrival (and `VNAV` commands): every corridor flown at
+    /// cruise speed, open loop, as before they were written.
+    pub open_loop: bool,
 }
 
 impl Default for Options {
@@ -105,6 +114,7 @@ impl Default for Options {
             aircraft_type: "M600".to_owned(),
             speed: Speed::PAPER,
             offset: UtcOffset(0),
+            open_loop: false,
         }
     }
 }
@@ -400,6 +410,19 @@ fn write_leg(
         &t(takeoff),
         &visits.iter().map(pos).collect::<Vec<_>>(),
     );
+    // Keep the planned times: a required time of arrival at every waypoint.
+    let keep = !options.open_loop && visits.len() > 1;
+    if keep {
+        for (i, v) in visits.iter().enumerate().skip(1) {
+            let _ = writeln!(
+                text,
+                "{}>RTA {cs} {cs}{i:03} {}",
+                t(takeoff),
+                t(v.first().arrive)
+            );
+        }
+        let _ = writeln!(text, "{}>VNAV {cs} ON", t(takeoff));
+    }
     let climb = airspace
         .layers()
         .map_or(Layers::default().climb_mm_per_s, |l| l.climb_mm_per_s);
@@ -422,6 +445,9 @@ fn write_leg(
             );
         }
         let _ = writeln!(text, "{depart}>SPD {cs} {:.4}", speed(v.last().node));
+        if keep {
+            let _ = writeln!(text, "{depart}>VNAV {cs} ON");
+        }
     }
 }
 

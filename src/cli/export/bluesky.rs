@@ -25,6 +25,10 @@ pub struct BlueskyArgs {
     /// 600), `Amzn` or `Mavic`.
     #[arg(long = "type", value_name = "TYPE", default_value = "M600")]
     aircraft_type: String,
+    /// Fly every corridor at cruise speed, open loop, without the required times of arrival
+    /// at the waypoints that keep the planned times (docs/reference.md, "BlueSky scenarios").
+    #[arg(long)]
+    open_loop: bool,
     /// Output scenario file (`-`: standard output).
     #[arg(long, value_name = "FILE")]
     out: PathBuf,
@@ -51,6 +55,7 @@ pub fn run(args: &BlueskyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode>
         aircraft_type: args.aircraft_type.clone(),
         speed: params.speed,
         offset: world.day.offset,
+        open_loop: args.open_loop,
     };
     let written = scenario(&world.airspace, &flights, &options).map_err(|e| {
         if matches!(e, muse_export::bluesky::BlueskyError::Type(_)) {

@@ -74,10 +74,35 @@ fn a_flight_is_created_routed_held_and_deleted() {
             format!("00:00:30.50>ADDWPT R1 {:.7} {:.7}", b.lat, b.lon).as_str(),
             format!("00:00:30.50>ADDWPT R1 {:.7} {:.7}", c.lat, c.lon).as_str(),
             "00:00:30.50>AT R1 R1002 DO DEL R1",
+            // The planned arrivals at B and C, kept by the autopilot's speed.
+            "00:00:30.50>RTA R1 R1001 00:02:30.50",
+            "00:00:30.50>RTA R1 R1002 00:04:50.50",
+            "00:00:30.50>VNAV R1 ON",
             "00:02:30.50>SPD R1 0",
             format!("00:02:50.50>SPD R1 {kts}").as_str(),
+            "00:02:50.50>VNAV R1 ON",
         ]
     );
+    // Open loop: the same without the required times of arrival.
+    let open = Options {
+        open_loop: true,
+        ..options
+    };
+    let s = scenario(
+        &air,
+        &[Flight {
+            request: "r-1",
+            plan: &plan,
+        }],
+        &open,
+    )
+    .unwrap();
+    let kept: Vec<&str> = lines
+        .iter()
+        .copied()
+        .filter(|l| !l.contains(">RTA ") && !l.contains(">VNAV "))
+        .collect();
+    assert_eq!(lines_of(&s.text, "R1"), kept);
 }
 
 #[test]
