@@ -13,7 +13,11 @@ losses of separation BlueSky's conflict detection counted.
 Losses of separation are counted two ways:
 - *events*: BlueSky's own total (`len(bs.traf.cd.lospairs_all)`, "Total LOS" in its screen): a
   pair counts once each time it enters a loss of separation;
-- *pairs*: distinct pairs of flights that were ever in a loss of separation.
+- *pairs*: distinct pairs of flights that were ever in a loss of separation;
+
+and each event is listed (`losses`: the pair, the instant BlueSky's detection first saw it and
+their horizontal distance then). BlueSky runs its detection every second by default; `--cd-dt-s
+0.05` runs it every step, so that no loss shorter than a second goes unseen.
 
 BlueSky keeps global state, so run one scenario per process: as a script,
 
@@ -77,6 +81,16 @@ class Arrival:
 
 
 @dataclass
+class Loss:
+    """A loss of separation as BlueSky's conflict detection first saw it."""
+
+    pair: list[str]
+    time_s: float
+    distance_m: float
+    """Their horizontal distance then."""
+
+
+@dataclass
 class Result:
     """What a headless run measured."""
 
@@ -85,6 +99,7 @@ class Result:
     not_arrived: list[str] = field(default_factory=list)
     los_events: int = 0
     los_pairs: int = 0
+    losses: list[Loss] = field(default_factory=list)
     simulated_s: float = 0.0
     wall_s: float = 0.0
     init_s: float = 0.0
@@ -168,13 +183,16 @@ def run(
     margin_s: float = 600.0,
     workdir: Path | None = None,
     progress: bool = False,
+    cd_dt_s: float | None = None,
 ) -> Result:
     """Flies `scn` headless in this process and measures it.
 
     `radius_m` (and `half_height_ft`, BlueSky's ZONEDH) switch on BlueSky's state-based
     conflict detection with that protected zone; without them no losses are counted. The run
     stops when every flight has been deleted, or `margin_s` after the last planned landing.
-    With `progress`, a line on standard error every simulated hour.
+    With `progress`, a line on standard error every simulated hour. `cd_dt_s` sets how often
+    the conflict detection runs (BlueSky's default: every second, so a loss of separation
+    shorter than that may go unseen).
     """
     import bluesky as bs  # noqa: PLC0415 (BlueSky is optional: imported only to run)
 
@@ -205,11 +223,25 @@ def run(
         bs.stack.stack(f"ZONER {radius_m / NM_M:.9f}")
         if half_height_ft is not None:
             bs.stack.stack(f"ZONEDH {half_height_ft:.6f}")
+        if cd_dt_s is not None:
+            bs.traf.asastimer.setdt(cd_dt_s)
     end = max((f.landing_s for f in flights), default=0.0) + margin_s
     ran = time.perf_counter()
     next_report = 3600.0
+    losses: list[Loss] = []
+    seen = 0
     while bs.sim.simt < end:
         bs.sim.step()
+        if radius_m is not None and len(bs.traf.cd.lospairs_all) > seen:
+            for a, b in bs.traf.cd.lospairs_all[seen:]:
+                ia, ib = bs.traf.id2idx(a), bs.traf.id2idx(b)
+                distance = (
+                    haversine_m(bs.traf.lat[ia], bs.traf.lon[ia], bs.traf.lat[ib], bs.traf.lon[ib])
+                    if ia >= 0 and ib >= 0
+                    else float("nan")
+                )
+                losses.append(Loss(pair=[a, b], time_s=bs.sim.simt, distance_m=distance))
+            seen = len(bs.traf.cd.lospairs_all)
         if len(deleted) == len(flights) and bs.traf.ntraf == 0:
             break
         if progress and bs.sim.simt >= next_report:
@@ -241,6 +273,7 @@ def run(
     cd = bs.traf.cd
     result.los_events = len(cd.lospairs_all)
     result.los_pairs = len({frozenset(p) for p in cd.lospairs_all})
+    result.losses = losses
     return result
 
 
@@ -265,6 +298,10 @@ def summary(result: Result) -> str:
     lines.append(
         f"losses of separation: {result.los_events} events, {result.los_pairs} distinct pairs"
     )
+    for loss in result.losses[:20]:
+        lines.append(
+            f"  {' and '.join(loss.pair)} at {loss.time_s:.2f} s, {loss.distance_m:.1f} m apart"
+        )
     lines.append(
         f"simulated {result.simulated_s:.0f} s in {result.wall_s:.1f} s wall "
         f"(BlueSky start-up {result.init_s:.1f} s)"
@@ -289,6 +326,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--progress", action="store_true", help="say every simulated hour how far it got"
     )
+    parser.add_argument(
+        "--cd-dt-s",
+        type=float,
+        help="run the conflict detection this often, seconds (BlueSky's default: 1)",
+    )
     parser.add_argument("--json", type=Path, help="write the figures to this file")
     args = parser.parse_args(argv)
     result = run(
@@ -298,6 +340,7 @@ def main(argv: list[str] | None = None) -> int:
         margin_s=args.margin_s,
         workdir=args.workdir,
         progress=args.progress,
+        cd_dt_s=args.cd_dt_s,
     )
     print(summary(result))
     if args.json:
