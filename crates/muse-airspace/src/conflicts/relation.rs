@@ -497,6 +497,111 @@ mod tests {
         assert!((d - 2.0).abs() < 1e-12, "parallel");
     }
 
+    /// On random airspaces of close nodes (the time rules made as weak as they go: `τ = 0`, a
+    /// same-direction headway of 0), every offset at which two traversals of different edges,
+    /// or of one edge one way, come closer than `D` (by the motions' exact least distance,
+    /// sampled every 50 ms) is inside a barrier of the relation; and every stay instant at
+    /// which a traversal is that close to a node.
+    #[test]
+    fn the_relation_misses_no_conflict() {
+        use muse_model::testing::{airspace, edge, station};
+        use muse_model::{EdgeRule, Metres, Separation, Speed};
+
+        use crate::conflicts::approach;
+        let mut seed = 0x5eed_0039_u64;
+        let mut unit = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let params = FlightParams {
+            speed: Speed::from_kmh(36.0).unwrap(),
+            node_separation: Millis::ZERO,
+            edge_rule: EdgeRule::Headway(Millis::ZERO),
+            separation: Separation::horizontal(Metres::from_mm(30_000)),
+            ..FlightParams::default()
+        };
+        let mut checked = 0;
+        for _ in 0..20 {
+            let plane: Vec<[f64; 2]> = (0..5).map(|_| [unit() * 300.0, unit() * 300.0]).collect();
+            let nodes = (0..5)
+                .map(|i| station(&format!("N{i}"), 103.8, 1.3))
+                .collect();
+            let length = |a: usize, b: usize| {
+                let d = (plane[a][0] - plane[b][0]).hypot(plane[a][1] - plane[b][1]);
+                (d / 10.0).ceil().max(1.0) * 10.0
+            };
+            let edges = [(0, 1), (1, 2), (2, 3), (3, 4), (4, 0), (0, 2)]
+                .iter()
+                .map(|&(a, b)| edge(a, b, length(a as usize, b as usize)))
+                .collect();
+            let air = airspace(nodes, edges).with_plane(plane.clone()).unwrap();
+            let relation = Relation::new(&air, &params);
+            let g = Geometry {
+                airspace: &air,
+                xyz: plane.iter().map(|p| [p[0], p[1], 60.0]).collect(),
+                w: air.traversal_times(params.speed),
+                distance: 30.0,
+                vertical: 9.144,
+                tau: Millis::ZERO,
+                edge_rule: params.edge_rule,
+            };
+            let blocked = |target: Movement, source: Movement, at: i64| {
+                relation
+                    .links(target)
+                    .iter()
+                    .any(|l| l.source == source && l.lo.0 < at && at < l.hi.0)
+            };
+            let edges: Vec<EdgeId> = (0..air.edge_count()).map(|e| EdgeId(e as u32)).collect();
+            for &x in &edges {
+                for &y in &edges {
+                    for (mx, a) in g.motions(x) {
+                        for (my, b) in g.motions(y) {
+                            let reverse = x == y && mx != my;
+                            if reverse {
+                                continue; // the edge rule's, whatever the metres
+                            }
+                            let (lo, hi) = (-(b.duration * 1e3) as i64, (a.duration * 1e3) as i64);
+                            for at in (lo..=hi).step_by(50) {
+                                let delta = at as f64 / 1e3;
+                                if approach(&a, &b, delta, 9.144).is_some_and(|d| d < 29.99) {
+                                    assert!(blocked(my, mx, at), "{my:?} {at} ms after {mx:?}");
+                                    checked += 1;
+                                }
+                            }
+                        }
+                    }
+                }
+                for v in 0..5u32 {
+                    let point = g.xyz[v as usize];
+                    for (m, motion) in g.motions(x) {
+                        let Some((w0, w1)) = near_window(point, &motion, 29.99, 9.144) else {
+                            continue;
+                        };
+                        // A stay at v over the instant s + t, t in the window, conflicts.
+                        let t = 0.5 * (w0 + w1);
+                        let at = (t * 1e3).round() as i64;
+                        let stay = Movement::Stay(NodeId(v));
+                        // The stay [s + at, s + at] against an entry at s: a barrier on the
+                        // stay from the traversal, and on the entry from the stay.
+                        let on_stay = relation
+                            .links(stay)
+                            .iter()
+                            .any(|l| l.source == m && l.lo.0 < at && at < l.hi.0);
+                        let on_entry = relation
+                            .links(m)
+                            .iter()
+                            .any(|l| l.source == stay && l.lo.0 < -at && -at < l.hi.0);
+                        assert!(on_stay && on_entry, "{m:?} near node {v} {at} ms in");
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked > 1_000, "{checked}");
+    }
+
     #[test]
     fn barrier_ends_take_whole_milliseconds_outward() {
         assert_eq!(below(1.0), Millis(999));
