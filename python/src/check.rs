@@ -46,7 +46,13 @@ pub fn verify<'py>(
                 .iter()
                 .map(ToString::to_string)
                 .collect();
-        let separation = SeparationSummary::of(a, &a.plane(), &flights, world.day.offset);
+        let separation = SeparationSummary::of(
+            a,
+            &a.plane(),
+            &flights,
+            world.day.offset,
+            opts.params.separation,
+        );
         let separation = serde_json::to_string(&separation).map_err(error)?;
         PyResult::Ok((violations, flights.len(), separation))
     })?;

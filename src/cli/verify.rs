@@ -65,8 +65,13 @@ pub fn run(args: &VerifyArgs, matches: &ArgMatches) -> anyhow::Result<ExitCode> 
     let zones = zones_for(a, &world.zones, &flights)?;
     let violations = verify_known_in(a, &zones, &params, &flights, world.day.offset);
     let read = lines_read(entries);
-    let separation =
-        SeparationSummary::of(a, &world.plane_positions()?, &flights, world.day.offset);
+    let separation = SeparationSummary::of(
+        a,
+        &world.plane_positions()?,
+        &flights,
+        world.day.offset,
+        params.separation,
+    );
     let mut report = String::new();
     let code = if violations.is_empty() {
         let changed = entries.iter().filter(|e| !e.changes().is_empty()).count();

@@ -164,8 +164,13 @@ pub fn day_outputs(run: &DayRun, context: DayContext<'_>) -> DayOutputs {
     }
     if let Some(plane) = &context.plane {
         let flights = run.flights();
-        summary =
-            summary.with_separation(SeparationSummary::of(a, plane, &flights, context.offset));
+        summary = summary.with_separation(SeparationSummary::of(
+            a,
+            plane,
+            &flights,
+            context.offset,
+            context.params.separation,
+        ));
     }
     DayOutputs { records, summary }
 }

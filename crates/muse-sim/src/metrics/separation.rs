@@ -3,7 +3,7 @@
 
 use std::collections::BTreeMap;
 
-use muse_model::{Airspace, Instant, UtcOffset};
+use muse_model::{Airspace, Instant, Separation, UtcOffset};
 use muse_verify::Flight;
 use muse_verify::approach::{FARTHEST_M, Positions, REPORTED_M, Report, report};
 use serde::Serialize;
@@ -21,6 +21,12 @@ pub struct SeparationSummary {
     pub closest: Option<ClosestRecord>,
     /// Pairs of flights closer than 10, 20 and 30 m.
     pub pairs_under_m: BTreeMap<u32, usize>,
+    /// With metric separation on, its `D`, metres (`parameters.separation_m`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub separation_m: Option<f64>,
+    /// With metric separation on, the pairs closer than its `D`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pairs_under_separation: Option<usize>,
 }
 
 /// Where and when the closest approach is.
@@ -36,22 +42,30 @@ pub struct ClosestRecord {
 
 impl SeparationSummary {
     /// The report on `flights` flown over `airspace`, whose flat nodes are at `plane` (metres),
-    /// instants written in `offset`.
+    /// instants written in `offset`, under the metric separation `rule` (its `V`, and the
+    /// pairs closer than its `D` when on).
     #[must_use]
     pub fn of(
         airspace: &Airspace,
         plane: &[[f64; 2]],
         flights: &[Flight<'_>],
         offset: UtcOffset,
+        rule: Separation,
     ) -> SeparationSummary {
         let positions = Positions::new(airspace, plane);
-        let vertical = airspace.layers().copied().unwrap_or_default().spacing.m();
-        SeparationSummary::from_report(
-            &report(&positions, flights, &REPORTED_M, vertical),
-            flights,
-            airspace,
-            offset,
-        )
+        let spacing = airspace.layers().copied().unwrap_or_default().spacing;
+        let vertical = rule.vertical_or(spacing).m();
+        let mut distances = REPORTED_M.to_vec();
+        if rule.is_on() {
+            distances.push(rule.horizontal.m());
+        }
+        let r = report(&positions, flights, &distances, vertical);
+        let mut summary = SeparationSummary::from_report(&r, flights, airspace, offset);
+        if rule.is_on() {
+            summary.separation_m = Some(rule.horizontal.m());
+            summary.pairs_under_separation = Some(r.under.get(REPORTED_M.len()).map_or(0, |u| u.1));
+        }
+        summary
     }
 
     /// The report in words: `closest approach 2.4 m (r1612 and r2935 at …, near S011); pairs
@@ -70,8 +84,12 @@ impl SeparationSummary {
             .iter()
             .map(|(d, n)| format!("{d} m: {n}"))
             .collect();
+        let rule = match (self.separation_m, self.pairs_under_separation) {
+            (Some(d), Some(n)) => format!("; closer than D = {d} m, the rule: {n}"),
+            _ => String::new(),
+        };
         format!(
-            "{closest}; pairs closer than {} (vertical separation {} m)",
+            "{closest}; pairs closer than {}{rule} (vertical separation {} m)",
             under.join(", "),
             self.vertical_m
         )
@@ -97,7 +115,14 @@ impl SeparationSummary {
                 at: Instant(c.at_ms.round() as i64).to_rfc3339(offset),
                 near: airspace.node(c.near).id.clone(),
             }),
-            pairs_under_m: r.under.iter().map(|&(d, n)| (d as u32, n)).collect(),
+            pairs_under_m: r
+                .under
+                .iter()
+                .take(REPORTED_M.len())
+                .map(|&(d, n)| (d as u32, n))
+                .collect(),
+            separation_m: None,
+            pairs_under_separation: None,
         }
     }
 }
