@@ -1,6 +1,7 @@
 //! Flight-model parameters (docs/reference.md#flight-model-and-separation), shared by the planner
 //! and the verifier.
 
+use crate::airspace::Airspace;
 use crate::time::Millis;
 use crate::units::{Metres, Speed};
 
@@ -91,10 +92,28 @@ impl Separation {
         self.horizontal > Metres::ZERO
     }
 
+    /// Two altitudes this close to `V` apart count as `V` apart, metres (a micrometre, the
+    /// resolution of every height MUSE reads): layers exactly `Δ = V` apart are separated
+    /// whatever the rounding of their altitudes. The planner and the verifier both apply it.
+    pub const VERTICAL_TOLERANCE_M: f64 = 1e-6;
+
     /// `V`: the vertical separation given, or `spacing` (the layers' `Δ`).
     #[must_use]
     pub fn vertical_or(self, spacing: Metres) -> Metres {
         self.vertical.unwrap_or(spacing)
+    }
+
+    /// `V` on `airspace`: the vertical separation given, or its layers' spacing (the default
+    /// layers' when flat).
+    ///
+    /// ```
+    /// use muse_model::{Airspace, Metres, Separation};
+    /// let flat = Airspace::line(&[1_000.0]);
+    /// assert_eq!(Separation::OFF.vertical_in(&flat), Metres::from_mm(9_144));
+    /// ```
+    #[must_use]
+    pub fn vertical_in(self, airspace: &Airspace) -> Metres {
+        self.vertical_or(airspace.layers().copied().unwrap_or_default().spacing)
     }
 }
 

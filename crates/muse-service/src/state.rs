@@ -146,13 +146,12 @@ impl ServiceWorld {
         ];
         // Only with metric separation on is there the row: a store without it keeps its meta.
         if p.separation.is_on() {
-            let spacing = self.airspace.layers().copied().unwrap_or_default().spacing;
             rows.push((
                 "metric separation",
                 format!(
                     "{} m horizontally or {} m vertically",
                     p.separation.horizontal,
-                    p.separation.vertical_or(spacing)
+                    p.separation.vertical_in(&self.airspace)
                 ),
             ));
         }

@@ -418,10 +418,9 @@ fn separation_rule(
     if !separation.is_on() {
         return;
     }
-    let spacing = airspace.layers().copied().unwrap_or_default().spacing;
     let (d, v) = (
         separation.horizontal.m(),
-        separation.vertical_or(spacing).m(),
+        separation.vertical_in(airspace).m(),
     );
     let positions = approach::Positions::new(airspace, &airspace.plane());
     for a in approach::closer_than(&positions, flights, d, v) {

@@ -37,7 +37,9 @@
 //! assert_eq!(link.hi, Millis(120_001));
 //! ```
 
-use muse_model::{Airspace, EdgeId, EdgeKind, EdgeRule, FlightParams, Layers, Millis, NodeId};
+use muse_model::{
+    Airspace, EdgeId, EdgeKind, EdgeRule, FlightParams, Layers, Millis, NodeId, Separation,
+};
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{AABB, RTree, RTreeObject};
 
@@ -87,12 +89,10 @@ struct Geometry<'a> {
     edge_rule: EdgeRule,
 }
 
-impl Relation {
-    /// The relation of `airspace` (its nodes where [`Airspace::plane`] puts them, at their
-    /// layers' altitudes) under `params`' metric separation, speed and time rules. Empty when
-    /// the separation is off.
-    #[must_use]
-    pub fn new(airspace: &Airspace, params: &FlightParams) -> Relation {
+impl<'a> Geometry<'a> {
+    /// The motions of `airspace`'s movements under `params`: nodes where [`Airspace::plane`]
+    /// puts them, at their layers' altitudes; each edge flown in its traversal time.
+    fn new(airspace: &'a Airspace, params: &FlightParams) -> Geometry<'a> {
         let layers = airspace.layers().copied().unwrap_or_default();
         let plane = airspace.plane();
         let xyz = (0..airspace.node_count())
@@ -102,17 +102,28 @@ impl Relation {
                 [p[0], p[1], altitude(&layers, airspace.node_layer(id))]
             })
             .collect();
-        let g = Geometry {
+        Geometry {
             airspace,
             xyz,
             w: airspace.traversal_times(params.speed),
             distance: params.separation.horizontal.m(),
-            // Altitudes `V` apart to within a micrometre are `V` apart (layers `Δ = V` apart
-            // whatever the rounding of their altitudes), as the verifier counts them.
-            vertical: params.separation.vertical_or(layers.spacing).m() - 1e-6,
+            // Altitudes `V` apart to within a micrometre are `V` apart, as the verifier
+            // counts them.
+            vertical: params.separation.vertical_in(airspace).m()
+                - Separation::VERTICAL_TOLERANCE_M,
             tau: params.node_separation,
             edge_rule: params.edge_rule,
-        };
+        }
+    }
+}
+
+impl Relation {
+    /// The relation of `airspace` (its nodes where [`Airspace::plane`] puts them, at their
+    /// layers' altitudes) under `params`' metric separation, speed and time rules. Empty when
+    /// the separation is off.
+    #[must_use]
+    pub fn new(airspace: &Airspace, params: &FlightParams) -> Relation {
+        let g = Geometry::new(airspace, params);
         let count = airspace.node_count() + 2 * airspace.edge_count();
         let mut per_target: Vec<Vec<Link>> = vec![Vec::new(); count];
         if params.separation.is_on() {
@@ -149,10 +160,7 @@ impl Relation {
     #[inline]
     #[must_use]
     pub fn index(&self, m: Movement) -> usize {
-        match m {
-            Movement::Stay(v) => v.index(),
-            Movement::Traversal(e, forward) => self.nodes + 2 * e.index() + usize::from(!forward),
-        }
+        movement_index(self.nodes, m)
     }
 
     /// The links of target `m`: every barrier other movements' reservations put on it.
@@ -201,14 +209,17 @@ fn altitude(layers: &Layers, k: u32) -> f64 {
     layers.altitude(k.max(1)).m()
 }
 
-/// [`Relation::index`] before the relation exists.
-fn index_of(airspace: &Airspace, m: Movement) -> usize {
+/// [`Relation::index`] of `m` in an airspace of `nodes` nodes.
+fn movement_index(nodes: usize, m: Movement) -> usize {
     match m {
         Movement::Stay(v) => v.index(),
-        Movement::Traversal(e, forward) => {
-            airspace.node_count() + 2 * e.index() + usize::from(!forward)
-        }
+        Movement::Traversal(e, forward) => nodes + 2 * e.index() + usize::from(!forward),
     }
+}
+
+/// [`Relation::index`] before the relation exists.
+fn index_of(airspace: &Airspace, m: Movement) -> usize {
+    movement_index(airspace.node_count(), m)
 }
 
 /// An item of the spatial index: a node (`None`) or an edge, by its box.
@@ -538,15 +549,7 @@ mod tests {
                 .collect();
             let air = airspace(nodes, edges).with_plane(plane.clone()).unwrap();
             let relation = Relation::new(&air, &params);
-            let g = Geometry {
-                airspace: &air,
-                xyz: plane.iter().map(|p| [p[0], p[1], 60.0]).collect(),
-                w: air.traversal_times(params.speed),
-                distance: 30.0,
-                vertical: 9.144,
-                tau: Millis::ZERO,
-                edge_rule: params.edge_rule,
-            };
+            let g = Geometry::new(&air, &params);
             let blocked = |target: Movement, source: Movement, at: i64| {
                 relation
                     .links(target)

@@ -53,8 +53,7 @@ impl SeparationSummary {
         rule: Separation,
     ) -> SeparationSummary {
         let positions = Positions::new(airspace, plane);
-        let spacing = airspace.layers().copied().unwrap_or_default().spacing;
-        let vertical = rule.vertical_or(spacing).m();
+        let vertical = rule.vertical_in(airspace).m();
         let mut distances = REPORTED_M.to_vec();
         if rule.is_on() {
             distances.push(rule.horizontal.m());

@@ -42,7 +42,7 @@ pub mod track;
 
 use std::collections::HashMap;
 
-use muse_model::NodeId;
+use muse_model::{NodeId, Separation};
 
 pub use track::Positions;
 
@@ -50,11 +50,6 @@ use crate::Flight;
 
 /// The distances every report counts pairs under, metres.
 pub const REPORTED_M: [f64; 3] = [10.0, 20.0, 30.0];
-
-/// Two altitudes this close to `V` apart count as `V` apart, metres (a micrometre, the
-/// resolution of every height MUSE reads): layers exactly `Δ = V` apart are separated
-/// whatever the rounding of their altitudes.
-pub const VERTICAL_TOLERANCE_M: f64 = 1e-6;
 
 /// The farthest the closest approach is looked for, metres: flights never closer than this
 /// have no closest approach reported.
@@ -104,7 +99,7 @@ pub fn report(
         sweep::near_pairs(
             &pieces,
             r,
-            vertical_m - VERTICAL_TOLERANCE_M,
+            vertical_m - Separation::VERTICAL_TOLERANCE_M,
             |i, j, d, t| {
                 let (a, b) = (pieces[i].flight, pieces[j].flight);
                 let key = (a.min(b), a.max(b));
@@ -146,7 +141,7 @@ pub fn closer_than(
     let origin = time_origin(flights);
     let pieces = all_pieces(positions, flights, origin);
     let mut pairs: HashMap<(u32, u32), (f64, f64, usize, usize)> = HashMap::new();
-    let within = vertical_m - VERTICAL_TOLERANCE_M;
+    let within = vertical_m - Separation::VERTICAL_TOLERANCE_M;
     sweep::near_pairs(&pieces, distance, within, |i, j, d, t| {
         if d >= distance {
             return;

@@ -22,7 +22,9 @@
 
 use std::collections::BTreeMap;
 
-use muse_model::{Airspace, FlightParams, Instant, Millis, NodeId, Plan, Request, Stay};
+use muse_model::{
+    Airspace, FlightParams, Instant, Millis, NodeId, Plan, Request, Separation, Stay,
+};
 use muse_verify::approach::pair::closest;
 use muse_verify::approach::track::{Piece, Positions, pieces};
 
@@ -39,7 +41,6 @@ pub fn earliest(
     margin_m: f64,
 ) -> Option<(Instant, Instant, Plan)> {
     let positions = Positions::new(airspace, &airspace.plane());
-    let spacing = airspace.layers().copied().unwrap_or_default().spacing;
     let world = World {
         airspace,
         params,
@@ -47,7 +48,7 @@ pub fn earliest(
         others,
         theirs: their_pieces(&positions, others),
         distance: params.separation.horizontal.m() + margin_m,
-        vertical: params.separation.vertical_or(spacing).m() - 1e-6,
+        vertical: params.separation.vertical_in(airspace).m() - Separation::VERTICAL_TOLERANCE_M,
     };
     world.search(request)
 }
@@ -165,7 +166,6 @@ impl World<'_> {
                 }
             }
         }
-        let _ = v;
         self.clear(self.positions.at(u), self.positions.at(v), s, arrive)
     }
 

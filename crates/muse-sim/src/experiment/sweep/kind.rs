@@ -138,8 +138,7 @@ impl Kind for Sweep<'_> {
         )
         .with_layers(airspace, &outcomes);
         if self.compares_separation() {
-            let spacing = airspace.layers().copied().unwrap_or_default().spacing;
-            let vertical = variant.params.separation.vertical_or(spacing).m();
+            let vertical = variant.params.separation.vertical_in(airspace).m();
             record.approach = Some(Approach::of(airspace, day.requests, &outcomes, vertical));
         }
         Ok(record)
