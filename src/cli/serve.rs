@@ -21,7 +21,7 @@ use std::time::Duration;
 use anyhow::Context as _;
 use clap::Args;
 use muse_model::{Instant, Millis};
-use muse_service::{Clock, Limits, Options, ServiceWorld, Tokens, launch};
+use muse_service::{Clock, Limits, Options, ServiceWorld, StoreAt, Tokens, launch};
 
 use super::common::{FlightArgs, WorldArgs, refuse_withdrawn};
 use super::layers::{LayersArgs, layered};
@@ -62,6 +62,11 @@ pub struct ServeArgs {
     /// Data folder: the durable store (created if missing; one service per folder).
     #[arg(long, value_name = "DIR", default_value = "./muse-data")]
     data: PathBuf,
+    /// Keep the store in this PostgreSQL database instead of a data folder:
+    /// `postgres://USER@HOST:PORT/DATABASE` (its tables are made at the first start; the
+    /// password, if one is needed, from the URL or PGPASSWORD).
+    #[arg(long, value_name = "URL", conflicts_with_all = ["data", "import_log"], value_parser = store_url)]
+    store: Option<String>,
     /// Bearer tokens (TOML `[[tokens]]` with `token` (16 characters or more), `operator`,
     /// `role`), reread on SIGHUP. Without it the service is open to anyone on this machine:
     /// it listens on loopback addresses only and answers only requests addressed to a
@@ -85,9 +90,9 @@ pub struct ServeArgs {
     /// kept, renamed `muse.log.imported`.
     #[arg(long)]
     import_log: bool,
-    /// Check the whole store and exit, without serving: SQLite's check of the database's
-    /// structure, then every row's checksum (the start checks only what it loads). Exit 0 if
-    /// it is whole, 2 naming the first damage.
+    /// Check the whole store and exit, without serving: every row's checksum (the start
+    /// checks only what it loads), after SQLite's check of the database's structure in a data
+    /// folder. Exit 0 if it is whole, 2 naming the first damage.
     #[arg(long, conflicts_with = "import_log")]
     check_store: bool,
     /// How many of the last flights, and of the last events, the start reads and checks whole
@@ -127,7 +132,12 @@ pub struct ServeArgs {
 /// Runs `muse serve` until the process is stopped (Ctrl-C or SIGTERM stop it cleanly; any
 /// other end, even `kill -9`, loses nothing acknowledged).
 pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
-    check_data(&args.data)?;
+    let store = if let Some(url) = &args.store {
+        StoreAt::Postgres(url.clone())
+    } else {
+        check_data(&args.data)?;
+        StoreAt::Folder(args.data.clone())
+    };
     let params = args.flight.params()?;
     let world = layered(args.world.load()?, &args.layers)?;
     refuse_withdrawn(&world, "serve")?;
@@ -153,13 +163,13 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         Millis::from_secs(i64::from(args.booking_horizon_days) * 86_400),
         clock.now(),
     )?;
-    let options = service_options(args, tokens.clone(), clock, page)?;
+    let options = service_options(args, store.clone(), tokens.clone(), clock, page)?;
     let http = options.http;
     if args.import_log {
-        return import_log(&args.data, &service_world);
+        return import_log(&store, &service_world);
     }
     if args.check_store {
-        return check_store(&args.data, &service_world);
+        return check_store(&store, &service_world);
     }
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
@@ -171,15 +181,14 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
             .with_context(|| format!("listening on {}", args.listen))?;
         let started = std::time::Instant::now();
         let launched = launch(service_world, options, listener).await?;
-        let db = args.data.join(muse_service::DB_FILE);
+        let db = store.label();
         let mut out = std::io::stdout().lock();
         writeln!(out, "MUSE serve — {label}, {stations} stations")?;
         if let Some(log) = &launched.importing {
             writeln!(
                 out,
-                "  converting {} (written by an earlier version) into {}; it is kept",
+                "  converting {} (written by an earlier version) into {db}; it is kept",
                 log.display(),
-                db.display()
             )?;
         }
         writeln!(
@@ -220,6 +229,19 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// Reads `--store`: a PostgreSQL URL.
+fn store_url(text: &str) -> Result<String, String> {
+    if text.starts_with("postgres://") || text.starts_with("postgresql://") {
+        Ok(text.to_owned())
+    } else {
+        Err(
+            "expected a PostgreSQL URL, postgres://USER@HOST:PORT/DATABASE (for a data folder, \
+             give --data DIR)"
+                .into(),
+        )
+    }
+}
+
 /// Refuses a `--data` that exists and is not a folder (a link to a folder is followed), before
 /// anything is loaded: the store is a folder, made if missing.
 fn check_data(data: &Path) -> anyhow::Result<()> {
@@ -235,10 +257,11 @@ fn check_data(data: &Path) -> anyhow::Result<()> {
     }
 }
 
-/// The service's options from the command line: `tokens`, `clock` and the live `page` made
-/// by the caller; the HTTP limits are checked.
+/// The service's options from the command line: `store`, `tokens`, `clock` and the live
+/// `page` made by the caller; the HTTP limits are checked.
 fn service_options(
     args: &ServeArgs,
+    store: StoreAt,
     tokens: Tokens,
     clock: Clock,
     page: String,
@@ -250,7 +273,7 @@ fn service_options(
         max_connections: args.max_connections,
     };
     limits.check().map_err(anyhow::Error::msg)?;
-    let mut options = Options::new(args.data.clone());
+    let mut options = Options::new(store);
     options.tokens = tokens;
     options.http = limits;
     options.clock = clock;
@@ -264,10 +287,13 @@ fn service_options(
 }
 
 /// `muse serve --import-log`: converts the folder's log of an earlier version, then exits.
-fn import_log(data: &std::path::Path, world: &ServiceWorld) -> anyhow::Result<ExitCode> {
+fn import_log(store: &StoreAt, world: &ServiceWorld) -> anyhow::Result<ExitCode> {
     let description = world.description();
-    let opening = muse_service::Opening::open(data, &description, &world.legacy_fingerprint())?;
+    let opening = muse_service::Opening::open(store, &description, &world.legacy_fingerprint())?;
     let Some(log) = opening.imports().map(std::path::Path::to_path_buf) else {
+        let StoreAt::Folder(data) = store else {
+            anyhow::bail!("--import-log converts a data folder's log; --store has none");
+        };
         anyhow::bail!(
             "{} holds no log of an earlier version to convert ({} is missing, or was converted \
              already)",
@@ -277,8 +303,7 @@ fn import_log(data: &std::path::Path, world: &ServiceWorld) -> anyhow::Result<Ex
     };
     println!("converting {} ...", log.display());
     let started = std::time::Instant::now();
-    let (store, import) = opening.finish(&world.airspace, &description, &mut |_| {})?;
-    store.close()?;
+    let import = opening.import_only(&world.airspace, &description, &mut |_| {})?;
     let restored = muse_service::Restored {
         flights: import.as_ref().map_or(0, |i| i.flights),
         import,
@@ -286,7 +311,7 @@ fn import_log(data: &std::path::Path, world: &ServiceWorld) -> anyhow::Result<Ex
     };
     report(
         &mut std::io::stdout().lock(),
-        &data.join(muse_service::DB_FILE),
+        &store.label(),
         &restored,
         started.elapsed().as_secs_f64(),
     )?;
@@ -294,23 +319,21 @@ fn import_log(data: &std::path::Path, world: &ServiceWorld) -> anyhow::Result<Ex
 }
 
 /// `muse serve --check-store`: reads and checks every row of the store, then exits.
-fn check_store(data: &std::path::Path, world: &ServiceWorld) -> anyhow::Result<ExitCode> {
+fn check_store(store: &StoreAt, world: &ServiceWorld) -> anyhow::Result<ExitCode> {
     let description = world.description();
-    let opening = muse_service::Opening::open(data, &description, &world.legacy_fingerprint())?;
+    let opening = muse_service::Opening::open(store, &description, &world.legacy_fingerprint())?;
     if opening.imports().is_some() {
         anyhow::bail!(
             "{} holds a log of an earlier version, not yet converted: convert it first with \
              `muse serve --import-log`",
-            data.display()
+            opening.label()
         );
     }
     let started = std::time::Instant::now();
-    let (store, _) = opening.finish(&world.airspace, &description, &mut |_| {})?;
-    let checked = store.check_all(&world.airspace, &mut |_| {})?;
-    store.close()?;
+    let checked = opening.check_all(&world.airspace, &description, &mut |_| {})?;
     println!(
         "{}: whole — {} flights, {} events and {} zones checked in {:.2} s",
-        data.join(muse_service::DB_FILE).display(),
+        store.label(),
         checked.flights,
         checked.events,
         checked.zones,
@@ -322,7 +345,7 @@ fn check_store(data: &std::path::Path, world: &ServiceWorld) -> anyhow::Result<E
 /// What the start found in the store (and, once, converted from an earlier version's log).
 fn report(
     out: &mut impl std::io::Write,
-    db: &std::path::Path,
+    db: &str,
     r: &muse_service::Restored,
     secs: f64,
 ) -> std::io::Result<()> {
@@ -360,7 +383,7 @@ fn report(
         "  store      {}: {} flight(s) stored, {} still ahead or airborne put back into the \
          schedule, {} zone(s) announced ({} withdrawn), {} event(s); the last {} flight(s) \
          and {} event(s) checked whole; loaded in {:.2} s",
-        db.display(),
+        db,
         r.flights,
         r.held,
         r.zones,

@@ -5,11 +5,13 @@
 //! The public surface is small: [`launch`] (or [`start`]) a service on a [`ServiceWorld`] with
 //! [`Options`], then [`Running::serve`]; the pieces `muse serve` and the tests configure it
 //! with ([`Tokens`], [`Clock`], [`Limits`]); and, for `muse serve --import-log` and
-//! `--check-store`, the data folder's store opened without serving ([`Opening`], [`Store`]).
+//! `--check-store`, the store opened without serving ([`Opening`]).
 //! Everything else is private, in one module per concept:
 //!
-//! - `store`: the SQLite store (one transaction per group of decisions, checksummed rows,
-//!   reads by index, one process per data folder, conversion of an earlier version's log);
+//! - `store`: the durable store, one interface and two implementations, SQLite in a data
+//!   folder (the default) and PostgreSQL (one transaction per group of decisions, checksummed
+//!   rows, reads by index; in a folder, one process per folder and the conversion of an
+//!   earlier version's log);
 //! - `engine`: the planner task, the only writer of the schedule and the store, fed by a
 //!   channel: each command decided, stored, then applied by one function;
 //! - `flights`: flights as the service knows them, and the index of those the schedule holds;
@@ -31,7 +33,7 @@
 //! use muse_service::{Options, launch};
 //! let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
 //! // Serves at once (`/healthz` says `starting`), loads the store, then answers everything.
-//! let running = launch(world, Options::new("./muse-data".into()), listener).await?.ready().await?;
+//! let running = launch(world, Options::new(std::path::PathBuf::from("./muse-data")), listener).await?.ready().await?;
 //! println!("listening on http://{}", running.addr);
 //! running.serve().await?;
 //! # Ok(()) }
@@ -55,7 +57,7 @@ pub use engine::Restored;
 pub use http::{Limits, connection_cap, open_file_limit};
 pub use state::{Clock, ServiceWorld};
 pub use store::{
-    Checked, DB_FILE, ImportReport, LOG_FILE, Opening, RECENT, Recent, Store, StoreError,
+    Checked, DB_FILE, ImportReport, LOG_FILE, Opening, RECENT, Recent, StoreAt, StoreError,
 };
 
 use std::net::SocketAddr;
@@ -70,13 +72,12 @@ use crate::auth::RateLimiter;
 use crate::engine::Ended;
 use crate::flights::FlightIndex;
 use crate::state::{Phase, State};
-use crate::store::Reader;
 
 /// How a service runs, besides what it plans on.
 #[derive(Debug)]
 pub struct Options {
-    /// The data folder (the store).
-    pub data: PathBuf,
+    /// Where the store is: a data folder (SQLite, the default) or a PostgreSQL database.
+    pub store: StoreAt,
     /// Who may call ([`Tokens::Open`]: anyone, loopback only).
     pub tokens: Tokens,
     /// The clock.
@@ -104,13 +105,14 @@ pub struct Options {
 }
 
 impl Options {
-    /// Defaults: open, system clock, 16 KiB bodies, 20,000 requests per second per token with
+    /// The store at `store` (a data folder, or [`StoreAt::Postgres`]), and defaults: open,
+    /// system clock, 16 KiB bodies, 20,000 requests per second per token with
     /// bursts of 40,000; HTTP timeouts of 10 s for headers, 30 s for bodies and 60 s idle,
     /// at most 10,000 connections; no batch window; the last [`RECENT`] flights and events checked
     /// at start.
-    pub fn new(data: PathBuf) -> Self {
+    pub fn new(store: impl Into<StoreAt>) -> Self {
         Options {
-            data,
+            store: store.into(),
             tokens: Tokens::Open,
             clock: Clock::system(),
             max_body: 16 * 1024,
@@ -225,10 +227,10 @@ pub async fn launch(
     })?;
     let description = world.description();
     let legacy = world.legacy_fingerprint();
-    let data = options.data.clone();
+    let at = options.store.clone();
     let recent = options.check_recent;
     let opening = tokio::task::spawn_blocking(move || {
-        Opening::open(&data, &description, &legacy).map(|o| o.checking_recent(recent))
+        Opening::open(&at, &description, &legacy).map(|o| o.checking_recent(recent))
     })
     .await
     .map_err(|e| ServeError::Stopped(format!("opening the store: {e}")))??;
@@ -236,7 +238,7 @@ pub async fn launch(
     let airspace_geojson = muse_formats::airspace_geojson::write_airspace(&world.airspace);
     let state = Arc::new(State {
         index: RwLock::new(FlightIndex::default()),
-        reader: Reader::new(options.data.join(DB_FILE)),
+        reader: opening.reads(),
         phase: Phase::default(),
         metrics: metrics::Metrics::default(),
         clock: options.clock,

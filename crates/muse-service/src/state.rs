@@ -9,7 +9,7 @@ use muse_model::{Airspace, FlightParams, Instant, Millis, UtcOffset, Zone};
 use crate::events::Events;
 use crate::flights::FlightIndex;
 use crate::metrics::Metrics;
-use crate::store::Reader;
+use crate::store::Reads;
 use crate::zones::book::ZoneBook;
 
 /// How far ahead zone calendars are expanded at start: a service that runs longer must be
@@ -250,7 +250,7 @@ pub struct State {
     /// The flights the schedule holds, for reads.
     pub index: RwLock<FlightIndex>,
     /// Reads of every other flight, and of the event history.
-    pub reader: Reader,
+    pub reader: Box<dyn Reads>,
     /// Whether the service has loaded its store.
     pub phase: Phase,
     /// Counters and histograms.

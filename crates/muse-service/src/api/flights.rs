@@ -288,14 +288,28 @@ pub(super) async fn read(
         .unwrap_or_else(std::sync::PoisonError::into_inner)
         .get(&id)
         .cloned();
-    let entry = match held {
-        Some(e) => Some(e),
-        None => app
-            .state
-            .reader
-            .flight(&app.state.world.airspace, &id)
-            .map_err(|e| ApiError::store(&e))?
-            .map(Arc::new),
+    let entry = if let Some(e) = held {
+        Some(e)
+    } else {
+        // The store's reads block (a database round trip): off the async workers.
+        let reader = Arc::clone(&app);
+        let wanted = id.clone();
+        tokio::task::spawn_blocking(move || {
+            reader
+                .state
+                .reader
+                .flight(&reader.state.world.airspace, &wanted)
+        })
+        .await
+        .map_err(|_| {
+            ApiError::new(
+                StatusCode::INTERNAL_SERVER_ERROR,
+                "internal",
+                "the read failed",
+            )
+        })?
+        .map_err(|e| ApiError::store(&e))?
+        .map(Arc::new)
     };
     let entry = entry
         .filter(|e| caller.may_read(&e.operator))

@@ -16,11 +16,11 @@ use crate::zones::book::{AnnouncedZone, read_stored};
 
 impl Engine<'_> {
     /// Loads the store into the schedule, the index and the zones; returns what it found.
-    pub(super) fn load(&mut self, store: &Store) -> Result<Restored, StoreError> {
+    pub(super) fn load(&mut self, store: &mut dyn Store) -> Result<Restored, StoreError> {
         let state = self.state;
         let world = &state.world;
         let now = self.live.now();
-        let label = store.path().display().to_string();
+        let label = store.label();
         let damaged = |what: String| StoreError::Damaged {
             path: label.clone(),
             what,

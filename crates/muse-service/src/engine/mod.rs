@@ -101,7 +101,7 @@ fn run(
     let opened = opening.finish(&world.airspace, &description, &mut |n| {
         phase.set_imported(n);
     });
-    let (store, import) = match opened {
+    let (mut store, import) = match opened {
         Ok(s) => s,
         Err(e) => {
             // The start fails: `ready` says why.
@@ -120,7 +120,7 @@ fn run(
         last_evict: state.clock.now(),
         batching,
     };
-    match engine.load(&store) {
+    match engine.load(store.as_mut()) {
         Ok(mut restored) => {
             restored.import = import;
             // The gauges (`/healthz`, `/metrics`) count what was loaded before anyone is

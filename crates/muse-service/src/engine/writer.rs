@@ -118,10 +118,10 @@ impl Published {
 /// go of the channel; returns the store (to close) or the failure.
 pub(super) fn run(
     state: &State,
-    mut store: Store,
+    mut store: Box<dyn Store>,
     batches: &Receiver<Batch>,
     published: &Published,
-) -> Result<Store, StoreError> {
+) -> Result<Box<dyn Store>, StoreError> {
     let airspace = &state.world.airspace;
     let mut taken = Vec::with_capacity(MAX_BATCHES);
     let mut sized = WallInstant::now();

@@ -1,82 +1,77 @@
-//! The durable store: an SQLite database, `muse.db` under `--data` (bundled SQLite, WAL,
-//! `synchronous=FULL`), that operators can inspect, back up and query with their own tools.
+//! The durable store: one interface ([`Store`] for the planner task's writes and the start's
+//! reads, [`Reads`] for the handlers'), two implementations:
+//!
+//! - `sqlite`, the default: `muse.db` under `--data` (bundled SQLite, WAL, `synchronous=FULL`),
+//!   one process per folder, no server to run;
+//! - `pg`, for operators who outgrow one machine: the same tables in a PostgreSQL database
+//!   (`--store postgres://…`), its durability and replication PostgreSQL's own.
 //!
 //! # What it holds
 //!
-//! The tables are in [`schema`]: `meta` (the airspace and parameters the store was written
-//! for, in words), `flights` (every request ever answered, its id the key for the life of the
-//! store, with its current state and plan), `zones` (zones announced during the day), `events`
-//! (every change of every flight, the stream of `GET /v1/events`), and two views,
-//! `cancellations` and `zone_outcomes`.
+//! `meta` (the airspace and parameters the store was written for, in words), `flights` (every
+//! request ever answered, its id the key for the life of the store, with its current state and
+//! plan), `zones` (zones announced during the day), `events` (every change of every flight,
+//! the stream of `GET /v1/events`), and two views, `cancellations` and `zone_outcomes`. The
+//! columns are the same in both stores (see each one's `schema`).
 //!
-//! # Writing
+//! # The promises, in both
 //!
-//! Only the planner task writes, through [`Store`]: the rows of a group of decisions go into
-//! one transaction, and [`Store::commit`] returns once it is durable (SQLite syncs the WAL on
-//! every commit with `synchronous=FULL`) and counted in `ACKED` (see `acked`); only then are
-//! the group's answers sent. A crash
-//! leaves every committed transaction and discards the one it tore: nothing acknowledged is
-//! lost, nothing unacknowledged survives half-written. A background thread checkpoints the
-//! WAL into the database file, so commits never wait for it.
-//!
-//! # Reading and damage
-//!
-//! Every row carries the CRC-32 of its content (see `rows`), checked whenever it is read:
-//! a flipped byte is found and named ([`StoreError::Damaged`]), never reinterpreted. At start
-//! the service checks that the database holds every transaction acknowledged (see `acked`)
-//! and every page its header counts (a file cut short is refused), reads the `meta` rows, every
-//! zone and every flight still holding a reservation, and checks the last flights and events
-//! written whole, with the indexes that lead to them (see `recent`); reads of older flights go
-//! to the database by index, and are checked then. Damage makes the start fail, or the read
-//! that meets it fail, naming it; SQLite's own "malformed" is named as damage too.
-//!
-//! # One process per folder
-//!
-//! `LOCK` in the folder is held with an exclusive advisory lock for the life of the store; a
-//! second process on the same folder is refused with a clear error.
-//!
-//! # An older folder
-//!
-//! A folder written by an earlier version holds `muse.log`, an append-only log; it is
-//! converted once (see [`legacy`]) and kept, renamed `muse.log.imported`.
+//! - **Acknowledged means committed.** Only the planner task writes: the rows of a group of
+//!   decisions go into one transaction, and [`Store::commit`] returns once it is durable; only
+//!   then are the group's answers sent. A crash keeps every committed transaction and discards
+//!   the one it tore.
+//! - **Ids forever.** A flight's row stays for the life of the store; a retried id is answered
+//!   from it.
+//! - **Damage is never silent.** Every row carries the CRC-32 of its content (see `rows`),
+//!   checked whenever it is read: a flipped byte is found and named ([`StoreError::Damaged`]),
+//!   never reinterpreted.
+//! - **A bounded start.** The start reads the `meta` rows, every zone and every flight still
+//!   holding a reservation, and checks the last flights and events written whole; older
+//!   flights are read by index when asked for, and checked then.
 
-mod acked;
-mod checkpoint;
-mod file;
-mod legacy;
-mod open;
-mod queries;
-mod reader;
-mod recent;
+mod meta;
+mod pg;
 mod rows;
-mod schema;
-mod writes;
+mod sqlite;
 
-use std::fs::File;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use muse_model::{Airspace, Instant};
-use rusqlite::Connection;
 
-pub use legacy::{ImportReport, LOG_FILE};
-pub use open::Opening;
-pub(crate) use open::{connect, sync_dir, write_schema};
-pub use queries::Checked;
-pub use reader::Reader;
-pub use recent::{RECENT, Recent};
-use writes::{write_event, write_flight, write_zone};
+pub use sqlite::{DB_FILE, ImportReport, LOG_FILE};
 
 use crate::events::Event;
-use crate::flights::FlightEntry;
+use crate::flights::{FlightEntry, ListQuery};
 
-/// The database's file name inside the data folder.
-pub const DB_FILE: &str = "muse.db";
-/// How often the writer lets the WAL start again (see [`Store::tidy`]): as often as the
-/// checkpointer passes, so that the writer's own copy is of the frames since its last pass.
-pub const WAL_RESTART: std::time::Duration = std::time::Duration::from_millis(500);
+/// How many of the last flights, and of the last events, the start checks whole by default.
+pub const RECENT: u64 = 16_384;
 
-/// The lock file's name inside the data folder.
-pub const LOCK_FILE: &str = "LOCK";
+/// Where the service keeps its store.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum StoreAt {
+    /// The embedded SQLite store in a data folder (made if missing; one service per folder).
+    Folder(PathBuf),
+    /// A PostgreSQL database, by its connection URL (`postgres://user@host:port/database`):
+    /// its tables are made at the first start, and several services may share it.
+    Postgres(String),
+}
+
+impl StoreAt {
+    /// The store in words for messages: the folder's database file, or the URL without its
+    /// password.
+    pub fn label(&self) -> String {
+        match self {
+            StoreAt::Folder(dir) => dir.join(DB_FILE).display().to_string(),
+            StoreAt::Postgres(url) => pg::without_password(url),
+        }
+    }
+}
+
+impl From<PathBuf> for StoreAt {
+    fn from(dir: PathBuf) -> Self {
+        StoreAt::Folder(dir)
+    }
+}
 
 /// Errors of the store.
 #[derive(Debug, thiserror::Error)]
@@ -90,7 +85,7 @@ pub enum StoreError {
         /// The error.
         error: std::io::Error,
     },
-    /// An error of the database (part of the message, as for [`StoreError::Io`]).
+    /// An error of the SQLite database (part of the message, as for [`StoreError::Io`]).
     #[error("{what}: {error}")]
     Sql {
         /// What was being done.
@@ -98,40 +93,63 @@ pub enum StoreError {
         /// The error.
         error: rusqlite::Error,
     },
+    /// An error of the PostgreSQL database or of the connection to it (part of the message,
+    /// with the server's detail when it gave one).
+    #[error("{what}: {}", pg::describe(.error))]
+    Postgres {
+        /// What was being done (names the database).
+        what: String,
+        /// The error.
+        error: postgres::Error,
+    },
     /// Another process holds the folder.
     #[error(
         "{0} is in use by another process (the lock on its LOCK file is held); stop that \
          `muse serve` or choose another --data folder"
     )]
     Locked(PathBuf),
+    /// Another service writes the database (it holds the store's lock in PostgreSQL).
+    #[error(
+        "{0} is in use by another process (another `muse serve` holds the store's lock); stop \
+         that service or choose another database"
+    )]
+    Taken(String),
     /// Stored data failed an integrity check.
     #[error(
-        "{path} is damaged: {what}; refusing to use it (restore the folder from a backup, or \
+        "{path} is damaged: {what}; refusing to use it (restore the store from a backup, or \
          move it away to start empty)"
     )]
     Damaged {
-        /// The database (or log) file.
+        /// The database (or log) file, or the database's URL.
         path: String,
         /// What is damaged.
         what: String,
     },
-    /// The file is not a MUSE store, or one of a newer format.
+    /// The file or database is not a MUSE store, or one of a newer format.
     #[error("{path} is not a MUSE store this version can read: {why}")]
     NotAStore {
-        /// The file.
-        path: PathBuf,
+        /// The file or the database's URL.
+        path: String,
         /// Why.
+        why: String,
+    },
+    /// The database server is set up so that it could lose what it acknowledges.
+    #[error("{path} cannot keep the store's promises: {why}")]
+    Unsafe {
+        /// The database's URL.
+        path: String,
+        /// Which setting, and what to do.
         why: String,
     },
     /// The store was written for another airspace or other parameters.
     #[error(
         "{path} was written by a service planning with {stored}; this service plans with \
          {wanted}: its flights cannot be restored here (start with the same airspace, zones \
-         and parameters, or use another --data folder)"
+         and parameters, or use another store)"
     )]
     Mismatch {
         /// The store.
-        path: PathBuf,
+        path: String,
         /// What the store says, where it differs.
         stored: String,
         /// What this service plans with, where it differs.
@@ -160,19 +178,6 @@ impl StoreError {
     }
 }
 
-/// An error of the database while doing `what`.
-pub(crate) fn sql(what: &str) -> impl FnOnce(rusqlite::Error) -> StoreError + '_ {
-    move |error| StoreError::Sql {
-        what: what.to_owned(),
-        error,
-    }
-}
-
-fn io(what: impl Into<String>) -> impl FnOnce(std::io::Error) -> StoreError {
-    let what = what.into();
-    move |error| StoreError::Io { what, error }
-}
-
 /// What a store is written for: `(name, value)` pairs in words (`("speed", "30 km/h")`), the
 /// airspace and zones by counts and checksums of their canonical files.
 pub type WorldMeta = Vec<(String, String)>;
@@ -192,79 +197,48 @@ pub struct StoredZone {
     pub affected: usize,
 }
 
-/// The open store, written by the planner task only (see the module docs).
-#[derive(Debug)]
-pub struct Store {
-    path: PathBuf,
-    conn: Connection,
-    /// Held for the life of the store.
-    _lock: File,
-    in_transaction: bool,
-    /// Write transactions committed (see `acked`).
-    count: acked::Count,
-    /// The record of the transactions acknowledged.
-    acked: acked::Acked,
-    /// How many of the last flights and events the start checks whole.
-    recent: u64,
-    /// Rows written in the open transaction.
-    written: usize,
-    /// When the writer last finished a checkpoint itself (see [`Store::tidy`]).
-    last_wal_restart: std::time::Instant,
-    _checkpoints: checkpoint::Checkpointer,
+/// What a full check of the store read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Checked {
+    /// Flight rows read and checked.
+    pub flights: u64,
+    /// Event rows read and checked.
+    pub events: u64,
+    /// Zone rows read and checked.
+    pub zones: u64,
 }
 
-impl Store {
-    /// The database's path.
-    pub(crate) fn path(&self) -> &Path {
-        &self.path
-    }
+/// What the start checked whole of the last flights and events written.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Recent {
+    /// Flights checked.
+    pub flights: u64,
+    /// Events checked.
+    pub events: u64,
+}
 
-    fn label(&self) -> String {
-        self.path.display().to_string()
-    }
-
-    fn begin(&mut self) -> Result<(), StoreError> {
-        if !self.in_transaction {
-            self.conn
-                .prepare_cached("BEGIN IMMEDIATE")
-                .and_then(|mut s| s.execute([]))
-                .map_err(sql("starting a transaction"))?;
-            self.in_transaction = true;
-        }
-        Ok(())
-    }
+/// The open store, written by the planner task only (see the module docs). Both stores
+/// implement it; the engine knows no other.
+pub(crate) trait Store: Send {
+    /// The store in words, for messages (a file, or a URL without its password).
+    fn label(&self) -> String;
 
     /// Writes a flight as it now stands: a new one (`new`) or a change of a stored one.
-    pub(crate) fn put_flight(
+    fn put_flight(
         &mut self,
         airspace: &Airspace,
         entry: &FlightEntry,
         new: bool,
-    ) -> Result<(), StoreError> {
-        self.begin()?;
-        write_flight(&self.conn, &self.label(), airspace, entry, new)?;
-        self.written += 1;
-        Ok(())
-    }
+    ) -> Result<(), StoreError>;
 
     /// Writes an event.
-    pub(crate) fn put_event(&mut self, event: &Event) -> Result<(), StoreError> {
-        self.begin()?;
-        write_event(&self.conn, event)?;
-        self.written += 1;
-        Ok(())
-    }
+    fn put_event(&mut self, event: &Event) -> Result<(), StoreError>;
 
-    /// Writes an announced zone: a new one, or the withdrawal of a stored one.
-    pub(crate) fn put_zone(&mut self, zone: &StoredZone) -> Result<(), StoreError> {
-        self.begin()?;
-        write_zone(&self.conn, zone)?;
-        self.written += 1;
-        Ok(())
-    }
+    /// Writes an announced zone: a new one, or a stored one's new state.
+    fn put_zone(&mut self, zone: &StoredZone) -> Result<(), StoreError>;
 
     /// Writes the withdrawal of the stored zone `id` at `at`.
-    pub(crate) fn put_zone_withdrawn(&mut self, id: &str, at: Instant) -> Result<(), StoreError> {
+    fn put_zone_withdrawn(&mut self, id: &str, at: Instant) -> Result<(), StoreError> {
         let mut zone = self
             .zones()?
             .into_iter()
@@ -277,117 +251,179 @@ impl Store {
         self.put_zone(&zone)
     }
 
-    /// Makes everything written since the last commit durable (one transaction, synced). Only
-    /// after this returns may the answers it holds be sent. Returns the rows committed.
-    pub(crate) fn commit(&mut self) -> Result<usize, StoreError> {
-        if !self.in_transaction {
-            return Ok(0);
-        }
-        let next = acked::Count {
-            n: self.count.n + 1,
-            ..self.count
-        };
-        acked::write_row(&self.conn, next)?;
-        self.conn
-            .prepare_cached("COMMIT")
-            .and_then(|mut s| s.execute([]))
-            .map_err(sql("committing"))?;
-        self.in_transaction = false;
-        self.count = next;
-        self.acked.record(next)?;
-        Ok(std::mem::take(&mut self.written))
-    }
+    /// Makes everything written since the last commit durable (one transaction). Only after
+    /// this returns may the answers it holds be sent. Returns the rows committed.
+    fn commit(&mut self) -> Result<usize, StoreError>;
 
-    /// Lets the WAL start again from its beginning, at most every [`WAL_RESTART`]: call it
-    /// between groups, once their answers are sent. The checkpoint thread copies committed
-    /// pages into the database all the time, but under steady writes it never catches up
-    /// with the last commit, and SQLite restarts the WAL only when a write begins with every
-    /// frame copied: so now and then the writer finishes the copy itself (the frames since
-    /// the thread's last pass, and one sync of the database file), and the next write starts
-    /// the WAL afresh. Without this the WAL grows for as long as writes keep coming.
-    pub(crate) fn tidy(&mut self) {
-        if self.in_transaction || self.last_wal_restart.elapsed() < WAL_RESTART {
-            return;
-        }
-        // A failed checkpoint loses nothing (the WAL keeps the pages); the next one tries.
-        let _ = self.conn.execute_batch("PRAGMA wal_checkpoint(PASSIVE);");
-        self.last_wal_restart = std::time::Instant::now();
-    }
+    /// Housekeeping between groups, once their answers are sent (SQLite: lets its WAL start
+    /// again now and then). Nothing by default.
+    fn tidy(&mut self) {}
 
     /// Every announced zone, in announcement order.
-    pub(crate) fn zones(&self) -> Result<Vec<StoredZone>, StoreError> {
-        queries::zones(&self.conn, &self.label()).map_err(|e| e.in_store(&self.label()))
-    }
+    fn zones(&mut self) -> Result<Vec<StoredZone>, StoreError>;
 
     /// How many flights hold a reservation that ends at or after `now`.
-    pub(crate) fn count_holding(&self, now: Instant) -> Result<u64, StoreError> {
-        queries::count_holding(&self.conn, now).map_err(|e| e.in_store(&self.label()))
-    }
+    fn count_holding(&mut self, now: Instant) -> Result<u64, StoreError>;
 
     /// The flights holding a reservation that ends at or after `now` (checked), in answer
     /// order; `progress` is told how many were read so far.
-    pub(crate) fn holding(
-        &self,
+    fn holding(
+        &mut self,
         airspace: &Airspace,
         now: Instant,
         progress: &mut dyn FnMut(u64),
-    ) -> Result<Vec<FlightEntry>, StoreError> {
-        queries::holding(&self.conn, airspace, &self.label(), now, progress)
-            .map_err(|e| e.in_store(&self.label()))
-    }
+    ) -> Result<Vec<FlightEntry>, StoreError>;
 
-    /// Reads every row and checks it (see the module docs): the whole store, in time that
-    /// grows with it (`muse serve --check-store`); `progress` is told the flights checked.
-    pub fn check_all(
-        &self,
-        airspace: &Airspace,
-        progress: &mut dyn FnMut(u64),
-    ) -> Result<Checked, StoreError> {
-        queries::check_all(&self.conn, airspace, &self.label(), progress)
-    }
-
-    /// Checks the last flights and events written (as many as the opening said; see `recent`);
+    /// Checks the last flights and events written, whole (as many as the opening said);
     /// `held` are the flights read as still holding at `now`.
-    pub(crate) fn check_recent(
-        &self,
+    fn check_recent(
+        &mut self,
         airspace: &Airspace,
         now: Instant,
         held: &std::collections::HashSet<u64>,
-    ) -> Result<Recent, StoreError> {
-        recent::check(&self.conn, airspace, &self.label(), now, held, self.recent)
-            .map_err(|e| e.in_store(&self.label()))
-    }
+    ) -> Result<Recent, StoreError>;
+
+    /// Reads every row and checks it: the whole store, in time that grows with it (`muse
+    /// serve --check-store`); `progress` is told the flights checked.
+    fn check_all(
+        &mut self,
+        airspace: &Airspace,
+        progress: &mut dyn FnMut(u64),
+    ) -> Result<Checked, StoreError>;
 
     /// The last sequence number and the last event id stored (0: none).
-    pub(crate) fn last_keys(&self) -> Result<(u64, u64), StoreError> {
-        let keys = || {
-            Ok((
-                queries::max_key(&self.conn, "flights", "seq")?,
-                queries::max_key(&self.conn, "events", "id")?,
-            ))
-        };
-        keys().map_err(|e: StoreError| e.in_store(&self.label()))
-    }
+    fn last_keys(&mut self) -> Result<(u64, u64), StoreError>;
 
-    /// Bytes on disk: the database and its WAL.
-    pub(crate) fn bytes(&self) -> u64 {
-        let size = |p: PathBuf| std::fs::metadata(p).map_or(0, |m| m.len());
-        size(self.path.clone()) + size(self.path.with_extension("db-wal"))
-    }
+    /// Bytes the store takes (SQLite: the database and its WAL; PostgreSQL: its tables with
+    /// their indexes).
+    fn bytes(&mut self) -> u64;
 
-    /// Checkpoints the WAL into the database and empties it (at a clean stop).
-    pub fn close(self) -> Result<(), StoreError> {
-        let Store {
-            conn,
-            _checkpoints: checkpoints,
-            ..
-        } = self;
-        drop(checkpoints);
-        conn.execute_batch("PRAGMA wal_checkpoint(TRUNCATE);")
-            .map_err(sql("checkpointing"))?;
-        conn.close().map_err(|(_, e)| StoreError::Sql {
-            what: "closing the store".into(),
-            error: e,
+    /// Closes the store at a clean stop.
+    fn close(self: Box<Self>) -> Result<(), StoreError>;
+}
+
+/// The handlers' reads, beside the planner task's writes: they see what is committed, which
+/// is everything acknowledged (answers go out after their commit). Blocking: call them off the
+/// async workers (`spawn_blocking`).
+pub(crate) trait Reads: Send + Sync + std::fmt::Debug {
+    /// The flight with client id `id`.
+    fn flight(&self, airspace: &Airspace, id: &str) -> Result<Option<FlightEntry>, StoreError>;
+
+    /// The flights a listing asks for, in answer order, and whether more follow the page.
+    fn list(
+        &self,
+        airspace: &Airspace,
+        query: &ListQuery,
+    ) -> Result<(Vec<FlightEntry>, bool), StoreError>;
+
+    /// Up to `limit` events with an id above `after` (of `operator`'s flights only, when
+    /// given), each with its flight as it stood then.
+    fn events_after(
+        &self,
+        airspace: &Airspace,
+        after: u64,
+        operator: Option<&str>,
+        limit: usize,
+    ) -> Result<Vec<Event>, StoreError>;
+}
+
+/// A store opened and checked against the world it will serve, not yet loaded.
+#[derive(Debug)]
+pub enum Opening {
+    /// A data folder, locked.
+    Folder(sqlite::Opening),
+    /// A PostgreSQL database, its tables made if it had none.
+    Postgres(Box<pg::Opening>),
+}
+
+impl Opening {
+    /// Opens the store `at` and checks what it holds against `world`: a store written for the
+    /// same world, (in a folder) a log of an earlier version written for it, or nothing yet.
+    /// Quick: reads no flight.
+    pub fn open(at: &StoreAt, world: &WorldMeta, legacy_world: &str) -> Result<Self, StoreError> {
+        Ok(match at {
+            StoreAt::Folder(dir) => {
+                Opening::Folder(sqlite::Opening::open(dir, world, legacy_world)?)
+            }
+            StoreAt::Postgres(url) => Opening::Postgres(Box::new(pg::Opening::open(url, world)?)),
         })
+    }
+
+    /// Has the start check the last `n` flights and events whole (default [`RECENT`]).
+    #[must_use]
+    pub fn checking_recent(self, n: u64) -> Self {
+        match self {
+            Opening::Folder(o) => Opening::Folder(o.checking_recent(n)),
+            Opening::Postgres(o) => Opening::Postgres(Box::new(o.checking_recent(n))),
+        }
+    }
+
+    /// The log of an earlier version that will be converted, if there is one.
+    pub fn imports(&self) -> Option<&std::path::Path> {
+        match self {
+            Opening::Folder(o) => o.imports(),
+            Opening::Postgres(_) => None,
+        }
+    }
+
+    /// The store in words, for messages.
+    pub fn label(&self) -> String {
+        match self {
+            Opening::Folder(o) => o.label(),
+            Opening::Postgres(o) => o.label(),
+        }
+    }
+
+    /// The handlers' reads of this store.
+    pub(crate) fn reads(&self) -> Box<dyn Reads> {
+        match self {
+            Opening::Folder(o) => Box::new(o.reader()),
+            Opening::Postgres(o) => Box::new(o.reader()),
+        }
+    }
+
+    /// Converts a log of an earlier version if there is one (calling `progress` with the
+    /// records read so far), creates the store's tables if there are none, and opens it for
+    /// writing.
+    pub(crate) fn finish(
+        self,
+        airspace: &Airspace,
+        world: &WorldMeta,
+        progress: &mut dyn FnMut(u64),
+    ) -> Result<(Box<dyn Store>, Option<ImportReport>), StoreError> {
+        match self {
+            Opening::Folder(o) => {
+                let (store, report) = o.finish(airspace, world, progress)?;
+                Ok((Box::new(store), report))
+            }
+            Opening::Postgres(o) => Ok((Box::new(o.finish()), None)),
+        }
+    }
+
+    /// [`Opening::finish`] and a clean close, without serving (`muse serve --import-log`):
+    /// what was converted, if anything.
+    pub fn import_only(
+        self,
+        airspace: &Airspace,
+        world: &WorldMeta,
+        progress: &mut dyn FnMut(u64),
+    ) -> Result<Option<ImportReport>, StoreError> {
+        let (store, report) = self.finish(airspace, world, progress)?;
+        store.close()?;
+        Ok(report)
+    }
+
+    /// Reads and checks every row of the store, then closes it, without serving (`muse serve
+    /// --check-store`); `progress` is told the flights checked.
+    pub fn check_all(
+        self,
+        airspace: &Airspace,
+        world: &WorldMeta,
+        progress: &mut dyn FnMut(u64),
+    ) -> Result<Checked, StoreError> {
+        let (mut store, _) = self.finish(airspace, world, &mut |_| {})?;
+        let checked = store.check_all(airspace, progress)?;
+        store.close()?;
+        Ok(checked)
     }
 }

@@ -11,7 +11,6 @@ use std::sync::Arc;
 use muse_model::plan::Change;
 use muse_model::plan::{Fate, FateKind};
 use muse_model::{Airspace, Instant, Millis, Plan, RejectReason, Request, Stay};
-use rusqlite::Row;
 use serde::{Deserialize, Serialize};
 
 use super::StoreError;
@@ -63,6 +62,53 @@ impl RowSum {
 
     pub(super) fn finish(&self) -> i64 {
         i64::from(self.0.clone().finalize())
+    }
+}
+
+/// A row as a database client returns it, read by column number: one reading of each row type
+/// serves both stores.
+pub(super) trait Columns {
+    /// The client's error.
+    type Error;
+    /// An integer column.
+    fn int(&self, at: usize) -> Result<i64, Self::Error>;
+    /// An integer column that may be NULL.
+    fn opt_int(&self, at: usize) -> Result<Option<i64>, Self::Error>;
+    /// A text column.
+    fn text(&self, at: usize) -> Result<String, Self::Error>;
+    /// A text column that may be NULL.
+    fn opt_text(&self, at: usize) -> Result<Option<String>, Self::Error>;
+}
+
+impl Columns for rusqlite::Row<'_> {
+    type Error = rusqlite::Error;
+    fn int(&self, at: usize) -> rusqlite::Result<i64> {
+        self.get(at)
+    }
+    fn opt_int(&self, at: usize) -> rusqlite::Result<Option<i64>> {
+        self.get(at)
+    }
+    fn text(&self, at: usize) -> rusqlite::Result<String> {
+        self.get(at)
+    }
+    fn opt_text(&self, at: usize) -> rusqlite::Result<Option<String>> {
+        self.get(at)
+    }
+}
+
+impl Columns for postgres::Row {
+    type Error = postgres::Error;
+    fn int(&self, at: usize) -> Result<i64, postgres::Error> {
+        self.try_get(at)
+    }
+    fn opt_int(&self, at: usize) -> Result<Option<i64>, postgres::Error> {
+        self.try_get(at)
+    }
+    fn text(&self, at: usize) -> Result<String, postgres::Error> {
+        self.try_get(at)
+    }
+    fn opt_text(&self, at: usize) -> Result<Option<String>, postgres::Error> {
+        self.try_get(at)
     }
 }
 
@@ -221,26 +267,26 @@ impl FlightRow {
     }
 
     /// Reads a row selected with [`FLIGHT_COLUMNS`] (from column `at` on).
-    pub(super) fn read(row: &Row<'_>, at: usize) -> rusqlite::Result<Self> {
+    pub(super) fn read<R: Columns>(row: &R, at: usize) -> Result<Self, R::Error> {
         Ok(FlightRow {
-            seq: row.get(at)?,
-            id: row.get(at + 1)?,
-            operator: row.get(at + 2)?,
-            origin: row.get(at + 3)?,
-            destination: row.get(at + 4)?,
-            departure_ms: row.get(at + 5)?,
-            answered_ms: row.get(at + 6)?,
-            plan: row.get(at + 7)?,
-            reason: row.get(at + 8)?,
-            free_flow_ms: row.get(at + 9)?,
-            expanded: row.get(at + 10)?,
-            status: row.get(at + 11)?,
-            takeoff_ms: row.get(at + 12)?,
-            landing_ms: row.get(at + 13)?,
-            holds_until_ms: row.get(at + 14)?,
-            cancelled_ms: row.get(at + 15)?,
-            changes: row.get(at + 16)?,
-            crc: row.get(at + 17)?,
+            seq: row.int(at)?,
+            id: row.text(at + 1)?,
+            operator: row.text(at + 2)?,
+            origin: row.text(at + 3)?,
+            destination: row.text(at + 4)?,
+            departure_ms: row.int(at + 5)?,
+            answered_ms: row.int(at + 6)?,
+            plan: row.opt_text(at + 7)?,
+            reason: row.opt_text(at + 8)?,
+            free_flow_ms: row.opt_int(at + 9)?,
+            expanded: row.int(at + 10)?,
+            status: row.text(at + 11)?,
+            takeoff_ms: row.int(at + 12)?,
+            landing_ms: row.int(at + 13)?,
+            holds_until_ms: row.opt_int(at + 14)?,
+            cancelled_ms: row.opt_int(at + 15)?,
+            changes: row.opt_text(at + 16)?,
+            crc: row.int(at + 17)?,
         })
     }
 
@@ -361,15 +407,15 @@ impl EventRow {
             .finish()
     }
 
-    pub(super) fn read(row: &Row<'_>, at: usize) -> rusqlite::Result<Self> {
+    pub(super) fn read<R: Columns>(row: &R, at: usize) -> Result<Self, R::Error> {
         Ok(EventRow {
-            id: row.get(at)?,
-            at_ms: row.get(at + 1)?,
-            kind: row.get(at + 2)?,
-            flight_seq: row.get(at + 3)?,
-            zone: row.get(at + 4)?,
-            changes: row.get(at + 5)?,
-            crc: row.get(at + 6)?,
+            id: row.int(at)?,
+            at_ms: row.int(at + 1)?,
+            kind: row.text(at + 2)?,
+            flight_seq: row.int(at + 3)?,
+            zone: row.opt_text(at + 4)?,
+            changes: row.int(at + 5)?,
+            crc: row.int(at + 6)?,
         })
     }
 
@@ -462,15 +508,15 @@ impl ZoneRow {
             .finish()
     }
 
-    pub(super) fn read(row: &Row<'_>) -> rusqlite::Result<Self> {
+    pub(super) fn read<R: Columns>(row: &R) -> Result<Self, R::Error> {
         Ok(ZoneRow {
-            seq: row.get(0)?,
-            id: row.get(1)?,
-            feature: row.get(2)?,
-            announced_ms: row.get(3)?,
-            withdrawn_ms: row.get(4)?,
-            affected: row.get(5)?,
-            crc: row.get(6)?,
+            seq: row.int(0)?,
+            id: row.text(1)?,
+            feature: row.text(2)?,
+            announced_ms: row.int(3)?,
+            withdrawn_ms: row.opt_int(4)?,
+            affected: row.int(5)?,
+            crc: row.int(6)?,
         })
     }
 
@@ -487,11 +533,6 @@ impl ZoneRow {
             affected: usize::try_from(self.affected).unwrap_or(0),
         })
     }
-}
-
-/// The checksum of a `meta` row.
-pub(super) fn meta_sum(key: &str, value: &str) -> i64 {
-    RowSum::new("meta").text(key).text(value).finish()
 }
 
 #[cfg(test)]

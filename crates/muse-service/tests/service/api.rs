@@ -6,13 +6,15 @@
 //!
 //! No test here draws random numbers: every case is fixed.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use muse_model::testing::{joined, station};
 use muse_model::{Airspace, FlightParams, Millis, UtcOffset, Zone};
-use muse_service::{Clock, Options, ServiceWorld, Tokens, start};
+use muse_service::{Clock, Options, ServiceWorld, StoreAt, Tokens, start};
 use serde_json::{Value, json};
+
+use crate::throwaway_pg::Throwaway;
 
 fn airspace() -> Airspace {
     joined(
@@ -39,11 +41,52 @@ pub(crate) fn temp_dir(name: &str) -> PathBuf {
     d
 }
 
+/// Which store a test's service runs on: each test of the suite runs on both (see
+/// [`on_both_stores`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Kind {
+    /// A data folder (SQLite), under the system's temporary folder.
+    Folder,
+    /// A fresh database on the throwaway PostgreSQL the test process shares.
+    Postgres(&'static Throwaway),
+}
+
+impl Kind {
+    /// A new, empty store named after `name`.
+    pub(crate) fn store(self, name: &str) -> StoreAt {
+        match self {
+            Kind::Folder => StoreAt::Folder(temp_dir(name)),
+            Kind::Postgres(pg) => StoreAt::Postgres(pg.database(name)),
+        }
+    }
+}
+
+/// Runs each named test (an `async fn` taking a [`Kind`]) twice, as `NAME::sqlite` on a data
+/// folder and `NAME::postgres` on a PostgreSQL database (skipped, saying so, where PostgreSQL
+/// is not installed, except under CI).
+macro_rules! on_both_stores {
+    ($($name:ident),* $(,)?) => {$(
+        mod $name {
+            #[tokio::test]
+            async fn sqlite() {
+                super::$name(super::Kind::Folder).await;
+            }
+            #[tokio::test]
+            async fn postgres() {
+                if let Some(pg) = crate::throwaway_pg::Throwaway::shared() {
+                    super::$name(super::Kind::Postgres(pg)).await;
+                }
+            }
+        }
+    )*};
+}
+
 /// A running service and a client for it.
 pub(crate) struct Service {
     base: String,
     client: reqwest::Client,
-    pub(crate) data: PathBuf,
+    /// Where its store is.
+    pub(crate) store: StoreAt,
     /// The zones known from the start.
     zones: Vec<Zone>,
     /// Stops the server cleanly.
@@ -52,28 +95,30 @@ pub(crate) struct Service {
 }
 
 impl Service {
-    async fn start(name: &str, configure: impl FnOnce(&mut Options)) -> Service {
-        Service::start_with(name, Vec::new(), configure).await
+    async fn start(kind: Kind, name: &str, configure: impl FnOnce(&mut Options)) -> Service {
+        Service::start_with(kind, name, Vec::new(), configure).await
     }
 
     /// A service whose world has `zones` known from the start.
     async fn start_with(
+        kind: Kind,
         name: &str,
         zones: Vec<Zone>,
         configure: impl FnOnce(&mut Options),
     ) -> Service {
-        Service::open(temp_dir(name), zones, configure)
+        Service::open(kind.store(name), zones, configure)
             .await
             .unwrap()
     }
 
-    /// A service on `data`.
+    /// A service on the store `at` (a data folder, or a database).
     pub(crate) async fn open(
-        data: PathBuf,
+        at: impl Into<StoreAt>,
         zones: Vec<Zone>,
         configure: impl FnOnce(&mut Options),
     ) -> Result<Service, muse_service::ServeError> {
-        let mut options = Options::new(data.clone());
+        let store: StoreAt = at.into();
+        let mut options = Options::new(store.clone());
         configure(&mut options);
         let world = ServiceWorld::new(
             "test line".into(),
@@ -95,7 +140,7 @@ impl Service {
         Ok(Service {
             base,
             client: reqwest::Client::new(),
-            data,
+            store,
             zones,
             stop: Some(stop),
             server: Some(server),
@@ -111,11 +156,11 @@ impl Service {
             .expect("a clean stop, event streams included")
             .unwrap()
             .unwrap();
-        let data = std::mem::take(&mut self.data);
+        let store = std::mem::replace(&mut self.store, StoreAt::Folder(PathBuf::new()));
         let zones = std::mem::take(&mut self.zones);
         // The planner thread lets go of the store when its queue closes; wait for the lock.
         for _ in 0..100 {
-            match Service::open(data.clone(), zones.clone(), &configure).await {
+            match Service::open(store.clone(), zones.clone(), &configure).await {
                 Ok(s) => return s,
                 Err(_) => tokio::time::sleep(Duration::from_millis(20)).await,
             }
@@ -163,10 +208,33 @@ impl Service {
     }
 }
 
+impl Service {
+    /// Stops it cleanly and waits until it has let go of its store; where the store is.
+    pub(crate) async fn stop(mut self) -> StoreAt {
+        let _ = self.stop.take().unwrap().send(());
+        tokio::time::timeout(Duration::from_secs(10), self.server.take().unwrap())
+            .await
+            .expect("a clean stop")
+            .unwrap()
+            .unwrap();
+        std::mem::replace(&mut self.store, StoreAt::Folder(PathBuf::new()))
+    }
+
+    /// Its data folder (a test of the SQLite store only).
+    pub(crate) fn folder(&self) -> &Path {
+        match &self.store {
+            StoreAt::Folder(dir) => dir,
+            StoreAt::Postgres(url) => panic!("a service on {url} has no data folder"),
+        }
+    }
+}
+
 impl Drop for Service {
     fn drop(&mut self) {
-        if !self.data.as_os_str().is_empty() {
-            let _ = std::fs::remove_dir_all(&self.data);
+        if let StoreAt::Folder(dir) = &self.store
+            && !dir.as_os_str().is_empty()
+        {
+            let _ = std::fs::remove_dir_all(dir);
         }
     }
 }
@@ -184,9 +252,8 @@ fn error_field(v: &Value) -> Option<&str> {
     v["error"]["field"].as_str()
 }
 
-#[tokio::test]
-async fn plan_reject_each_reason_and_read_back() {
-    let s = Service::start("reasons", |_| {}).await;
+async fn plan_reject_each_reason_and_read_back(kind: Kind) {
+    let s = Service::start(kind, "reasons", |_| {}).await;
     let t = in_secs(600);
     let (code, planned) = s.post(None, &flight("f1", "A", "C", &t)).await;
     assert_eq!(code, 201, "{planned}");
@@ -284,9 +351,8 @@ fn enc(t: &str) -> String {
     t.replace('+', "%2B")
 }
 
-#[tokio::test]
-async fn retries_are_idempotent_and_conflicts_refused() {
-    let s = Service::start("idempotent", |_| {}).await;
+async fn retries_are_idempotent_and_conflicts_refused(kind: Kind) {
+    let s = Service::start(kind, "idempotent", |_| {}).await;
     let t = in_secs(600);
     let (code, first) = s.post(None, &flight("r1", "A", "B", &t)).await;
     assert_eq!(code, 201);
@@ -327,9 +393,8 @@ async fn retries_are_idempotent_and_conflicts_refused() {
     assert_eq!(answers[0].0, 201);
 }
 
-#[tokio::test]
-async fn cancel_before_take_off_frees_the_slot_and_not_after() {
-    let s = Service::start("cancel", |_| {}).await;
+async fn cancel_before_take_off_frees_the_slot_and_not_after(kind: Kind) {
+    let s = Service::start(kind, "cancel", |_| {}).await;
     let t = in_secs(600);
     assert_eq!(s.post(None, &flight("c1", "A", "B", &t)).await.0, 201);
     assert_eq!(
@@ -386,10 +451,9 @@ operator = "caas"
 role = "authority"
 "#;
 
-#[tokio::test]
 #[allow(clippy::many_single_char_names)]
-async fn operators_see_their_own_flights_and_the_authority_all() {
-    let s = Service::start("auth", |o| {
+async fn operators_see_their_own_flights_and_the_authority_all(kind: Kind) {
+    let s = Service::start(kind, "auth", |o| {
         o.tokens = Tokens::parse(TOKENS, "tokens.toml").unwrap();
     })
     .await;
@@ -432,9 +496,8 @@ async fn operators_see_their_own_flights_and_the_authority_all() {
     assert_eq!(s.get("/v1/zones", None).await.0, 401);
 }
 
-#[tokio::test]
-async fn bad_input_is_a_clear_4xx_and_changes_nothing() {
-    let s = Service::start("bad", |o| o.max_body = 1024).await;
+async fn bad_input_is_a_clear_4xx_and_changes_nothing(kind: Kind) {
+    let s = Service::start(kind, "bad", |o| o.max_body = 1024).await;
     let t = in_secs(600);
     let raw = |body: &str| {
         s.send(
@@ -528,9 +591,8 @@ async fn bad_input_is_a_clear_4xx_and_changes_nothing() {
     assert_eq!(s.get("/v1/nothing", None).await.0, 404);
 }
 
-#[tokio::test]
-async fn pages_after_concurrent_requests_list_each_flight_once() {
-    let s = Service::start("pages", |_| {}).await;
+async fn pages_after_concurrent_requests_list_each_flight_once(kind: Kind) {
+    let s = Service::start(kind, "pages", |_| {}).await;
     let mut tasks = Vec::new();
     for k in 0..64 {
         let client = s.client.clone();
@@ -576,9 +638,8 @@ async fn pages_after_concurrent_requests_list_each_flight_once() {
 
 /// Ids are forever (docs/reference.md#the-planning-service): a departure in the past, however old,
 /// is answered and stored, and its id names that answer from then on.
-#[tokio::test]
-async fn departures_in_the_past_are_answered_and_kept() {
-    let s = Service::start("past", |_| {}).await;
+async fn departures_in_the_past_are_answered_and_kept(kind: Kind) {
+    let s = Service::start(kind, "past", |_| {}).await;
     let (code, v) = s
         .post(None, &flight("old", "A", "B", &in_secs(-30 * 86_400)))
         .await;
@@ -593,9 +654,8 @@ async fn departures_in_the_past_are_answered_and_kept() {
     assert_eq!((code, error_field(&v)), (409, Some("id")));
 }
 
-#[tokio::test]
-async fn requests_per_token_are_limited() {
-    let s = Service::start("rate", |o| {
+async fn requests_per_token_are_limited(kind: Kind) {
+    let s = Service::start(kind, "rate", |o| {
         o.rate_limit = 2.0;
         o.burst = 3.0;
     })
@@ -607,9 +667,8 @@ async fn requests_per_token_are_limited() {
     assert_eq!(codes, [200, 200, 200, 429, 429]);
 }
 
-#[tokio::test]
-async fn state_survives_a_restart_on_the_same_folder() {
-    let data = temp_dir("restart");
+async fn state_survives_a_restart_on_the_same_store(kind: Kind) {
+    let data = kind.store("restart");
     let t = in_secs(600);
     let world = || {
         ServiceWorld::new(
@@ -647,7 +706,7 @@ async fn state_survives_a_restart_on_the_same_folder() {
             .send()
             .await
             .unwrap();
-        // A second service on the same folder is refused while this one runs.
+        // A second service on the same store is refused while this one runs.
         let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
         let e = start(world(), Options::new(data.clone()), listener)
             .await
@@ -706,14 +765,15 @@ async fn state_survives_a_restart_on_the_same_folder() {
         .await
         .unwrap();
     assert_eq!(v["reason"], "no_feasible_plan");
-    let _ = std::fs::remove_dir_all(&data);
+    if let StoreAt::Folder(dir) = &data {
+        let _ = std::fs::remove_dir_all(dir);
+    }
 }
 
 /// The router serves every route of `ROUTES` (and the `OpenAPI` test below ties `ROUTES` to
 /// the document).
-#[tokio::test]
-async fn every_listed_route_is_served() {
-    let s = Service::start("routes", |_| {}).await;
+async fn every_listed_route_is_served(kind: Kind) {
+    let s = Service::start(kind, "routes", |_| {}).await;
     for (method, path) in muse_service::ROUTES {
         let method = reqwest::Method::from_bytes(method.to_uppercase().as_bytes()).unwrap();
         let path = path.replace("{id}", "some-id");
@@ -861,9 +921,8 @@ fn outcomes(answer: &Value) -> Vec<(String, String, bool)> {
 /// `GET /v1/closures` lists what each zone closes, as the planner works it out: a zone known
 /// from the start by its node ids, then one announced with an area over the corridor `A-B`
 /// (neither end inside); a withdrawn zone stays listed.
-#[tokio::test]
-async fn closures_list_what_each_zone_closes() {
-    let s = Service::start_with("closures", vec![base_zone()], |_| {}).await;
+async fn closures_list_what_each_zone_closes(kind: Kind) {
+    let s = Service::start_with(kind, "closures", vec![base_zone()], |_| {}).await;
     let ring = json!([[
         [103.804, 1.299],
         [103.806, 1.299],
@@ -886,10 +945,9 @@ async fn closures_list_what_each_zone_closes() {
     assert_eq!(s.get("/v1/closures", None).await, (200, expected));
 }
 
-#[tokio::test]
 #[allow(clippy::too_many_lines, clippy::many_single_char_names)] // One story, told in order.
-async fn an_announced_zone_replans_what_it_hits_and_everything_still_verifies() {
-    let s = Service::start_with("zones", vec![base_zone()], |o| {
+async fn an_announced_zone_replans_what_it_hits_and_everything_still_verifies(kind: Kind) {
+    let s = Service::start_with(kind, "zones", vec![base_zone()], |o| {
         o.tokens = Tokens::parse(TOKENS, "tokens.toml").unwrap();
     })
     .await;
@@ -1250,9 +1308,8 @@ async fn check_event_data(s: &Service, mine: &[Received], theirs: &[Received]) {
     assert_eq!(theirs[1].2["plan"], s.get("/v1/flights/e2", b).await.1);
 }
 
-#[tokio::test]
-async fn event_streams_show_each_operator_its_own_flights_and_resume_exactly() {
-    let s = Service::start("events", |o| {
+async fn event_streams_show_each_operator_its_own_flights_and_resume_exactly(kind: Kind) {
+    let s = Service::start(kind, "events", |o| {
         o.tokens = Tokens::parse(TOKENS, "tokens.toml").unwrap();
     })
     .await;
@@ -1349,10 +1406,9 @@ async fn event_streams_show_each_operator_its_own_flights_and_resume_exactly() {
     assert_eq!(s.get("/v1/events", None).await.0, 401);
 }
 
-#[tokio::test]
-async fn a_listener_that_falls_behind_reads_the_history_and_misses_nothing() {
+async fn a_listener_that_falls_behind_reads_the_history_and_misses_nothing(kind: Kind) {
     // One live event of slack: a zone's outcomes, published in one burst, overrun it.
-    let s = Service::start("lag", |o| o.event_buffer = 1).await;
+    let s = Service::start(kind, "lag", |o| o.event_buffer = 1).await;
     let mut stream = EventStream::open(&s, None, Some("0")).await;
     for k in 0..8 {
         let (code, v) = s
@@ -1398,10 +1454,9 @@ async fn a_listener_that_falls_behind_reads_the_history_and_misses_nothing() {
 /// `r1` A → C at `t` and `r2` B → C a minute later, sent in that order within the batch
 /// window: first come, first served, `r1` holds B-C from `t + 2 min` and `r2` (no ground
 /// delay) finds no plan; as one batch, `r2` flies first and `r1` hovers a minute at B.
-#[tokio::test]
-async fn requests_arriving_together_are_planned_as_one_batch() {
+async fn requests_arriving_together_are_planned_as_one_batch(kind: Kind) {
     for (window_ms, both) in [(0_u64, false), (1_000, true)] {
-        let service = Service::start(&format!("batch-{window_ms}"), |o| {
+        let service = Service::start(kind, &format!("batch-{window_ms}"), |o| {
             o.batch_window = Duration::from_millis(window_ms);
         })
         .await;
@@ -1454,3 +1509,21 @@ async fn requests_arriving_together_are_planned_as_one_batch() {
         );
     }
 }
+
+on_both_stores!(
+    plan_reject_each_reason_and_read_back,
+    retries_are_idempotent_and_conflicts_refused,
+    cancel_before_take_off_frees_the_slot_and_not_after,
+    operators_see_their_own_flights_and_the_authority_all,
+    bad_input_is_a_clear_4xx_and_changes_nothing,
+    pages_after_concurrent_requests_list_each_flight_once,
+    departures_in_the_past_are_answered_and_kept,
+    requests_per_token_are_limited,
+    state_survives_a_restart_on_the_same_store,
+    every_listed_route_is_served,
+    closures_list_what_each_zone_closes,
+    an_announced_zone_replans_what_it_hits_and_everything_still_verifies,
+    event_streams_show_each_operator_its_own_flights_and_resume_exactly,
+    a_listener_that_falls_behind_reads_the_history_and_misses_nothing,
+    requests_arriving_together_are_planned_as_one_batch,
+);

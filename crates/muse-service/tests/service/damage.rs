@@ -83,7 +83,7 @@ async fn crashed(name: &str, busy: bool) -> (Crashed, Crashed) {
     let torn = temp_dir(&format!("{name}-torn"));
     for k in 0..FLIGHTS {
         if k == FLIGHTS - 1 {
-            copy_files(&s.data, &torn, &["ACKED", "muse.db"]);
+            copy_files(s.folder(), &torn, &["ACKED", "muse.db"]);
         }
         if k == FLIGHTS - LAST {
             tokio::time::sleep(Duration::from_millis(700)).await;
@@ -101,8 +101,8 @@ async fn crashed(name: &str, busy: bool) -> (Crashed, Crashed) {
         t.join().unwrap();
     }
     let dir = temp_dir(&format!("{name}-crashed"));
-    copy_files(&s.data, &dir, &["ACKED", "muse.db", "muse.db-wal"]);
-    copy_files(&s.data, &torn, &["muse.db-wal"]);
+    copy_files(s.folder(), &dir, &["ACKED", "muse.db", "muse.db-wal"]);
+    copy_files(s.folder(), &torn, &["muse.db-wal"]);
     let torn = Crashed {
         dir: torn,
         acked: acked[..FLIGHTS - 1].to_vec(),

@@ -1,9 +1,12 @@
-//! The service's tests on a real server on an ephemeral loopback port: the API (`api`), the
-//! HTTP limits (`http_limits`) and the conversion of an earlier version's log (`import`);
-//! and the throwaway PostgreSQL the replicated store's tests start (`throwaway_pg`).
+//! The service's tests on a real server on an ephemeral loopback port: the API (`api`, each
+//! test on both stores: a data folder and a PostgreSQL database), the HTTP limits
+//! (`http_limits`), damage to the SQLite store (`damage`) and to the PostgreSQL store
+//! (`pg_damage`), the conversion of an earlier version's log (`import`); and the throwaway
+//! PostgreSQL the tests start (`throwaway_pg`).
 
 mod api;
 mod damage;
 mod http_limits;
 mod import;
+mod pg_damage;
 mod throwaway_pg;

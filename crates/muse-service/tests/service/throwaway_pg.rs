@@ -4,15 +4,20 @@
 //! an ephemeral loopback port, and stopped (`pg_ctl stop -m immediate`, the process this
 //! harness started and no other) and removed when dropped.
 //!
+//! [`Throwaway::shared`] is one cluster for the whole test process, each test on a database of
+//! its own ([`Throwaway::database`]); a watchdog stops and removes it once the process is gone.
+//!
 //! Where PostgreSQL is not installed the tests that need it say so and pass, except under CI
 //! (`CI` set), where `.ci/run` installs it and its absence is a failure.
 
 use std::net::TcpListener;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+use std::sync::OnceLock;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 /// A running throwaway cluster with one database, `muse`, owned by the role `muse`.
+#[derive(Debug)]
 pub struct Throwaway {
     bin: PathBuf,
     dir: PathBuf,
@@ -23,6 +28,9 @@ pub struct Throwaway {
 
 /// How many clusters this process has made (each gets its own folder).
 static MADE: AtomicU32 = AtomicU32::new(0);
+
+/// The cluster the test process shares (`None`: PostgreSQL is not installed).
+static SHARED: OnceLock<Option<Throwaway>> = OnceLock::new();
 
 impl Throwaway {
     /// Starts one, or says why it cannot (`None`; a panic under CI).
@@ -90,6 +98,53 @@ impl Throwaway {
             }
         }
         panic!("PostgreSQL would not start: {}", pg.log());
+    }
+
+    /// One cluster for the whole test process, started by the first test that asks (`None`
+    /// where PostgreSQL is not installed, saying so; a panic under CI). A static is never
+    /// dropped, so a watchdog process stops the cluster and removes its folder once this
+    /// process has ended, however it ended: it checks twice a second, and stops by itself.
+    pub fn shared() -> Option<&'static Throwaway> {
+        SHARED
+            .get_or_init(|| {
+                let pg = Throwaway::start()?;
+                let stop = format!(
+                    "{} {}",
+                    pg.as_user(&pg.bin.join("pg_ctl").display().to_string()),
+                    format_args!("-D '{}' -m immediate -w stop", pg.data())
+                );
+                let script = format!(
+                    "while kill -0 {pid} 2>/dev/null; do sleep 0.5; done; {stop} >/dev/null 2>&1; \
+                     rm -rf '{dir}'",
+                    pid = std::process::id(),
+                    dir = pg.dir.display()
+                );
+                // Started in the background by a shell that ends at once (and is waited for).
+                let started = Command::new("sh")
+                    .args(["-c", &format!("( {script} ) </dev/null >/dev/null 2>&1 &")])
+                    .status()
+                    .expect("the cluster's watchdog starts");
+                assert!(started.success(), "the cluster's watchdog starts");
+                Some(pg)
+            })
+            .as_ref()
+    }
+
+    /// A new, empty database `name` (dropped first if it exists): its URL.
+    pub fn database(&self, name: &str) -> String {
+        let port = self.port.to_string();
+        let common = ["-h", "127.0.0.1", "-p", &port, "-U", "muse"];
+        let _ = self.command("dropdb", &[&common[..], &["--if-exists", name]].concat());
+        self.run("createdb", &[&common[..], &[name]].concat());
+        format!("postgres://muse@127.0.0.1:{}/{name}", self.port)
+    }
+
+    /// The command line that runs `program` as the cluster's user.
+    fn as_user(&self, program: &str) -> String {
+        match &self.user {
+            Some(u) => format!("runuser -u {u} -- {program}"),
+            None => program.to_owned(),
+        }
     }
 
     /// The URL of its database.
@@ -181,6 +236,20 @@ impl Drop for Throwaway {
         self.stop();
         let _ = std::fs::remove_dir_all(&self.dir);
     }
+}
+
+/// Runs `statement` on the database at `url` (on a thread of its own: the client blocks, and
+/// the tests run it from inside their runtime). Panics if it fails.
+pub fn execute(url: &str, statement: &str) {
+    let (url, statement) = (url.to_owned(), statement.to_owned());
+    std::thread::spawn(move || {
+        let mut client = postgres::Client::connect(&url, postgres::NoTls).expect("connects");
+        client
+            .batch_execute(&statement)
+            .unwrap_or_else(|e| panic!("{statement}: {e}"));
+    })
+    .join()
+    .expect("the statement runs");
 }
 
 /// The folder of PostgreSQL's programs: Debian's newest `/usr/lib/postgresql/N/bin`, else

@@ -18,19 +18,7 @@ use rusqlite::Connection;
 
 use super::queries::{flight_by_seq, indexed, max_key};
 use super::rows::{EVENT_COLUMNS, EventRow, FLIGHT_COLUMNS, FlightRow};
-use super::{StoreError, sql};
-
-/// How many of the last flights, and of the last events, the start checks whole by default.
-pub const RECENT: u64 = 16_384;
-
-/// What the start checked whole of the last flights and events written.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Recent {
-    /// Flights checked.
-    pub flights: u64,
-    /// Events checked.
-    pub events: u64,
-}
+use super::{Recent, StoreError, sql};
 
 /// Checks the last `window` flights and events (see the module docs); `held` are the flights
 /// the start read as still holding at `now`.

@@ -8,7 +8,7 @@ use std::sync::Mutex;
 use muse_model::Airspace;
 use rusqlite::Connection;
 
-use super::{StoreError, connect, queries};
+use super::{Reads, StoreError, connect, queries};
 use crate::events::Event;
 use crate::flights::{FlightEntry, ListQuery};
 
@@ -56,14 +56,16 @@ impl Reader {
         }
         out
     }
+}
 
+impl Reads for Reader {
     /// The flight with client id `id`.
-    pub fn flight(&self, airspace: &Airspace, id: &str) -> Result<Option<FlightEntry>, StoreError> {
+    fn flight(&self, airspace: &Airspace, id: &str) -> Result<Option<FlightEntry>, StoreError> {
         self.with(|c, label| queries::flight_by_id(c, airspace, label, id))
     }
 
     /// The flights a listing asks for, in answer order, and whether more follow the page.
-    pub fn list(
+    fn list(
         &self,
         airspace: &Airspace,
         query: &ListQuery,
@@ -73,7 +75,7 @@ impl Reader {
 
     /// Up to `limit` events with an id above `after` (of `operator`'s flights only, when
     /// given), each with its flight as it stood then.
-    pub fn events_after(
+    fn events_after(
         &self,
         airspace: &Airspace,
         after: u64,

@@ -8,10 +8,9 @@ use muse_model::Airspace;
 use rusqlite::{Connection, OpenFlags, params};
 
 use super::acked::{self, Acked};
-use super::rows::meta_sum;
 use super::{
-    DB_FILE, ImportReport, LOCK_FILE, Store, StoreError, WorldMeta, checkpoint, file, io, legacy,
-    schema, sql,
+    DB_FILE, ImportReport, LOCK_FILE, SqliteStore, StoreError, WorldMeta, checkpoint, file, io,
+    legacy, schema, sql,
 };
 
 /// A data folder opened and locked, its store checked, not yet loaded.
@@ -94,6 +93,16 @@ impl Opening {
         self
     }
 
+    /// The store's database file in words.
+    pub fn label(&self) -> String {
+        self.dir.join(DB_FILE).display().to_string()
+    }
+
+    /// The handlers' reads of this folder's store.
+    pub(crate) fn reader(&self) -> super::Reader {
+        super::Reader::new(self.dir.join(DB_FILE))
+    }
+
     /// Whether a log of an earlier version will be converted.
     pub fn imports(&self) -> Option<&Path> {
         self.import.as_deref()
@@ -106,7 +115,7 @@ impl Opening {
         airspace: &Airspace,
         world: &WorldMeta,
         progress: &mut dyn FnMut(u64),
-    ) -> Result<(Store, Option<ImportReport>), StoreError> {
+    ) -> Result<(SqliteStore, Option<ImportReport>), StoreError> {
         let db = self.dir.join(DB_FILE);
         let report = if let Some(log) = &self.import {
             Some(legacy::import(log, &db, airspace, world, progress)?)
@@ -120,7 +129,7 @@ impl Opening {
         let (count, acked) = counted(&conn, &self.dir)?;
         let checkpoints = checkpoint::Checkpointer::start(&db)?;
         Ok((
-            Store {
+            SqliteStore {
                 path: db,
                 conn,
                 count,
@@ -226,12 +235,10 @@ pub(crate) fn write_schema(conn: &Connection, world: &WorldMeta) -> Result<(), S
         schema::CREATE
     ))
     .map_err(sql("creating the tables"))?;
-    let mut rows = vec![("format".to_owned(), schema::FORMAT.to_owned())];
-    rows.extend(world.iter().cloned());
-    for (key, value) in rows {
+    for (key, value, crc) in super::meta::rows(world) {
         conn.execute(
             "INSERT INTO meta (key, value, crc) VALUES (?1, ?2, ?3)",
-            params![key, value, meta_sum(&key, &value)],
+            params![key, value, crc],
         )
         .map_err(sql("writing the meta table"))?;
     }
@@ -243,7 +250,7 @@ pub(crate) fn write_schema(conn: &Connection, world: &WorldMeta) -> Result<(), S
 /// Checks the `meta` rows of an existing store: its format, then the world it was written for.
 fn check_meta(conn: &Connection, path: &Path, world: &WorldMeta) -> Result<(), StoreError> {
     let not = |why: String| StoreError::NotAStore {
-        path: path.to_path_buf(),
+        path: path.display().to_string(),
         why,
     };
     let mut stmt = conn
@@ -261,7 +268,7 @@ fn check_meta(conn: &Connection, path: &Path, world: &WorldMeta) -> Result<(), S
                 damage => damage,
             }
         })?;
-    let rows = stmt
+    let read = stmt
         .query_map([], |r| {
             Ok((
                 r.get::<_, String>(0)?,
@@ -269,55 +276,10 @@ fn check_meta(conn: &Connection, path: &Path, world: &WorldMeta) -> Result<(), S
                 r.get::<_, i64>(2)?,
             ))
         })
-        .map_err(|e| not(format!("its meta table cannot be read ({e})")))?;
-    let mut stored = std::collections::BTreeMap::new();
-    for row in rows {
-        let (key, value, crc) = row.map_err(sql("reading the meta table"))?;
-        if meta_sum(&key, &value) != crc {
-            return Err(StoreError::Damaged {
-                path: path.display().to_string(),
-                what: format!(
-                    "meta row {key:?}: its checksum does not match its content (a byte of it \
-                     changed on disk)"
-                ),
-            });
-        }
-        stored.insert(key, value);
-    }
-    match stored.remove("format") {
-        Some(f) if f == schema::FORMAT => {}
-        Some(f) => {
-            return Err(not(format!(
-                "it is of format {f:?}, this version reads {:?}",
-                schema::FORMAT
-            )));
-        }
-        None => return Err(not("it has no format entry".into())),
-    }
-    let (mut was, mut now) = (Vec::new(), Vec::new());
-    for (key, value) in world {
-        let old = stored.remove(key);
-        if old.as_deref() != Some(value.as_str()) {
-            was.push(format!(
-                "{key} {}",
-                old.as_deref().unwrap_or("(not recorded)")
-            ));
-            now.push(format!("{key} {value}"));
-        }
-    }
-    for (key, value) in stored {
-        was.push(format!("{key} {value}"));
-        now.push(format!("{key} (none)"));
-    }
-    if was.is_empty() {
-        Ok(())
-    } else {
-        Err(StoreError::Mismatch {
-            path: path.to_path_buf(),
-            stored: was.join(", "),
-            wanted: now.join(", "),
-        })
-    }
+        .map_err(|e| not(format!("its meta table cannot be read ({e})")))?
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(sql("reading the meta table"))?;
+    super::meta::check(&path.display().to_string(), read, world)
 }
 
 /// Makes a new file's directory entry durable.

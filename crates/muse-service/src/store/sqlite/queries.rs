@@ -5,7 +5,7 @@ use muse_model::{Airspace, Instant};
 use rusqlite::{Connection, OptionalExtension as _, params};
 
 use super::rows::{EVENT_COLUMNS, EventRow, FLIGHT_COLUMNS, FlightRow, ZONE_COLUMNS, ZoneRow};
-use super::{StoreError, StoredZone, sql};
+use super::{Checked, StoreError, StoredZone, sql};
 use crate::events::Event;
 use crate::flights::{FlightEntry, ListQuery};
 
@@ -153,7 +153,7 @@ pub(super) fn zones(conn: &Connection, path: &str) -> Result<Vec<StoredZone>, St
         .prepare_cached(&format!("SELECT {ZONE_COLUMNS} FROM zones ORDER BY seq"))
         .map_err(sql("reading zones"))?;
     let rows = stmt
-        .query_map([], ZoneRow::read)
+        .query_map([], |r| ZoneRow::read(r))
         .map_err(sql("reading zones"))?;
     let mut out = Vec::new();
     for row in rows {
@@ -276,17 +276,6 @@ pub(super) fn max_key(conn: &Connection, table: &str, key: &str) -> Result<u64, 
     })
     .map(|n| n.map_or(0, |n| n as u64))
     .map_err(sql("reading the last key"))
-}
-
-/// What a full check of the store read.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Checked {
-    /// Flight rows read and checked.
-    pub flights: u64,
-    /// Event rows read and checked.
-    pub events: u64,
-    /// Zone rows read and checked.
-    pub zones: u64,
 }
 
 /// Reads every row of the store and checks its checksum (and that it decodes), after SQLite's

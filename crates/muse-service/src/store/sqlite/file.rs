@@ -52,7 +52,7 @@ pub(super) fn check(path: &Path) -> Result<(), StoreError> {
     }
     if &header[..16] != MAGIC {
         return Err(StoreError::NotAStore {
-            path: path.to_path_buf(),
+            path: path.display().to_string(),
             why: "it is not an SQLite database (bad header)".into(),
         });
     }

@@ -161,7 +161,7 @@ impl LogReader {
         let mut magic = [0u8; 16];
         if len < 16 || file.read_exact(&mut magic).is_err() || &magic != MAGIC {
             return Err(StoreError::NotAStore {
-                path: path.to_path_buf(),
+                path: path.display().to_string(),
                 why: "it is not a MUSE log (bad magic bytes)".into(),
             });
         }
@@ -227,12 +227,12 @@ pub(super) fn check_header(path: &Path, world: &str) -> Result<(), StoreError> {
     match log.next()? {
         Next::Record(Record::Header { world: stored }, _) if stored == world => Ok(()),
         Next::Record(Record::Header { world: stored }, _) => Err(StoreError::Mismatch {
-            path: path.to_path_buf(),
+            path: path.display().to_string(),
             stored,
             wanted: world.to_owned(),
         }),
         Next::Record(..) => Err(StoreError::NotAStore {
-            path: path.to_path_buf(),
+            path: path.display().to_string(),
             why: "its first record is not a header".into(),
         }),
         // Torn before its header was whole: nothing was ever acknowledged.

@@ -1,11 +1,8 @@
-//! The store's tables, as created in a new store (version [`FORMAT`]).
+//! The SQLite store's tables, as created in a new store (of the format `meta::FORMAT` names).
 //!
 //! Times are milliseconds since the Unix epoch (UTC) in columns named `…_ms`; plans are JSON
 //! arrays of `[node id, arrive ms, depart ms]` stays. Every table carries `crc`, the CRC-32 of
 //! the row's other columns (see `rows`), checked whenever the service reads the row.
-
-/// The value of the `format` meta entry this version writes and reads.
-pub const FORMAT: &str = "muse-store 1";
 
 /// The database's page size, bytes. Every commit writes each page it changed to the WAL in
 /// full; a commit changes a few pages per table and index (the rows it appends, the index

@@ -1,0 +1,174 @@
+//! Opening a PostgreSQL store: the connection and its settings, a new store's tables, and the
+//! check that a store was written for the world this service plans with.
+
+use std::collections::HashMap;
+use std::time::Duration;
+
+use postgres::{Client, NoTls};
+
+use super::reader::Reader;
+use super::{PostgresStore, pg, schema};
+use crate::store::{StoreError, WorldMeta, meta};
+
+/// The key of the transaction-level advisory lock under which a store's tables are made and
+/// checked, so that services starting together on an empty database make them once.
+const SCHEMA_LOCK: i64 = 0x4d55_5345_0001;
+
+/// The key of the session-level advisory lock the writing service holds for as long as its
+/// connection lives: one writer per store.
+const WRITER_LOCK: i64 = 0x4d55_5345_0002;
+
+/// How long a connection may take to open.
+const CONNECT_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// Connects to the database at `url` (`label`: the URL without its password, for messages),
+/// with the password in `PGPASSWORD` when the URL gives none, as PostgreSQL's own tools do.
+pub(super) fn connect(url: &str, label: &str) -> Result<Client, StoreError> {
+    let mut config: postgres::Config = url.parse().map_err(|error| StoreError::Postgres {
+        what: format!("reading the URL {label}"),
+        error,
+    })?;
+    config
+        .connect_timeout(CONNECT_TIMEOUT)
+        .application_name("muse serve");
+    if config.get_password().is_none()
+        && let Some(password) = std::env::var_os("PGPASSWORD")
+    {
+        config.password(password.as_encoded_bytes());
+    }
+    config.connect(NoTls).map_err(|error| StoreError::Postgres {
+        what: format!("connecting to {label}"),
+        error,
+    })
+}
+
+/// A PostgreSQL store opened and checked, not yet loaded.
+pub struct Opening {
+    url: String,
+    label: String,
+    client: Client,
+    /// How many of the last flights and events the start checks whole.
+    recent: u64,
+}
+
+impl std::fmt::Debug for Opening {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Opening")
+            .field("label", &self.label)
+            .field("recent", &self.recent)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Opening {
+    /// Connects to `url`, checks that the server makes commits durable, makes the store's
+    /// tables if the database has none, and checks that a store it holds was written for
+    /// `world`. Quick: reads no flight.
+    pub fn open(url: &str, world: &WorldMeta) -> Result<Opening, StoreError> {
+        let label = super::without_password(url);
+        let mut client = connect(url, &label)?;
+        durable(&mut client, &label)?;
+        let mine: bool = client
+            .query_one("SELECT pg_try_advisory_lock($1)", &[&WRITER_LOCK])
+            .and_then(|r| r.try_get(0))
+            .map_err(pg("taking the store's lock"))?;
+        if !mine {
+            return Err(StoreError::Taken(label));
+        }
+        let mut tx = client.transaction().map_err(pg("starting a transaction"))?;
+        tx.execute("SELECT pg_advisory_xact_lock($1)", &[&SCHEMA_LOCK])
+            .map_err(pg("locking the store's tables"))?;
+        let exists: bool = tx
+            .query_one("SELECT to_regclass('meta') IS NOT NULL", &[])
+            .and_then(|r| r.try_get(0))
+            .map_err(pg("looking for the store's tables"))?;
+        if exists {
+            let read = tx
+                .query("SELECT key, value, crc FROM meta", &[])
+                .map_err(|e| StoreError::NotAStore {
+                    path: label.clone(),
+                    why: format!(
+                        "it has a table `meta` this version cannot read ({})",
+                        super::describe(&e)
+                    ),
+                })?
+                .iter()
+                .map(|r| Ok((r.try_get(0)?, r.try_get(1)?, r.try_get(2)?)))
+                .collect::<Result<Vec<(String, String, i64)>, postgres::Error>>()
+                .map_err(pg("reading the meta table"))?;
+            meta::check(&label, read, world)?;
+        } else {
+            tx.batch_execute(schema::CREATE)
+                .map_err(pg("creating the tables"))?;
+            for (key, value, crc) in meta::rows(world) {
+                tx.execute(
+                    "INSERT INTO meta (key, value, crc) VALUES ($1, $2, $3)",
+                    &[&key, &value, &crc],
+                )
+                .map_err(pg("writing the meta table"))?;
+            }
+        }
+        tx.commit().map_err(pg("creating the tables"))?;
+        Ok(Opening {
+            url: url.to_owned(),
+            label,
+            client,
+            recent: crate::store::RECENT,
+        })
+    }
+
+    /// Has the start check the last `n` flights and events whole.
+    #[must_use]
+    pub fn checking_recent(mut self, n: u64) -> Opening {
+        self.recent = n;
+        self
+    }
+
+    /// The database's URL without its password.
+    pub fn label(&self) -> String {
+        self.label.clone()
+    }
+
+    /// The handlers' reads of this database.
+    pub(crate) fn reader(&self) -> Reader {
+        Reader::new(self.url.clone(), self.label.clone())
+    }
+
+    /// The store, open for writing.
+    pub(crate) fn finish(self) -> PostgresStore {
+        PostgresStore {
+            label: self.label,
+            client: self.client,
+            prepared: HashMap::new(),
+            in_transaction: false,
+            recent: self.recent,
+            written: 0,
+        }
+    }
+}
+
+/// Refuses a server that acknowledges commits it has not made durable (`fsync` off), and turns
+/// `synchronous_commit` on for this connection when the server has it off (any other value
+/// flushes the commit before it returns, locally or on the standbys as configured).
+fn durable(client: &mut Client, label: &str) -> Result<(), StoreError> {
+    let show = |client: &mut Client, name: &str| -> Result<String, StoreError> {
+        client
+            .query_one(&format!("SHOW {name}"), &[])
+            .and_then(|r| r.try_get(0))
+            .map_err(pg("reading the server's settings"))
+    };
+    if show(client, "fsync")? == "off" {
+        return Err(StoreError::Unsafe {
+            path: label.to_owned(),
+            why: "the server runs with fsync = off, so a commit it acknowledges can be lost in \
+                  a crash; MUSE answers only what is durable (set fsync = on)"
+                .into(),
+        });
+    }
+    if show(client, "synchronous_commit")? == "off" {
+        client
+            .batch_execute("SET synchronous_commit = on")
+            .map_err(pg("turning synchronous_commit on"))?;
+    }
+    Ok(())
+}

@@ -1,0 +1,110 @@
+//! Reads for the HTTP handlers: a small pool of connections to the database, beside the
+//! planner task's. A reader sees what is committed, which is everything acknowledged.
+
+use std::sync::Mutex;
+
+use muse_model::Airspace;
+use postgres::Client;
+
+use super::open::connect;
+use super::queries;
+use crate::events::Event;
+use crate::flights::{FlightEntry, ListQuery};
+use crate::store::{Reads, StoreError};
+
+/// Most idle connections kept for reuse.
+const KEEP: usize = 8;
+
+/// The handlers' reads (see the module docs).
+pub struct Reader {
+    url: String,
+    label: String,
+    idle: Mutex<Vec<Client>>,
+}
+
+impl std::fmt::Debug for Reader {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Reader")
+            .field("label", &self.label)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Reader {
+    /// Reads the database at `url`; connects on first use.
+    pub(super) fn new(url: String, label: String) -> Self {
+        Reader {
+            url,
+            label,
+            idle: Mutex::new(Vec::new()),
+        }
+    }
+
+    fn with<T>(
+        &self,
+        f: impl FnOnce(&mut Client, &str) -> Result<T, StoreError>,
+    ) -> Result<T, StoreError> {
+        let idle = self
+            .idle
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .pop();
+        let mut client = match idle {
+            Some(c) if !c.is_closed() => c,
+            _ => connect(&self.url, &self.label)?,
+        };
+        let out = f(&mut client, &self.label);
+        let mut idle = self
+            .idle
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if idle.len() < KEEP && !client.is_closed() {
+            idle.push(client);
+        } else {
+            drop(idle);
+            let _ = client.close();
+        }
+        out
+    }
+}
+
+impl Drop for Reader {
+    /// The connections are closed on a thread of their own: each holds a small runtime of its
+    /// own, which may not be dropped on an async worker.
+    fn drop(&mut self) {
+        let idle = std::mem::take(
+            self.idle
+                .get_mut()
+                .unwrap_or_else(std::sync::PoisonError::into_inner),
+        );
+        if !idle.is_empty() {
+            let _ = std::thread::Builder::new()
+                .name("muse-pg-close".into())
+                .spawn(move || drop(idle));
+        }
+    }
+}
+
+impl Reads for Reader {
+    fn flight(&self, airspace: &Airspace, id: &str) -> Result<Option<FlightEntry>, StoreError> {
+        self.with(|c, label| queries::flight_by_id(c, airspace, label, id))
+    }
+
+    fn list(
+        &self,
+        airspace: &Airspace,
+        query: &ListQuery,
+    ) -> Result<(Vec<FlightEntry>, bool), StoreError> {
+        self.with(|c, label| queries::list(c, airspace, label, query))
+    }
+
+    fn events_after(
+        &self,
+        airspace: &Airspace,
+        after: u64,
+        operator: Option<&str>,
+        limit: usize,
+    ) -> Result<Vec<Event>, StoreError> {
+        self.with(|c, label| queries::events_after(c, airspace, label, after, operator, limit))
+    }
+}
