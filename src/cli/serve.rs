@@ -67,6 +67,11 @@ pub struct ServeArgs {
     /// password, if one is needed, from the URL or PGPASSWORD).
     #[arg(long, value_name = "URL", conflicts_with_all = ["data", "import_log"], value_parser = store_url)]
     store: Option<String>,
+    /// With --store: the address the other services on the same store reach this one at,
+    /// `http://HOST:PORT` (default: `http://` and the address it listens on). Several services
+    /// may share a store: one leads, the others stand by and send writes on to it.
+    #[arg(long, value_name = "URL", requires = "store", value_parser = advertise_url)]
+    advertise: Option<String>,
     /// Bearer tokens (TOML `[[tokens]]` with `token` (16 characters or more), `operator`,
     /// `role`), reread on SIGHUP. Without it the service is open to anyone on this machine:
     /// it listens on loopback addresses only and answers only requests addressed to a
@@ -210,6 +215,7 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
         } else {
             writeln!(out, "  access     bearer tokens from {} (reread on SIGHUP)", args.tokens.as_ref().map_or_else(String::new, |p| p.display().to_string()))?;
         }
+        role_line(&mut out, &running, args.store.is_some())?;
         writeln!(out, "  http       {}", limits_line(&http))?;
         writeln!(out, "  API        http://{}/v1/openapi.json", running.addr)?;
         let token_hint = if running.open { "" } else { "?token=YOUR_TOKEN" };
@@ -229,6 +235,28 @@ pub fn run(args: &ServeArgs) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// The start-up line about the service's role on a shared store (none on a data folder).
+fn role_line(
+    out: &mut impl std::io::Write,
+    running: &muse_service::Running,
+    shared: bool,
+) -> std::io::Result<()> {
+    if running.is_standby() {
+        writeln!(
+            out,
+            "  role       standby: follows the leader{}, sends writes on to it, takes over when \
+             it stops",
+            running
+                .leader()
+                .map_or_else(String::new, |l| format!(" at {l}"))
+        )
+    } else if shared {
+        writeln!(out, "  role       leader: plans and writes the store")
+    } else {
+        Ok(())
+    }
+}
+
 /// Reads `--store`: a PostgreSQL URL.
 fn store_url(text: &str) -> Result<String, String> {
     if text.starts_with("postgres://") || text.starts_with("postgresql://") {
@@ -240,6 +268,17 @@ fn store_url(text: &str) -> Result<String, String> {
                 .into(),
         )
     }
+}
+
+/// Reads `--advertise`: an `http://` address without a path.
+fn advertise_url(text: &str) -> Result<String, String> {
+    let rest = text
+        .strip_prefix("http://")
+        .ok_or("expected http://HOST:PORT")?;
+    if rest.is_empty() || rest.contains('/') {
+        return Err("expected http://HOST:PORT, without a path".into());
+    }
+    Ok(text.to_owned())
 }
 
 /// Refuses a `--data` that exists and is not a folder (a link to a folder is followed), before
@@ -283,6 +322,7 @@ fn service_options(
     options.page = Some(page);
     options.batch_window = std::time::Duration::from_millis(args.batch_window_ms);
     options.check_recent = args.check_recent;
+    options.advertise.clone_from(&args.advertise);
     Ok(options)
 }
 

@@ -109,14 +109,14 @@ async fn client(
     }
 }
 
-async fn get(http: &reqwest::Client, url: String) -> (u16, Value) {
+pub(crate) async fn get(http: &reqwest::Client, url: String) -> (u16, Value) {
     let r = http.get(url).send().await.expect("server answers");
     let code = r.status().as_u16();
     (code, r.json().await.expect("JSON"))
 }
 
 /// Every flight the server holds, by id, read page by page.
-async fn all_flights(http: &reqwest::Client, base: &str) -> BTreeMap<String, Value> {
+pub(crate) async fn all_flights(http: &reqwest::Client, base: &str) -> BTreeMap<String, Value> {
     let mut out = BTreeMap::new();
     let mut after: Option<u64> = None;
     loop {
@@ -193,7 +193,7 @@ async fn check_restart(base: &str, ledger: &Mutex<Ledger>) {
 }
 
 /// Runs the verifier on every planned flight the server holds.
-async fn verify_all(base: &str) -> usize {
+pub(crate) async fn verify_all(base: &str) -> usize {
     let http = reqwest::Client::new();
     let (_, list) = get(&http, format!("{base}/v1/flights?status=planned")).await;
     let mut text = String::new();

@@ -32,11 +32,16 @@ impl Drop for Server {
 /// Starts `muse serve --listen 127.0.0.1:0 --data DATA` with `extra` arguments and waits for
 /// the address it prints.
 pub fn start(data: &Path, extra: &[&str]) -> Server {
+    let data = data.display().to_string();
+    start_with(&[extra, &["--data", &data]].concat())
+}
+
+/// Starts `muse serve --listen 127.0.0.1:0` with `args` (which say where its store is) and
+/// waits for the address it prints.
+pub fn start_with(args: &[&str]) -> Server {
     let mut child = Command::new(env!("CARGO_BIN_EXE_muse"))
         .args(["serve", "--listen", "127.0.0.1:0"])
-        .args(extra)
-        .arg("--data")
-        .arg(data)
+        .args(args)
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
         .spawn()

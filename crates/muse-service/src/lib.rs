@@ -47,6 +47,7 @@ mod events;
 mod flights;
 mod http;
 mod metrics;
+mod role;
 mod state;
 mod store;
 mod zones;
@@ -102,6 +103,9 @@ pub struct Options {
     /// (rows, their order and the indexes that lead to them): the writes a crash can have
     /// damaged, in time that does not grow with the days served. 0: only what it loads.
     pub check_recent: u64,
+    /// The address other services on the same store reach this one at when it leads
+    /// (`http://HOST:PORT`; `None`: `http://` and the address it listens on).
+    pub advertise: Option<String>,
 }
 
 impl Options {
@@ -123,6 +127,7 @@ impl Options {
             http: Limits::default(),
             batch_window: std::time::Duration::ZERO,
             check_recent: store::RECENT,
+            advertise: None,
         }
     }
 }
@@ -244,6 +249,11 @@ pub async fn launch(
         clock: options.clock,
         zones: RwLock::new(zones::book::ZoneBook::new(&world.zones)),
         events: events::Events::new(options.event_buffer),
+        role: role::Role::default(),
+        address: options
+            .advertise
+            .clone()
+            .unwrap_or_else(|| format!("http://{addr}")),
         world,
     });
     let (commands, rx) = mpsc::channel(engine::QUEUE);
@@ -272,6 +282,7 @@ pub async fn launch(
         page: options.page,
         max_body: options.max_body,
         stopping: watch::channel(false).0,
+        forwarder: api::forwarder(),
     });
     let mut stopping = app.stopping.subscribe();
     let limits = options.http;
@@ -336,6 +347,17 @@ impl Launched {
 }
 
 impl Running {
+    /// Whether this service stands by: on a shared store that another service leads, it
+    /// follows that leader and sends writes on to it (see [`Running::leader`]).
+    pub fn is_standby(&self) -> bool {
+        self.serving.app.state.role.is_standby()
+    }
+
+    /// The leader's address, for a standby (when one leads).
+    pub fn leader(&self) -> Option<String> {
+        self.serving.app.state.role.leader()
+    }
+
     /// Serves until `shutdown` completes (then event streams end, the answers under way are
     /// finished, and the store is closed) or the store fails (then the service stops and the
     /// error says why: a restart recovers exactly what is durable).

@@ -235,7 +235,7 @@ impl Clock {
     }
 }
 
-fn system_ms() -> i64 {
+pub(crate) fn system_ms() -> i64 {
     let d = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .unwrap_or_default();
@@ -262,6 +262,10 @@ pub struct State {
     pub zones: RwLock<ZoneBook>,
     /// The flights' change events (published by the planner task only).
     pub events: Events,
+    /// Leader or standby (set by the planner task).
+    pub role: crate::role::Role,
+    /// This service's address as other services reach it (advertised when it leads).
+    pub address: String,
 }
 
 /// Where a starting service is: loading its store, or serving.

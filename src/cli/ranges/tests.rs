@@ -74,7 +74,7 @@ fn range_of(message: &str) -> Option<String> {
 }
 
 /// Options clap reads as something other than text that are not numbers.
-const NOT_NUMBERS: [&str; 2] = ["listen", "store"];
+const NOT_NUMBERS: [&str; 3] = ["listen", "store", "advertise"];
 
 /// Every option of every command that takes a number: its errors for bad numbers state one
 /// range, its `--help` states the same, and a negative number is read as its value (and

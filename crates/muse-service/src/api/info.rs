@@ -72,6 +72,16 @@ struct Health {
     /// While starting: what has been loaded so far.
     #[serde(skip_serializing_if = "Option::is_none")]
     progress: Option<crate::state::Progress>,
+    /// `leader` (plans and writes) or `standby` (follows the leader, forwards writes to it).
+    role: &'static str,
+    /// A standby's leader, as it advertised itself.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    leader: Option<String>,
+    /// How far behind the leader a standby is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    behind: Option<crate::role::Behind>,
+    /// Times this service took the lead from being a standby.
+    takeovers: u64,
 }
 
 pub(super) async fn healthz(AxumState(app): AxumState<Arc<App>>) -> Response {
@@ -96,6 +106,14 @@ pub(super) async fn healthz(AxumState(app): AxumState<Arc<App>>) -> Response {
             airspace: s.world.label.clone(),
             progress: (!ready).then(|| s.phase.progress()),
             parameters: ParamsRecord::from(&s.world.params),
+            role: if s.role.is_standby() {
+                "standby"
+            } else {
+                "leader"
+            },
+            leader: s.role.leader(),
+            behind: s.role.behind(crate::state::system_ms()),
+            takeovers: s.role.takeovers(),
         },
     )
 }
@@ -106,7 +124,11 @@ pub(super) async fn metrics(AxumState(app): AxumState<Arc<App>>) -> Response {
             header::CONTENT_TYPE,
             HeaderValue::from_static("text/plain; version=0.0.4"),
         )],
-        app.state.metrics.render(),
+        {
+            let mut out = app.state.metrics.render();
+            app.state.role.render(&mut out, crate::state::system_ms());
+            out
+        },
     )
         .into_response()
 }

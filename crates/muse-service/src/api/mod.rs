@@ -46,6 +46,7 @@ mod caller;
 mod error;
 mod events;
 mod flights;
+mod forward;
 mod guard;
 mod info;
 mod zones;
@@ -110,6 +111,13 @@ pub struct App {
     pub max_body: usize,
     /// Set when the service stops: event streams end then.
     pub stopping: watch::Sender<bool>,
+    /// The client a standby sends writes to the leader with.
+    pub forwarder: reqwest::Client,
+}
+
+/// The client a standby sends writes to the leader with (for [`App::forwarder`]).
+pub fn forwarder() -> reqwest::Client {
+    forward::client()
 }
 
 /// The router of the API over `app`.
@@ -136,6 +144,10 @@ pub fn router(app: Arc<App>) -> Router {
         .route("/healthz", get(healthz))
         .route("/metrics", get(metrics))
         .fallback(not_found)
+        .layer(axum::middleware::from_fn_with_state(
+            Arc::clone(&app),
+            forward::to_leader,
+        ))
         .layer(axum::middleware::from_fn_with_state(
             Arc::clone(&app),
             until_ready,

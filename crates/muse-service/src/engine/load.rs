@@ -11,7 +11,7 @@ use std::sync::Arc;
 
 use super::apply::Change;
 use super::{Engine, Restored};
-use crate::store::{Store, StoreError};
+use crate::store::{Store, StoreError, StoredZone};
 use crate::zones::book::{AnnouncedZone, read_stored};
 
 impl Engine<'_> {
@@ -21,34 +21,16 @@ impl Engine<'_> {
         let world = &state.world;
         let now = self.live.now();
         let label = store.label();
-        let damaged = |what: String| StoreError::Damaged {
-            path: label.clone(),
-            what,
-        };
         let mut restored = Restored::default();
+        // One state of the store, whatever the leader commits meanwhile (for a standby): the
+        // standby then follows from its last event.
+        store.begin_snapshot()?;
+        let (last_seq, last_event) = store.last_keys()?;
         for z in store.zones()? {
-            let zones = read_stored(&z.feature, z.announced)
-                .map_err(|e| damaged(format!("zones row {:?}: {e}", z.id)))?;
-            let closures = match z.withdrawn {
-                Some(_) => None,
-                None => Some(
-                    world
-                        .announced_closures(&zones, z.announced)
-                        .map_err(|e| damaged(format!("zones row {:?}: {e}", z.id)))?,
-                ),
-            };
             restored.zones += 1;
             restored.withdrawn += usize::from(z.withdrawn.is_some());
-            self.apply(Change::Zone {
-                zone: AnnouncedZone {
-                    id: z.id,
-                    zones,
-                    announced: z.announced,
-                    withdrawn: z.withdrawn,
-                    affected: z.affected,
-                },
-                closures,
-            });
+            let change = self.stored_zone(&label, z)?;
+            self.apply(change);
         }
         state.phase.set_to_load(store.count_holding(now)?);
         let phase = &state.phase;
@@ -56,8 +38,8 @@ impl Engine<'_> {
         restored.held = held.len();
         let seqs = held.iter().map(|e| e.seq).collect();
         restored.checked = store.check_recent(&world.airspace, now, &seqs)?;
+        store.end_snapshot()?;
         self.apply(Change::Flights(held.into_iter().map(Arc::new).collect()));
-        let (last_seq, last_event) = store.last_keys()?;
         self.next_seq = last_seq + 1;
         self.next_event = last_event + 1;
         restored.flights = last_seq;
@@ -66,5 +48,36 @@ impl Engine<'_> {
         self.send(&mut Vec::new())
             .unwrap_or_else(|_| unreachable!("loading sends nothing to a writer"));
         Ok(restored)
+    }
+}
+
+impl Engine<'_> {
+    /// The change a stored zone makes: its closures bind planning unless it was withdrawn.
+    /// `label` names the store in errors.
+    pub(super) fn stored_zone(&self, label: &str, z: StoredZone) -> Result<Change, StoreError> {
+        let damaged = |what: String| StoreError::Damaged {
+            path: label.to_owned(),
+            what: format!("zones row {:?}: {what}", z.id),
+        };
+        let zones = read_stored(&z.feature, z.announced).map_err(&damaged)?;
+        let closures = match z.withdrawn {
+            Some(_) => None,
+            None => Some(
+                self.state
+                    .world
+                    .announced_closures(&zones, z.announced)
+                    .map_err(|e| damaged(e.to_string()))?,
+            ),
+        };
+        Ok(Change::Zone {
+            zone: AnnouncedZone {
+                id: z.id,
+                zones,
+                announced: z.announced,
+                withdrawn: z.withdrawn,
+                affected: z.affected,
+            },
+            closures,
+        })
     }
 }

@@ -27,6 +27,7 @@ mod apply;
 mod batch;
 mod commands;
 mod load;
+mod standby;
 mod writer;
 
 use std::collections::HashMap;
@@ -120,20 +121,36 @@ fn run(
         last_evict: state.clock.now(),
         batching,
     };
-    match engine.load(store.as_mut()) {
-        Ok(mut restored) => {
-            restored.import = import;
+    let leads = engine.load(store.as_mut()).and_then(|mut restored| {
+        restored.import = import;
+        let leads = store.try_lead(&state.address)?;
+        if !leads {
+            state
+                .role
+                .stand_by(store.leader()?.map(|leader| leader.address));
+            // What the leader committed while this service loaded.
+            engine.follow(store.as_mut())?;
+        }
+        Ok((leads, restored))
+    });
+    let leads = match leads {
+        Ok((leads, restored)) => {
             // The gauges (`/healthz`, `/metrics`) count what was loaded before anyone is
             // told the service is ready.
             state.metrics.set_store_bytes(store.bytes());
             engine.update_gauges();
             state.phase.set_ready();
             let _ = ready.send(Ok(restored));
+            leads
         }
         Err(e) => {
             let _ = ready.send(Err(e));
             return Ok(());
         }
+    };
+    if !leads && !engine.stand_by(store.as_mut(), &mut rx)? {
+        // Stopped while standing by.
+        return store.close();
     }
     std::thread::scope(|scope| {
         let (batches, received) = std::sync::mpsc::sync_channel(PIPELINE);
@@ -219,16 +236,7 @@ impl Engine<'_> {
     /// Decides every command of `group` and sends it to the writer, which answers once it
     /// is durable. `Err` once the writer has failed (the task stops).
     fn decide_and_send(&mut self, group: &mut Vec<Command>) -> Result<(), Fatal> {
-        self.live.advance(self.state.clock.now());
-        let now = self.live.now();
-        if now - self.last_evict >= EVICT_EVERY {
-            self.state
-                .index
-                .write()
-                .unwrap_or_else(std::sync::PoisonError::into_inner)
-                .evict_ended_before(now);
-            self.last_evict = now;
-        }
+        self.tick();
         self.forget_published();
         let mut answers = Vec::with_capacity(group.len());
         let mut commands = group.drain(..);
@@ -248,6 +256,21 @@ impl Engine<'_> {
         }
         self.update_gauges();
         Ok(())
+    }
+
+    /// Moves the schedule to the clock's now, and now and then evicts the flights that ended
+    /// from the index.
+    fn tick(&mut self) {
+        self.live.advance(self.state.clock.now());
+        let now = self.live.now();
+        if now - self.last_evict >= EVICT_EVERY {
+            self.state
+                .index
+                .write()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .evict_ended_before(now);
+            self.last_evict = now;
+        }
     }
 
     /// Drops from the staged flights those the writer has published (the index and the store

@@ -108,12 +108,19 @@ pub enum StoreError {
          `muse serve` or choose another --data folder"
     )]
     Locked(PathBuf),
-    /// Another service writes the database (it holds the store's lock in PostgreSQL).
+    /// Another service took the lead: this one may write no more.
     #[error(
-        "{0} is in use by another process (another `muse serve` holds the store's lock); stop \
-         that service or choose another database"
+        "{path}: another service took the lead (term {now}, this service's was {mine}); this \
+         one stops writing"
     )]
-    Taken(String),
+    Deposed {
+        /// The database's URL.
+        path: String,
+        /// This service's term.
+        mine: i64,
+        /// The term in the store.
+        now: i64,
+    },
     /// Stored data failed an integrity check.
     #[error(
         "{path} is damaged: {what}; refusing to use it (restore the store from a backup, or \
@@ -298,8 +305,50 @@ pub(crate) trait Store: Send {
     /// their indexes).
     fn bytes(&mut self) -> u64;
 
+    /// From here to [`Store::end_snapshot`], reads see one state of the store, whatever
+    /// another service commits meanwhile (a standby loads while the leader writes). A store
+    /// in a data folder has one writer, this service: nothing to do.
+    fn begin_snapshot(&mut self) -> Result<(), StoreError> {
+        Ok(())
+    }
+
+    /// Ends [`Store::begin_snapshot`].
+    fn end_snapshot(&mut self) -> Result<(), StoreError> {
+        Ok(())
+    }
+
+    /// Takes the lead if no other service holds it, advertising `address` (the URL other
+    /// services forward writes to): from then on this service alone writes, and a write of a
+    /// service the lead was taken from fails. `Ok(false)`: another service leads. A store in
+    /// a data folder is led by the one process that holds its folder.
+    fn try_lead(&mut self, address: &str) -> Result<bool, StoreError> {
+        let _ = address;
+        Ok(true)
+    }
+
+    /// The service that leads, as it advertised itself, if one does.
+    fn leader(&mut self) -> Result<Option<Leader>, StoreError> {
+        Ok(None)
+    }
+
+    /// Waits up to `timeout` for a commit of the service that leads, returning early when one
+    /// is announced (a standby following the leader).
+    fn wait_for_commits(&mut self, timeout: std::time::Duration) -> Result<(), StoreError> {
+        std::thread::sleep(timeout);
+        Ok(())
+    }
+
     /// Closes the store at a clean stop.
     fn close(self: Box<Self>) -> Result<(), StoreError>;
+}
+
+/// The service that leads a shared store.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Leader {
+    /// Its address, as it advertised it (`http://host:port`).
+    pub address: String,
+    /// Its term: raised by one at every change of leader.
+    pub term: i64,
 }
 
 /// The handlers' reads, beside the planner task's writes: they see what is committed, which

@@ -19,6 +19,7 @@
 //! holding a reservation ahead was among those read. The structure of tables and indexes is
 //! PostgreSQL's to keep (its page checksums, `initdb --data-checksums`, and `amcheck`).
 
+mod lease;
 mod open;
 mod queries;
 mod reader;
@@ -33,7 +34,7 @@ use postgres::{Client, Statement};
 pub use open::Opening;
 
 use super::rows::{EventRow, FlightRow, ZoneRow};
-use super::{Checked, Recent, Store, StoreError, StoredZone};
+use super::{Checked, Leader, Recent, Store, StoreError, StoredZone};
 use crate::events::Event;
 use crate::flights::FlightEntry;
 
@@ -107,6 +108,10 @@ pub struct PostgresStore {
     recent: u64,
     /// Rows written in the open transaction.
     written: usize,
+    /// The term this service leads in (`None`: a standby; see `lease`).
+    term: Option<i64>,
+    /// Whether the connection listens for the leader's commits (a standby's).
+    listening: bool,
 }
 
 impl std::fmt::Debug for PostgresStore {
@@ -134,9 +139,7 @@ impl PostgresStore {
 
     fn begin(&mut self) -> Result<(), StoreError> {
         if !self.in_transaction {
-            self.client
-                .batch_execute("BEGIN")
-                .map_err(pg("starting a transaction"))?;
+            self.begin_fenced()?;
             self.in_transaction = true;
         }
         Ok(())
@@ -262,7 +265,7 @@ impl Store for PostgresStore {
         // Whatever happens, the transaction is over: a failed commit is rolled back.
         self.in_transaction = false;
         self.client
-            .batch_execute("COMMIT")
+            .batch_execute(lease::COMMIT)
             .map_err(pg("committing"))?;
         Ok(std::mem::take(&mut self.written))
     }
@@ -317,6 +320,30 @@ impl Store for PostgresStore {
 
     fn bytes(&mut self) -> u64 {
         queries::bytes(&mut self.client).unwrap_or(0)
+    }
+
+    fn begin_snapshot(&mut self) -> Result<(), StoreError> {
+        self.client
+            .batch_execute("BEGIN ISOLATION LEVEL REPEATABLE READ READ ONLY")
+            .map_err(pg("starting a snapshot"))
+    }
+
+    fn end_snapshot(&mut self) -> Result<(), StoreError> {
+        self.client
+            .batch_execute("COMMIT")
+            .map_err(pg("ending a snapshot"))
+    }
+
+    fn try_lead(&mut self, address: &str) -> Result<bool, StoreError> {
+        self.take_lead(address)
+    }
+
+    fn leader(&mut self) -> Result<Option<Leader>, StoreError> {
+        self.read_leader()
+    }
+
+    fn wait_for_commits(&mut self, timeout: std::time::Duration) -> Result<(), StoreError> {
+        self.wait(timeout)
     }
 
     fn close(self: Box<Self>) -> Result<(), StoreError> {

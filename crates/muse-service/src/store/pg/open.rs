@@ -14,10 +14,6 @@ use crate::store::{StoreError, WorldMeta, meta};
 /// checked, so that services starting together on an empty database make them once.
 const SCHEMA_LOCK: i64 = 0x4d55_5345_0001;
 
-/// The key of the session-level advisory lock the writing service holds for as long as its
-/// connection lives: one writer per store.
-const WRITER_LOCK: i64 = 0x4d55_5345_0002;
-
 /// How long a connection may take to open.
 const CONNECT_TIMEOUT: Duration = Duration::from_secs(10);
 
@@ -68,13 +64,6 @@ impl Opening {
         let label = super::without_password(url);
         let mut client = connect(url, &label)?;
         durable(&mut client, &label)?;
-        let mine: bool = client
-            .query_one("SELECT pg_try_advisory_lock($1)", &[&WRITER_LOCK])
-            .and_then(|r| r.try_get(0))
-            .map_err(pg("taking the store's lock"))?;
-        if !mine {
-            return Err(StoreError::Taken(label));
-        }
         let mut tx = client.transaction().map_err(pg("starting a transaction"))?;
         tx.execute("SELECT pg_advisory_xact_lock($1)", &[&SCHEMA_LOCK])
             .map_err(pg("locking the store's tables"))?;
@@ -97,8 +86,11 @@ impl Opening {
                 .collect::<Result<Vec<(String, String, i64)>, postgres::Error>>()
                 .map_err(pg("reading the meta table"))?;
             meta::check(&label, read, world)?;
+            tx.batch_execute(schema::CREATE_LEASE)
+                .map_err(pg("creating the lease table"))?;
         } else {
             tx.batch_execute(schema::CREATE)
+                .and_then(|()| tx.batch_execute(schema::CREATE_LEASE))
                 .map_err(pg("creating the tables"))?;
             for (key, value, crc) in meta::rows(world) {
                 tx.execute(
@@ -143,6 +135,8 @@ impl Opening {
             in_transaction: false,
             recent: self.recent,
             written: 0,
+            term: None,
+            listening: false,
         }
     }
 }

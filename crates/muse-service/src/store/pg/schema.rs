@@ -68,3 +68,14 @@ CREATE VIEW zone_outcomes AS
     FROM events e JOIN flights f ON f.seq = e.flight_seq
     WHERE e.zone IS NOT NULL;
 ";
+
+/// The lease: which service leads the store (see `lease`). One row, made by the first service
+/// that leads; made too in a store written before it.
+pub(super) const CREATE_LEASE: &str = "
+CREATE TABLE IF NOT EXISTS lease (
+    one      integer PRIMARY KEY CHECK (one = 1),
+    term     bigint NOT NULL,              -- raised by one at every change of leader
+    holder   text NOT NULL,                -- the leader's address, as it advertised it
+    since_ms bigint NOT NULL               -- when it took the lead
+);
+";
