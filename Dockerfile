@@ -55,8 +55,9 @@ COPY --from=builder /out/muse /usr/local/bin/muse
 WORKDIR /muse
 COPY scenarios/ /muse/scenarios/
 COPY studies/ /muse/studies/
-# The default `--out out/...` of every command lands here, writable by the muse user.
-RUN install -d -o muse -g muse /muse/out
+# The default `--out out/...` of every command lands here, writable by the muse user; and
+# `/archive`, the service's archive folder in deploy/service/compose.yaml.
+RUN install -d -o muse -g muse /muse/out /archive
 
 USER 10001:10001
 ENTRYPOINT ["muse"]

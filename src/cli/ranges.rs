@@ -76,6 +76,8 @@ ranges! {
     threads: usize = THREADS;
     /// `muse serve --booking-horizon-days`: up to ten years.
     booking_horizon_days: u32 = BOOKING_HORIZON_DAYS;
+    /// `muse serve --archive-after-days`: up to ten years.
+    archive_after_days: u32 = ARCHIVE_AFTER_DAYS;
     /// `muse serve --batch-window-ms`: up to 10 s.
     batch_window_ms: u64 = BATCH_WINDOW_MS;
     /// `muse serve --check-recent`.

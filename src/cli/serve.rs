@@ -90,6 +90,18 @@ pub struct ServeArgs {
     /// order of arrival; from 0 to 10000; 0 plans each as it comes.
     #[arg(long, value_name = "MS", default_value_t = 0, allow_negative_numbers = true, value_parser = ranges::batch_window_ms)]
     batch_window_ms: u64,
+    /// Archive the flights that landed more than this many whole days ago, from 1 to 3650:
+    /// each day's flights and events move from the store's tables to two gzip-compressed CSV
+    /// files in the archive folder, and their ids stay, so that a retried id is answered as
+    /// first answered (docs/service.md#retention-without-forgetting). Checked at the start and
+    /// every 10 minutes. Without it, every flight stays in the store's tables.
+    #[arg(long, value_name = "DAYS", allow_negative_numbers = true, value_parser = ranges::archive_after_days)]
+    archive_after_days: Option<u32>,
+    /// The archive folder (made if missing): where archived flights are written, and read
+    /// back. Default: `archive` in the data folder; with --store, give a folder every service
+    /// on the store reaches.
+    #[arg(long, value_name = "DIR")]
+    archive_dir: Option<PathBuf>,
     /// Convert the data folder's log written by an earlier version (`muse.log`) into the
     /// store and exit, without serving (`muse serve` also converts it at start). The log is
     /// kept, renamed `muse.log.imported`.
@@ -323,6 +335,8 @@ fn service_options(
     options.batch_window = std::time::Duration::from_millis(args.batch_window_ms);
     options.check_recent = args.check_recent;
     options.advertise.clone_from(&args.advertise);
+    options.archive_dir.clone_from(&args.archive_dir);
+    options.archive_after_days = args.archive_after_days;
     Ok(options)
 }
 

@@ -253,3 +253,56 @@ fn submit_refuses_tasks_larger_than_any_node_and_prints_reruns_with_their_option
     let (ok, text) = run("deploy/slurm/submit.sh", &args, &dir, &[("PATH", path)]);
     assert!(ok, "{text}");
 }
+
+/// The three services of `deploy/service/compose.yaml` are started with command lines
+/// `muse serve` takes (every option known, every value in range: with `--help` last, `muse`
+/// parses them all, then prints the help and succeeds), each with its own advertised address,
+/// on one store; and the example tokens file is one `muse serve --tokens` reads. (Running the
+/// file needs a Docker engine; see `deploy/README.md`.)
+#[test]
+fn the_compose_file_starts_three_services_with_command_lines_muse_takes() {
+    let text = std::fs::read_to_string(root().join("deploy/service/compose.yaml")).unwrap();
+    let mut stores = std::collections::BTreeSet::new();
+    let mut advertised = std::collections::BTreeSet::new();
+    for line in text.lines().map(str::trim) {
+        let Some(array) = line.strip_prefix("command: ") else {
+            continue;
+        };
+        let args: Vec<String> = serde_json::from_str(array).expect("a JSON array of words");
+        if args.first().map(String::as_str) != Some("serve") {
+            continue;
+        }
+        let at = |option: &str| {
+            let k = args.iter().position(|a| a == option).unwrap();
+            args[k + 1].clone()
+        };
+        stores.insert(at("--store"));
+        advertised.insert(at("--advertise"));
+        let out = Command::new(env!("CARGO_BIN_EXE_muse"))
+            .args(&args)
+            .arg("--help")
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    assert_eq!((stores.len(), advertised.len()), (1, 3), "{stores:?} {advertised:?}");
+    let tokens = root().join("deploy/service/tokens.example.toml");
+    let data = std::env::temp_dir().join(format!("muse-compose-tokens-{}", std::process::id()));
+    let out = Command::new(env!("CARGO_BIN_EXE_muse"))
+        .args(["serve", "--check-store", "--data"])
+        .arg(&data)
+        .arg("--tokens")
+        .arg(&tokens)
+        .output()
+        .unwrap();
+    let _ = std::fs::remove_dir_all(&data);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -314,6 +314,13 @@ pub const BOOKING_HORIZON_DAYS: Range<u32> = Range {
     hi: 3_650,
     what: "a whole number of days",
 };
+/// After how many whole days landed flights are archived (`muse serve
+/// --archive-after-days`): up to ten years.
+pub const ARCHIVE_AFTER_DAYS: Range<u32> = Range {
+    lo: 1,
+    hi: 3_650,
+    what: "a whole number of days",
+};
 /// How long requests are gathered into one batch, milliseconds (`muse serve
 /// --batch-window-ms`): up to 10 s.
 pub const BATCH_WINDOW_MS: Range<u64> = Range {

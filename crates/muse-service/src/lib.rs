@@ -106,6 +106,22 @@ pub struct Options {
     /// The address other services on the same store reach this one at when it leads
     /// (`http://HOST:PORT`; `None`: `http://` and the address it listens on).
     pub advertise: Option<String>,
+    /// The archive folder, where archived flights are written and read (`None`: `archive` in
+    /// the data folder; none for a PostgreSQL store).
+    pub archive_dir: Option<PathBuf>,
+    /// Archive the flights that landed more than this many whole days ago (`None`: keep every
+    /// flight in the hot tables).
+    pub archive_after_days: Option<u32>,
+}
+
+impl Options {
+    /// The archive folder in force: [`Options::archive_dir`], else `archive` in the data folder.
+    pub fn archive_folder(&self) -> Option<PathBuf> {
+        self.archive_dir.clone().or_else(|| match &self.store {
+            StoreAt::Folder(dir) => Some(dir.join("archive")),
+            StoreAt::Postgres(_) => None,
+        })
+    }
 }
 
 impl Options {
@@ -128,6 +144,8 @@ impl Options {
             batch_window: std::time::Duration::ZERO,
             check_recent: store::RECENT,
             advertise: None,
+            archive_dir: None,
+            archive_after_days: None,
         }
     }
 }
@@ -232,6 +250,7 @@ pub async fn launch(
     })?;
     let description = world.description();
     let legacy = world.legacy_fingerprint();
+    let world_offset = world.offset;
     let at = options.store.clone();
     let recent = options.check_recent;
     let opening = tokio::task::spawn_blocking(move || {
@@ -243,7 +262,7 @@ pub async fn launch(
     let airspace_geojson = muse_formats::airspace_geojson::write_airspace(&world.airspace);
     let state = Arc::new(State {
         index: RwLock::new(FlightIndex::default()),
-        reader: opening.reads(),
+        reader: opening.reads(options.archive_folder()),
         phase: Phase::default(),
         metrics: metrics::Metrics::default(),
         clock: options.clock,
@@ -260,11 +279,15 @@ pub async fn launch(
     let (ready_tx, ready) = oneshot::channel();
     let (ended_tx, ended) = oneshot::channel();
     let batching = engine::Batching::new(options.batch_window);
+    let retention = retention(&options, world_offset)?;
     engine::spawn(
         Arc::clone(&state),
         opening,
         rx,
-        batching,
+        engine::Setup {
+            batching,
+            retention,
+        },
         ready_tx,
         ended_tx,
     )
@@ -303,6 +326,29 @@ pub async fn launch(
         ready,
         serving: Serving { app, server, ended },
     })
+}
+
+/// Whether, and how, the service archives (see [`Options::archive_after_days`]).
+fn retention(
+    options: &Options,
+    offset: muse_model::UtcOffset,
+) -> Result<Option<store::archive::Retention>, ServeError> {
+    match (options.archive_after_days, options.archive_folder()) {
+        (Some(after_days), Some(dir)) => Ok(Some(store::archive::Retention {
+            dir,
+            after_days,
+            offset,
+        })),
+        (Some(_), None) => Err(ServeError::Io {
+            what: "archiving",
+            error: std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "--archive-after-days on a PostgreSQL store needs --archive-dir (a folder every \
+                 service on the store reaches)",
+            ),
+        }),
+        (None, _) => Ok(None),
+    }
 }
 
 /// [`launch`], then [`Launched::ready`]: the service once every route answers.

@@ -91,6 +91,9 @@ pub struct Metrics {
     zones_announced: AtomicU64,
     zones_withdrawn: AtomicU64,
     event_lags: AtomicU64,
+    archived_flights: AtomicU64,
+    archived_events: AtomicU64,
+    archive_failures: AtomicU64,
     /// Time from receiving a `POST /v1/flights` to answering it (queue, plan, durable write).
     pub request_latency: Histogram,
     /// Time the planner spends on one request.
@@ -121,6 +124,9 @@ impl Default for Metrics {
             zones_announced: AtomicU64::new(0),
             zones_withdrawn: AtomicU64::new(0),
             event_lags: AtomicU64::new(0),
+            archived_flights: AtomicU64::new(0),
+            archived_events: AtomicU64::new(0),
+            archive_failures: AtomicU64::new(0),
             request_latency: Histogram::new(LATENCY_BOUNDS),
             plan_latency: Histogram::new(LATENCY_BOUNDS),
             store_latency: Histogram::new(LATENCY_BOUNDS),
@@ -177,6 +183,17 @@ impl Metrics {
         } else {
             &self.zones_withdrawn
         });
+    }
+
+    /// Counts flights and events moved to the archive by a pass.
+    pub fn count_archived(&self, flights: u64, events: u64) {
+        self.archived_flights.fetch_add(flights, Ordering::Relaxed);
+        self.archived_events.fetch_add(events, Ordering::Relaxed);
+    }
+
+    /// Counts an archive pass that failed.
+    pub fn count_archive_failure(&self) {
+        inc(&self.archive_failures);
     }
 
     /// Counts an event-stream listener that fell behind the live channel and read the
@@ -284,6 +301,18 @@ impl Metrics {
         );
         out.push_str("# HELP muse_event_lags_total Times an event stream fell behind the live events and read the history instead.\n# TYPE muse_event_lags_total counter\n");
         let _ = writeln!(out, "muse_event_lags_total {}", get(&self.event_lags));
+        let _ = writeln!(
+            out,
+            "# HELP muse_archived_total Rows moved from the hot tables to the archive files by \
+             this service.\n# TYPE muse_archived_total counter\n\
+             muse_archived_total{{table=\"flights\"}} {}\nmuse_archived_total{{table=\"events\"}} {}\n\
+             # HELP muse_archive_failures_total Archive passes that failed (said on standard \
+             error; the next pass tries again).\n# TYPE muse_archive_failures_total counter\n\
+             muse_archive_failures_total {}",
+            get(&self.archived_flights),
+            get(&self.archived_events),
+            get(&self.archive_failures)
+        );
     }
 
     fn render_histograms_and_gauges(&self, out: &mut String) {

@@ -7,7 +7,8 @@
 //! caused it), "plan"}`. Without `Last-Event-ID` the stream starts with the events that
 //! follow the connection; with `Last-Event-ID: N` it first replays every stored event with an
 //! id above `N` (`0`: all of them, read from the store page by page), then continues live,
-//! with no gap and no repeat. A comment is sent every [`KEEP_ALIVE`] so that idle connections
+//! with no gap and no repeat. Events of flights archived since (`--archive-after-days`) are
+//! in the archive's files, not replayed: a first comment says so. A comment is sent every [`KEEP_ALIVE`] so that idle connections
 //! stay open.
 
 use std::collections::VecDeque;
@@ -16,7 +17,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use axum::extract::State as AxumState;
-use axum::http::HeaderMap;
+use axum::http::{HeaderMap, StatusCode};
 use axum::response::sse::{Event as SseEvent, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
 use tokio::sync::{broadcast, watch};
@@ -158,6 +159,31 @@ pub(super) async fn stream(
                 })
         })
         .transpose()?;
+    // Events of archived flights are in the archive's files only: said, never skipped
+    // without a word.
+    let note = match last {
+        Some(after) => {
+            let reads = Arc::clone(&app);
+            let archived =
+                tokio::task::spawn_blocking(move || reads.state.reader.archived_events_through())
+                    .await
+                    .map_err(|_| {
+                        ApiError::new(
+                            StatusCode::INTERNAL_SERVER_ERROR,
+                            "internal",
+                            "the read failed",
+                        )
+                    })?
+                    .map_err(|e| ApiError::store(&e))?;
+            (archived > after).then(|| {
+                format!(
+                    "events after {after} up to {archived} of flights archived since are not \
+                     replayed: they are in the archive's events-DAY.csv.gz files"
+                )
+            })
+        }
+        None => None,
+    };
     // Subscribe before reading the history: together they miss nothing.
     let rx = app.state.events.subscribe();
     let listener = Listener {
@@ -168,7 +194,7 @@ pub(super) async fn stream(
         caller,
         rx,
         backlog: VecDeque::new(),
-        note: None,
+        note,
     };
     let stream = futures_util::stream::unfold(listener, Listener::next);
     Ok(Sse::new(stream)

@@ -24,6 +24,7 @@
 //! first loads the store (the `load` submodule), then serves.
 
 mod apply;
+mod archive;
 mod batch;
 mod commands;
 mod load;
@@ -45,7 +46,7 @@ use crate::events::{Event, EventKind};
 use crate::flights::{FlightEntry, Status};
 use crate::metrics::PlanOutcome;
 use crate::state::State;
-use crate::store::{Opening, StoreError};
+use crate::store::{Opening, Store, StoreError};
 use crate::zones::book::{AnnouncedZone, NewZone};
 use crate::zones::decide::{self, AnnounceReply, Announcement, WithdrawReply};
 
@@ -67,6 +68,15 @@ pub const QUEUE: usize = 8_192;
 /// How the planner task ended: `Ok` when every sender was gone (a clean stop).
 pub type Ended = Result<(), StoreError>;
 
+/// How the planner task works, besides its store.
+#[derive(Debug)]
+pub struct Setup {
+    /// Whether requests that arrive together are planned as one batch.
+    pub batching: Batching,
+    /// Whether, and how, the leader archives flights that landed long ago.
+    pub retention: Option<crate::store::archive::Retention>,
+}
+
 /// Starts the planner task on its own thread: it converts and loads the store (`opening`),
 /// reports what it restored on `ready`, then serves `commands` until every sender is gone,
 /// and reports how it ended on `ended`.
@@ -74,14 +84,14 @@ pub fn spawn(
     state: Arc<State>,
     opening: Opening,
     commands: mpsc::Receiver<Command>,
-    batching: Batching,
+    setup: Setup,
     ready: oneshot::Sender<Result<Restored, StoreError>>,
     ended: oneshot::Sender<Ended>,
 ) -> Result<(), std::io::Error> {
     std::thread::Builder::new()
         .name("muse-planner".into())
         .spawn(move || {
-            let result = run(&state, opening, commands, batching, ready);
+            let result = run(&state, opening, commands, setup, ready);
             let _ = ended.send(result);
         })
         .map(drop)
@@ -91,9 +101,13 @@ fn run(
     state: &State,
     opening: Opening,
     mut rx: mpsc::Receiver<Command>,
-    batching: Batching,
+    setup: Setup,
     ready: oneshot::Sender<Result<Restored, StoreError>>,
 ) -> Ended {
+    let Setup {
+        batching,
+        retention,
+    } = setup;
     let world = &state.world;
     let planner = Planner::new(&world.airspace, world.params);
     let live = Live::new(planner, &world.closures, state.clock.now());
@@ -121,38 +135,32 @@ fn run(
         last_evict: state.clock.now(),
         batching,
     };
-    let leads = engine.load(store.as_mut()).and_then(|mut restored| {
-        restored.import = import;
-        let leads = store.try_lead(&state.address)?;
-        if !leads {
-            state
-                .role
-                .stand_by(store.leader()?.map(|leader| leader.address));
-            // What the leader committed while this service loaded.
-            engine.follow(store.as_mut())?;
-        }
-        Ok((leads, restored))
-    });
-    let leads = match leads {
-        Ok((leads, restored)) => {
-            // The gauges (`/healthz`, `/metrics`) count what was loaded before anyone is
-            // told the service is ready.
-            state.metrics.set_store_bytes(store.bytes());
-            engine.update_gauges();
-            state.phase.set_ready();
-            let _ = ready.send(Ok(restored));
-            leads
-        }
-        Err(e) => {
-            let _ = ready.send(Err(e));
-            return Ok(());
-        }
+    let Some(leads) = engine.start(store.as_mut(), import, ready) else {
+        // The start failed: `ready` said why.
+        return Ok(());
     };
     if !leads && !engine.stand_by(store.as_mut(), &mut rx)? {
         // Stopped while standing by.
         return store.close();
     }
+    let archiving = match retention {
+        Some(r) => Some((store.archiver()?, r)),
+        None => None,
+    };
     std::thread::scope(|scope| {
+        // Dropped when the planner task ends: the archiver stops then.
+        let (_archive_running, archive_stop) = std::sync::mpsc::channel::<()>();
+        if let Some((archiver, retention)) = archiving {
+            std::thread::Builder::new()
+                .name("muse-archive".into())
+                .spawn_scoped(scope, move || {
+                    archive::run(state, archiver, &retention, &archive_stop);
+                })
+                .map_err(|error| StoreError::Io {
+                    what: "starting the archive thread".into(),
+                    error,
+                })?;
+        }
         let (batches, received) = std::sync::mpsc::sync_channel(PIPELINE);
         let published = Arc::new(writer::Published::default());
         let progress = Arc::clone(&published);
@@ -233,6 +241,44 @@ struct Engine<'s> {
 struct Fatal;
 
 impl Engine<'_> {
+    /// Loads the store, then takes the lead or stands by (following what the leader committed
+    /// meanwhile), and says the service is ready on `ready`: whether it leads, `None` if the
+    /// start failed (`ready` says why).
+    fn start(
+        &mut self,
+        store: &mut dyn Store,
+        import: Option<crate::store::ImportReport>,
+        ready: oneshot::Sender<Result<Restored, StoreError>>,
+    ) -> Option<bool> {
+        let state = self.state;
+        let started = self.load(store).and_then(|mut restored| {
+            restored.import = import;
+            let leads = store.try_lead(&state.address)?;
+            if !leads {
+                state
+                    .role
+                    .stand_by(store.leader()?.map(|leader| leader.address));
+                self.follow(store)?;
+            }
+            Ok((leads, restored))
+        });
+        match started {
+            Ok((leads, restored)) => {
+                // The gauges (`/healthz`, `/metrics`) count what was loaded before anyone is
+                // told the service is ready.
+                state.metrics.set_store_bytes(store.bytes());
+                self.update_gauges();
+                state.phase.set_ready();
+                let _ = ready.send(Ok(restored));
+                Some(leads)
+            }
+            Err(e) => {
+                let _ = ready.send(Err(e));
+                None
+            }
+        }
+    }
+
     /// Decides every command of `group` and sends it to the writer, which answers once it
     /// is durable. `Err` once the writer has failed (the task stops).
     fn decide_and_send(&mut self, group: &mut Vec<Command>) -> Result<(), Fatal> {

@@ -29,6 +29,7 @@
 //!   holding a reservation, and checks the last flights and events written whole; older
 //!   flights are read by index when asked for, and checked then.
 
+pub mod archive;
 mod meta;
 mod pg;
 mod rows;
@@ -338,8 +339,39 @@ pub(crate) trait Store: Send {
         Ok(())
     }
 
+    /// A connection of its own for archiving (see [`archive`]), beside this one: for the
+    /// leader only (its transactions are fenced as this store's are).
+    fn archiver(&mut self) -> Result<Box<dyn Archiver>, StoreError>;
+
     /// Closes the store at a clean stop.
     fn close(self: Box<Self>) -> Result<(), StoreError>;
+}
+
+/// What [`archive::pass`] needs of a store: the flights due, a day's rows, and moving them
+/// out, on a connection of its own.
+pub(crate) trait Archiver: Send {
+    /// The store in words, for messages.
+    fn label(&self) -> String;
+
+    /// The earliest landing before `before` of a flight still in the hot tables.
+    fn oldest_landing(&mut self, before: Instant) -> Result<Option<Instant>, StoreError>;
+
+    /// The flights landing in `[from, to)` still in the hot tables, in answer order, and their
+    /// events, in order.
+    fn day_rows(
+        &mut self,
+        from: Instant,
+        to: Instant,
+    ) -> Result<(Vec<rows::FlightRow>, Vec<rows::EventRow>), StoreError>;
+
+    /// In one transaction: records `flights` and `events` as archived in the file of `day`,
+    /// and deletes them from the hot tables.
+    fn move_rows(
+        &mut self,
+        day: &str,
+        flights: &[rows::FlightRow],
+        events: &[i64],
+    ) -> Result<(), StoreError>;
 }
 
 /// The service that leads a shared store.
@@ -374,6 +406,9 @@ pub(crate) trait Reads: Send + Sync + std::fmt::Debug {
         operator: Option<&str>,
         limit: usize,
     ) -> Result<Vec<Event>, StoreError>;
+
+    /// The largest id of an event archived (with its flight; see [`archive`]), 0 if none.
+    fn archived_events_through(&self) -> Result<u64, StoreError>;
 }
 
 /// A store opened and checked against the world it will serve, not yet loaded.
@@ -423,11 +458,11 @@ impl Opening {
         }
     }
 
-    /// The handlers' reads of this store.
-    pub(crate) fn reads(&self) -> Box<dyn Reads> {
+    /// The handlers' reads of this store; archived flights are read from `archive`.
+    pub(crate) fn reads(&self, archive: Option<PathBuf>) -> Box<dyn Reads> {
         match self {
-            Opening::Folder(o) => Box::new(o.reader()),
-            Opening::Postgres(o) => Box::new(o.reader()),
+            Opening::Folder(o) => Box::new(o.reader(archive)),
+            Opening::Postgres(o) => Box::new(o.reader(archive)),
         }
     }
 

@@ -169,7 +169,7 @@ fn to_json<T: Serialize>(value: &T) -> String {
 
 /// A `flights` row (see the schema for what each column holds).
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub(super) struct FlightRow {
+pub(crate) struct FlightRow {
     pub seq: i64,
     pub id: String,
     pub operator: String,
@@ -367,7 +367,7 @@ impl FlightRow {
 
 /// An `events` row.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub(super) struct EventRow {
+pub(crate) struct EventRow {
     pub id: i64,
     pub at_ms: i64,
     pub kind: String,

@@ -52,6 +52,14 @@ pub(crate) enum Kind {
 }
 
 impl Kind {
+    /// `sqlite` or `postgres`, for the names of a test's own folders.
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Kind::Folder => "sqlite",
+            Kind::Postgres(_) => "postgres",
+        }
+    }
+
     /// A new, empty store named after `name`.
     pub(crate) fn store(self, name: &str) -> StoreAt {
         match self {
@@ -80,6 +88,7 @@ macro_rules! on_both_stores {
         }
     )*};
 }
+pub(crate) use on_both_stores;
 
 /// A running service and a client for it.
 pub(crate) struct Service {

@@ -19,6 +19,7 @@
 //! holding a reservation ahead was among those read. The structure of tables and indexes is
 //! PostgreSQL's to keep (its page checksums, `initdb --data-checksums`, and `amcheck`).
 
+mod archive;
 mod lease;
 mod open;
 mod queries;
@@ -34,7 +35,7 @@ use postgres::{Client, Statement};
 pub use open::Opening;
 
 use super::rows::{EventRow, FlightRow, ZoneRow};
-use super::{Checked, Leader, Recent, Store, StoreError, StoredZone};
+use super::{Archiver, Checked, Leader, Recent, Store, StoreError, StoredZone};
 use crate::events::Event;
 use crate::flights::FlightEntry;
 
@@ -99,6 +100,7 @@ pub(super) fn pg(what: &str) -> impl FnOnce(postgres::Error) -> StoreError + '_ 
 
 /// The open PostgreSQL store, written by the planner task only (see the module docs).
 pub struct PostgresStore {
+    url: String,
     label: String,
     client: Client,
     /// Prepared statements, by their text.
@@ -311,10 +313,12 @@ impl Store for PostgresStore {
         queries::check_all(&mut self.client, airspace, &self.label, progress)
     }
 
+    /// The archived keys count: a number once given is never given again.
     fn last_keys(&mut self) -> Result<(u64, u64), StoreError> {
+        let c = &mut self.client;
         Ok((
-            queries::max_key(&mut self.client, "flights", "seq")?,
-            queries::max_key(&mut self.client, "events", "id")?,
+            queries::max_key(c, "flights", "seq")?.max(queries::max_key(c, "archived", "seq")?),
+            queries::max_key(c, "events", "id")?.max(queries::max_key(c, "archived_events", "id")?),
         ))
     }
 
@@ -344,6 +348,21 @@ impl Store for PostgresStore {
 
     fn wait_for_commits(&mut self, timeout: std::time::Duration) -> Result<(), StoreError> {
         self.wait(timeout)
+    }
+
+    fn archiver(&mut self) -> Result<Box<dyn Archiver>, StoreError> {
+        let Some(term) = self.term else {
+            return Err(StoreError::Deposed {
+                path: self.label.clone(),
+                mine: 0,
+                now: self.read_leader()?.map_or(0, |l| l.term),
+            });
+        };
+        Ok(Box::new(archive::PgArchiver {
+            label: self.label.clone(),
+            client: open::connect(&self.url, &self.label)?,
+            term,
+        }))
     }
 
     fn close(self: Box<Self>) -> Result<(), StoreError> {

@@ -87,10 +87,12 @@ impl Opening {
                 .map_err(pg("reading the meta table"))?;
             meta::check(&label, read, world)?;
             tx.batch_execute(schema::CREATE_LEASE)
-                .map_err(pg("creating the lease table"))?;
+                .and_then(|()| tx.batch_execute(super::archive::CREATE))
+                .map_err(pg("creating the lease and archive tables"))?;
         } else {
             tx.batch_execute(schema::CREATE)
                 .and_then(|()| tx.batch_execute(schema::CREATE_LEASE))
+                .and_then(|()| tx.batch_execute(super::archive::CREATE))
                 .map_err(pg("creating the tables"))?;
             for (key, value, crc) in meta::rows(world) {
                 tx.execute(
@@ -121,14 +123,15 @@ impl Opening {
         self.label.clone()
     }
 
-    /// The handlers' reads of this database.
-    pub(crate) fn reader(&self) -> Reader {
-        Reader::new(self.url.clone(), self.label.clone())
+    /// The handlers' reads of this database (archived flights read from `archive`).
+    pub(crate) fn reader(&self, archive: Option<std::path::PathBuf>) -> Reader {
+        Reader::new(self.url.clone(), self.label.clone(), archive)
     }
 
     /// The store, open for writing.
     pub(crate) fn finish(self) -> PostgresStore {
         PostgresStore {
+            url: self.url,
             label: self.label,
             client: self.client,
             prepared: HashMap::new(),

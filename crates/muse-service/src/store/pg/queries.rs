@@ -240,16 +240,31 @@ pub(super) fn bytes(client: &mut Client) -> Result<u64, StoreError> {
     Ok(n as u64)
 }
 
-/// Keys read in order, which must run without a gap from the first to the last.
+/// Keys read in order, which must run without a gap from the first to the last (but for
+/// keys archived; see `store::archive`).
 struct Keys<'a> {
     label: &'a str,
     table: &'static str,
     expected: i64,
     last: i64,
+    /// Keys archived within the window.
+    archived: i64,
 }
 
 impl Keys<'_> {
-    fn next(&mut self, key: i64) -> Result<(), StoreError> {
+    fn next(&mut self, client: &mut Client, key: i64) -> Result<(), StoreError> {
+        if key > self.expected {
+            let (table, column) = if self.table == "flights" {
+                ("archived", "seq")
+            } else {
+                ("archived_events", "id")
+            };
+            let gap = key - self.expected;
+            if super::archive::archived_between(client, table, column, self.expected, key)? == gap {
+                self.archived += gap;
+                self.expected = key;
+            }
+        }
         if key != self.expected {
             return Err(damaged(
                 self.label,
@@ -275,7 +290,7 @@ impl Keys<'_> {
                 ),
             ));
         }
-        Ok(self.expected as u64)
+        Ok((self.expected - self.archived) as u64)
     }
 }
 
@@ -300,6 +315,7 @@ pub(super) fn check_recent(
         table: "flights",
         expected: first,
         last,
+        archived: 0,
     };
     let rows = client
         .query(
@@ -310,7 +326,7 @@ pub(super) fn check_recent(
     let mut changes = HashMap::new();
     for row in &rows {
         let r = FlightRow::read(row, 0).map_err(pg("checking the last flights"))?;
-        keys.next(r.seq)?;
+        keys.next(client, r.seq)?;
         let entry = r.entry(airspace, label)?;
         if r.holds_until_ms.is_some_and(|h| h >= now.0) && !held.contains(&entry.seq) {
             return Err(damaged(
@@ -332,6 +348,7 @@ pub(super) fn check_recent(
         table: "events",
         expected: first,
         last,
+        archived: 0,
     };
     let rows = client
         .query(
@@ -345,7 +362,7 @@ pub(super) fn check_recent(
         .map_err(pg("checking the last events"))?;
     for row in &rows {
         let e = EventRow::read(row, 0).map_err(pg("checking the last events"))?;
-        keys.next(e.id)?;
+        keys.next(client, e.id)?;
         let found: Option<i64> = row.try_get(7).map_err(pg("checking the last events"))?;
         let of_flight = match changes.get(&e.flight_seq) {
             Some(&c) => Some(c),

@@ -19,6 +19,8 @@ const KEEP: usize = 8;
 pub struct Reader {
     url: String,
     label: String,
+    /// The archive folder (see `store::archive`).
+    archive: Option<std::path::PathBuf>,
     idle: Mutex<Vec<Client>>,
 }
 
@@ -32,10 +34,11 @@ impl std::fmt::Debug for Reader {
 
 impl Reader {
     /// Reads the database at `url`; connects on first use.
-    pub(super) fn new(url: String, label: String) -> Self {
+    pub(super) fn new(url: String, label: String, archive: Option<std::path::PathBuf>) -> Self {
         Reader {
             url,
             label,
+            archive,
             idle: Mutex::new(Vec::new()),
         }
     }
@@ -87,7 +90,16 @@ impl Drop for Reader {
 
 impl Reads for Reader {
     fn flight(&self, airspace: &Airspace, id: &str) -> Result<Option<FlightEntry>, StoreError> {
-        self.with(|c, label| queries::flight_by_id(c, airspace, label, id))
+        self.with(|c, label| {
+            if let Some(e) = queries::flight_by_id(c, airspace, label, id)? {
+                return Ok(Some(e));
+            }
+            super::archive::archived_id(c, label, id)?
+                .map(|(seq, day)| {
+                    crate::store::archive::entry(self.archive.as_deref(), airspace, id, seq, &day)
+                })
+                .transpose()
+        })
     }
 
     fn list(
@@ -106,5 +118,9 @@ impl Reads for Reader {
         limit: usize,
     ) -> Result<Vec<Event>, StoreError> {
         self.with(|c, label| queries::events_after(c, airspace, label, after, operator, limit))
+    }
+
+    fn archived_events_through(&self) -> Result<u64, StoreError> {
+        self.with(|c, _| queries::max_key(c, "archived_events", "id"))
     }
 }

@@ -25,6 +25,7 @@
 //! converted once (see [`legacy`]) and kept, renamed `muse.log.imported`.
 
 mod acked;
+mod archive;
 mod checkpoint;
 mod file;
 mod legacy;
@@ -47,7 +48,9 @@ pub(crate) use open::{connect, sync_dir, write_schema};
 pub use reader::Reader;
 use writes::{write_event, write_flight, write_zone};
 
-use super::{Checked, RECENT, Reads, Recent, Store, StoreError, StoredZone, WorldMeta, meta, rows};
+use super::{
+    Archiver, Checked, RECENT, Reads, Recent, Store, StoreError, StoredZone, WorldMeta, meta, rows,
+};
 use crate::events::Event;
 use crate::flights::FlightEntry;
 
@@ -212,11 +215,17 @@ impl Store for SqliteStore {
             .map_err(|e| e.in_store(&self.label()))
     }
 
+    /// The archived keys count: a number once given is never given again.
     fn last_keys(&mut self) -> Result<(u64, u64), StoreError> {
         let keys = || {
             Ok((
-                queries::max_key(&self.conn, "flights", "seq")?,
-                queries::max_key(&self.conn, "events", "id")?,
+                queries::max_key(&self.conn, "flights", "seq")?
+                    .max(queries::max_key(&self.conn, "archived", "seq")?),
+                queries::max_key(&self.conn, "events", "id")?.max(queries::max_key(
+                    &self.conn,
+                    "archived_events",
+                    "id",
+                )?),
             ))
         };
         keys().map_err(|e: StoreError| e.in_store(&self.label()))
@@ -225,6 +234,10 @@ impl Store for SqliteStore {
     fn bytes(&mut self) -> u64 {
         let size = |p: PathBuf| std::fs::metadata(p).map_or(0, |m| m.len());
         size(self.path.clone()) + size(self.path.with_extension("db-wal"))
+    }
+
+    fn archiver(&mut self) -> Result<Box<dyn Archiver>, StoreError> {
+        Ok(Box::new(archive::SqliteArchiver::open(&self.path)?))
     }
 
     /// Checkpoints the WAL into the database and empties it.

@@ -98,9 +98,9 @@ impl Opening {
         self.dir.join(DB_FILE).display().to_string()
     }
 
-    /// The handlers' reads of this folder's store.
-    pub(crate) fn reader(&self) -> super::Reader {
-        super::Reader::new(self.dir.join(DB_FILE))
+    /// The handlers' reads of this folder's store (archived flights read from `archive`).
+    pub(crate) fn reader(&self, archive: Option<PathBuf>) -> super::Reader {
+        super::Reader::new(self.dir.join(DB_FILE), archive)
     }
 
     /// Whether a log of an earlier version will be converted.
@@ -126,6 +126,8 @@ impl Opening {
             None
         };
         let conn = connect(&db, true)?;
+        conn.execute_batch(super::archive::CREATE)
+            .map_err(sql("adding the archive's tables"))?;
         let (count, acked) = counted(&conn, &self.dir)?;
         let checkpoints = checkpoint::Checkpointer::start(&db)?;
         Ok((

@@ -20,15 +20,19 @@ const KEEP: usize = 8;
 pub struct Reader {
     path: PathBuf,
     label: String,
+    /// The archive folder (see `store::archive`).
+    archive: Option<PathBuf>,
     idle: Mutex<Vec<Connection>>,
 }
 
 impl Reader {
-    /// Reads the store at `path` (the database file); connects on first use.
-    pub fn new(path: PathBuf) -> Self {
+    /// Reads the store at `path` (the database file), and archived flights from `archive`;
+    /// connects on first use.
+    pub fn new(path: PathBuf, archive: Option<PathBuf>) -> Self {
         Reader {
             label: path.display().to_string(),
             path,
+            archive,
             idle: Mutex::new(Vec::new()),
         }
     }
@@ -61,7 +65,16 @@ impl Reader {
 impl Reads for Reader {
     /// The flight with client id `id`.
     fn flight(&self, airspace: &Airspace, id: &str) -> Result<Option<FlightEntry>, StoreError> {
-        self.with(|c, label| queries::flight_by_id(c, airspace, label, id))
+        self.with(|c, label| {
+            if let Some(e) = queries::flight_by_id(c, airspace, label, id)? {
+                return Ok(Some(e));
+            }
+            super::archive::archived_id(c, label, id)?
+                .map(|(seq, day)| {
+                    crate::store::archive::entry(self.archive.as_deref(), airspace, id, seq, &day)
+                })
+                .transpose()
+        })
     }
 
     /// The flights a listing asks for, in answer order, and whether more follow the page.
@@ -83,5 +96,9 @@ impl Reads for Reader {
         limit: usize,
     ) -> Result<Vec<Event>, StoreError> {
         self.with(|c, label| queries::events_after(c, airspace, label, after, operator, limit))
+    }
+
+    fn archived_events_through(&self) -> Result<u64, StoreError> {
+        self.with(|c, _| queries::max_key(c, "archived_events", "id"))
     }
 }

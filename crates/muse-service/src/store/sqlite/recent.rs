@@ -16,6 +16,7 @@ use std::collections::{HashMap, HashSet};
 use muse_model::{Airspace, Instant};
 use rusqlite::Connection;
 
+use super::archive::archived_between;
 use super::queries::{flight_by_seq, indexed, max_key};
 use super::rows::{EVENT_COLUMNS, EventRow, FLIGHT_COLUMNS, FlightRow};
 use super::{Recent, StoreError, sql};
@@ -46,7 +47,7 @@ pub(super) fn check(
             .map_err(sql("checking the last flights"))?;
         for row in rows {
             let row = row.map_err(sql("checking the last flights"))?;
-            keys.next(row.seq)?;
+            keys.next(conn, row.seq)?;
             let entry = row.entry(airspace, path)?;
             indexed(conn, path, &row)?;
             if row.holds_until_ms.is_some_and(|h| h >= now.0) && !held.contains(&entry.seq) {
@@ -74,7 +75,7 @@ pub(super) fn check(
         .map_err(sql("checking the last events"))?;
     for row in rows {
         let row = row.map_err(sql("checking the last events"))?;
-        keys.next(row.id)?;
+        keys.next(conn, row.id)?;
         let seq = u64::try_from(row.flight_seq).unwrap_or(0);
         let flight_changes = match changes.get(&seq) {
             Some(&c) => Some(c),
@@ -121,8 +122,21 @@ impl<'a> Keys<'a> {
         })
     }
 
-    /// The next row read has key `got`: the one expected, or damage.
-    fn next(&mut self, got: i64) -> Result<(), StoreError> {
+    /// The next row read has key `got`: the one expected (or the next after keys archived;
+    /// see `store::archive`), or damage.
+    fn next(&mut self, conn: &Connection, got: i64) -> Result<(), StoreError> {
+        if got > self.want as i64 {
+            let (table, key) = if self.table == "flights" {
+                ("archived", "seq")
+            } else {
+                ("archived_events", "id")
+            };
+            let gap = got as u64 - self.want;
+            if archived_between(conn, table, key, self.want, got as u64)? == gap {
+                self.first += gap;
+                self.want = got as u64;
+            }
+        }
         if got != self.want as i64 {
             return Err(self.damaged(format!(
                 "{} row {} {} is missing (the rows go on with {} {got})",
