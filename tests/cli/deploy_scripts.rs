@@ -289,7 +289,11 @@ fn the_compose_file_starts_three_services_with_command_lines_muse_takes() {
             String::from_utf8_lossy(&out.stderr)
         );
     }
-    assert_eq!((stores.len(), advertised.len()), (1, 3), "{stores:?} {advertised:?}");
+    assert_eq!(
+        (stores.len(), advertised.len()),
+        (1, 3),
+        "{stores:?} {advertised:?}"
+    );
     let tokens = root().join("deploy/service/tokens.example.toml");
     let data = std::env::temp_dir().join(format!("muse-compose-tokens-{}", std::process::id()));
     let out = Command::new(env!("CARGO_BIN_EXE_muse"))
