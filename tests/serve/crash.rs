@@ -16,7 +16,7 @@ use rand::{RngExt as _, SeedableRng as _};
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 
-use crate::support::{scratch_dir, start};
+use crate::support::{StoreArg, start_on};
 
 const CYCLES: usize = 12;
 /// Concurrent clients during each cycle.
@@ -230,8 +230,21 @@ pub(crate) async fn verify_all(base: &str) -> usize {
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn acknowledged_flights_survive_sigkill() {
+    survive_sigkill(false).await;
+}
+
+/// The same on a PostgreSQL store: each SIGKILL ends the service's session, and the
+/// restarted process takes the lead at once.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn acknowledged_flights_survive_sigkill_on_postgres() {
+    survive_sigkill(true).await;
+}
+
+async fn survive_sigkill(postgres: bool) {
     println!("seed {SEED:#x}");
-    let data = scratch_dir("serve-crash");
+    let Some(data) = StoreArg::fresh("serve-crash", postgres) else {
+        return;
+    };
     let scenario = muse_scenario::by_name("singapore-77").unwrap();
     let stations: Arc<Vec<String>> = Arc::new(
         scenario
@@ -243,7 +256,7 @@ async fn acknowledged_flights_survive_sigkill() {
     let ledger = Arc::new(Mutex::new(Ledger::default()));
     let mut rng = ChaCha8Rng::seed_from_u64(SEED);
     for cycle in 0..CYCLES {
-        let server = start(&data, &[]);
+        let server = start_on(&data, &[]);
         check_restart(&server.base, &ledger).await;
         let tasks: Vec<_> = (0..CLIENTS)
             .map(|k| {
@@ -268,7 +281,7 @@ async fn acknowledged_flights_survive_sigkill() {
             l.unanswered.len()
         );
     }
-    let server = start(&data, &[]);
+    let server = start_on(&data, &[]);
     check_restart(&server.base, &ledger).await;
     let planned = verify_all(&server.base).await;
     let acked = ledger.lock().unwrap().acked.len();
@@ -280,5 +293,5 @@ async fn acknowledged_flights_survive_sigkill() {
         "too little load: {acked} {planned}"
     );
     server.kill();
-    let _ = std::fs::remove_dir_all(&data);
+    data.remove();
 }

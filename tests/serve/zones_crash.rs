@@ -23,7 +23,7 @@ use rand::{RngExt as _, SeedableRng as _};
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 
-use crate::support::{scratch_dir, start};
+use crate::support::{StoreArg, start_on};
 
 const SEED: u64 = 0x2011_0e09;
 /// The service clock at the first start: inside the stadium zone's window.
@@ -225,12 +225,24 @@ fn verify(flights: &BTreeMap<String, Value>, zones: &str) -> usize {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
-#[allow(clippy::too_many_lines)] // One story, told in order.
 async fn an_announcement_survives_sigkill_right_after_its_answer() {
+    announcement_survives_sigkill(false).await;
+}
+
+/// The same on a PostgreSQL store.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_announcement_survives_sigkill_right_after_its_answer_on_postgres() {
+    announcement_survives_sigkill(true).await;
+}
+
+#[allow(clippy::too_many_lines)] // One story, told in order.
+async fn announcement_survives_sigkill(postgres: bool) {
     println!("seed {SEED:#x}");
-    let data = scratch_dir("serve-zones-crash");
+    let Some(data) = StoreArg::fresh("serve-zones-crash", postgres) else {
+        return;
+    };
     let started = WallInstant::now();
-    let server = start(&data, &["--clock", CLOCK]);
+    let server = start_on(&data, &["--clock", CLOCK]);
     let http = reqwest::Client::new();
     // A listener from the start of the history, reading until the kill.
     let before = Arc::new(Mutex::new(Vec::new()));
@@ -278,7 +290,7 @@ async fn an_announcement_survives_sigkill_right_after_its_answer() {
     // Restart, the clock where it was.
     let clock =
         Instant::parse_rfc3339(CLOCK).unwrap() + Millis(started.elapsed().as_millis() as i64);
-    let server = start(&data, &["--clock", &clock.to_rfc3339(UtcOffset::SINGAPORE)]);
+    let server = start_on(&data, &["--clock", &clock.to_rfc3339(UtcOffset::SINGAPORE)]);
     let held = all_flights(&http, &server.base).await;
     let mut want = planned.clone();
     for a in affected {
@@ -357,5 +369,5 @@ async fn an_announcement_survives_sigkill_right_after_its_answer() {
     let flying = verify(&all_flights(&http, &server.base).await, &zones);
     println!("{flying} flights verified with the zone");
     server.kill();
-    let _ = std::fs::remove_dir_all(&data);
+    data.remove();
 }

@@ -484,7 +484,8 @@ impl Opening {
         }
     }
 
-    /// [`Opening::finish`] and a clean close, without serving (`muse serve --import-log`):
+    /// Converts a log of an earlier version, makes the store if there is none, and closes it
+    /// cleanly, without serving (`muse serve --import-log`):
     /// what was converted, if anything.
     pub fn import_only(
         self,
