@@ -10,7 +10,9 @@
   the same store, then the leader is killed with SIGKILL ``--kills`` times: the time from the
   kill to a standby saying ``"role": "leader"`` on ``/healthz`` (the take-over) and to its first
   answered ``POST /v1/flights`` (writes again) is recorded; the killed process is started again
-  (a standby) and the next kill waits until it is loaded.
+  (a standby) and the next kill waits until it is loaded. ``--world`` options choose the
+  airspace (a million flights over 30 days need more than the 77 stations:
+  ``--world='--scenario singapore-all'``).
 
 - ``archive``: a week of traffic (``--per-day`` requests a day, Singapore uniform pairs,
   departures within the day) on a SQLite folder and on a PostgreSQL store, each day a service
@@ -28,6 +30,7 @@ import argparse
 import json
 import os
 import pathlib
+import shlex
 import signal
 import statistics
 import subprocess
@@ -162,12 +165,15 @@ def leader_of(bases):
 def measure_takeover(a):
     out = pathlib.Path(a.out)
     url = fresh_db(a.pg, "measure_takeover")
-    common = ["--store", url, "--booking-horizon-days", str(a.horizon_days)]
+    common = ["--store", url, "--booking-horizon-days", str(a.horizon_days), *a.world]
     procs = [None, None, None]
     bases = [None, None, None]
     procs[0], bases[0], _ = serve(a.muse, out / "takeover-0.log", *common)
+    _, airspace = get(bases[0], "/v1/airspace")
+    stations = [f["properties"]["id"] for f in airspace["features"]
+                if f["properties"].get("kind") == "station"]
     # Fill: in-range pairs, departures spread over the horizon, until enough flights are held.
-    lead = f"1:{a.horizon_days * 1440 - 60}"
+    lead = f"1:{min(a.horizon_days * 1440 - 60, 43_200)}"
     filled_at = time.monotonic()
     while True:
         _, h = get(bases[0], "/healthz")
@@ -200,7 +206,7 @@ def measure_takeover(a):
             if time.monotonic() - killed > 60:
                 raise SystemExit("no take-over within 60 s")
         took = time.monotonic() - killed
-        body = {"id": f"takeover-probe-{k}", "origin": "S001", "destination": "S002",
+        body = {"id": f"takeover-probe-{k}", "origin": stations[0], "destination": stations[1],
                 "departure": time.strftime("%Y-%m-%dT%H:%M:%S+00:00",
                                            time.gmtime(time.time() + 7200))}
         while post(bases[new], body) not in (200, 201):
@@ -291,11 +297,14 @@ def main():
     parser.add_argument("--reps", type=int, default=2)
     parser.add_argument("--seconds", type=int, default=20)
     parser.add_argument("--flights", type=int, default=1_000_000)
-    parser.add_argument("--horizon-days", type=int, default=365)
+    parser.add_argument("--horizon-days", type=int, default=30)
+    parser.add_argument("--world", default="",
+                        help="options of the world served, e.g. --world='--scenario singapore-all'")
     parser.add_argument("--kills", type=int, default=20)
     parser.add_argument("--days", type=int, default=7)
     parser.add_argument("--per-day", type=int, default=10_000)
     a = parser.parse_args()
+    a.world = shlex.split(a.world)
     os.makedirs(a.out, exist_ok=True)
     try:
         {"load": measure_load, "takeover": measure_takeover, "archive": measure_archive}[a.what](a)

@@ -34,7 +34,7 @@ struct Ledger {
     cancel_unanswered: BTreeSet<String>,
 }
 
-fn rfc3339_in(ms: i64) -> String {
+pub(crate) fn rfc3339_in(ms: i64) -> String {
     let now = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .unwrap()

@@ -16,12 +16,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use muse_model::UtcOffset;
 use rand::{RngExt as _, SeedableRng as _};
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 
-use crate::crash::{all_flights, get, verify_all};
+use crate::crash::{all_flights, get, rfc3339_in, verify_all};
 use crate::support::throwaway_pg::Throwaway;
 use crate::support::{Server, start_with};
 
@@ -44,14 +43,6 @@ struct Answers {
     repeated: usize,
     /// Sends that got no answer (a dead instance, or `503` while the lead moved).
     unanswered: usize,
-}
-
-fn rfc3339_in(ms: i64) -> String {
-    let now = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .unwrap()
-        .as_millis() as i64;
-    muse_model::Instant(now + ms).to_rfc3339(UtcOffset::SINGAPORE)
 }
 
 /// Sends `body` to instances drawn at random until one answers (`200` or `201`); checks the

@@ -17,7 +17,7 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use axum::extract::State as AxumState;
-use axum::http::{HeaderMap, StatusCode};
+use axum::http::HeaderMap;
 use axum::response::sse::{Event as SseEvent, KeepAlive, Sse};
 use axum::response::{IntoResponse, Response};
 use tokio::sync::{broadcast, watch};
@@ -163,18 +163,8 @@ pub(super) async fn stream(
     // without a word.
     let note = match last {
         Some(after) => {
-            let reads = Arc::clone(&app);
             let archived =
-                tokio::task::spawn_blocking(move || reads.state.reader.archived_events_through())
-                    .await
-                    .map_err(|_| {
-                        ApiError::new(
-                            StatusCode::INTERNAL_SERVER_ERROR,
-                            "internal",
-                            "the read failed",
-                        )
-                    })?
-                    .map_err(|e| ApiError::store(&e))?;
+                super::read_store(&app, |app| app.state.reader.archived_events_through()).await?;
             (archived > after).then(|| {
                 format!(
                     "events after {after} up to {archived} of flights archived since are not \

@@ -17,7 +17,7 @@ use crate::metrics::PlanOutcome;
 
 use super::error::json;
 use super::guard::JsonBody;
-use super::{ApiError, App, Authed};
+use super::{ApiError, App, Authed, read_store};
 use crate::flights::{ID_RULE, valid_id};
 
 /// The body of `POST /v1/flights`.
@@ -245,22 +245,10 @@ pub(super) async fn list(
         after: p.after,
         limit: p.limit,
     };
-    let reader = Arc::clone(&app);
-    let (entries, more) = tokio::task::spawn_blocking(move || {
-        reader
-            .state
-            .reader
-            .list(&reader.state.world.airspace, &query)
+    let (entries, more) = read_store(&app, move |app| {
+        app.state.reader.list(&app.state.world.airspace, &query)
     })
-    .await
-    .map_err(|_| {
-        ApiError::new(
-            StatusCode::INTERNAL_SERVER_ERROR,
-            "internal",
-            "the listing failed",
-        )
-    })?
-    .map_err(|e| ApiError::store(&e))?;
+    .await?;
     let w = &app.state.world;
     let body = FlightList {
         next_after: if more {
@@ -291,24 +279,11 @@ pub(super) async fn read(
     let entry = if let Some(e) = held {
         Some(e)
     } else {
-        // The store's reads block (a database round trip): off the async workers.
-        let reader = Arc::clone(&app);
         let wanted = id.clone();
-        tokio::task::spawn_blocking(move || {
-            reader
-                .state
-                .reader
-                .flight(&reader.state.world.airspace, &wanted)
+        read_store(&app, move |app| {
+            app.state.reader.flight(&app.state.world.airspace, &wanted)
         })
-        .await
-        .map_err(|_| {
-            ApiError::new(
-                StatusCode::INTERNAL_SERVER_ERROR,
-                "internal",
-                "the read failed",
-            )
-        })?
-        .map_err(|e| ApiError::store(&e))?
+        .await?
         .map(Arc::new)
     };
     let entry = entry

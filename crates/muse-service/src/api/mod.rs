@@ -205,6 +205,25 @@ async fn until_ready(
     e.into_response()
 }
 
+/// Runs `read` of the store off the async workers (the store's reads block: a database
+/// round trip), mapping a failed read to its `500`.
+pub(super) async fn read_store<T: Send + 'static>(
+    app: &Arc<App>,
+    read: impl FnOnce(&App) -> Result<T, crate::store::StoreError> + Send + 'static,
+) -> Result<T, ApiError> {
+    let app = Arc::clone(app);
+    tokio::task::spawn_blocking(move || read(&app))
+        .await
+        .map_err(|_| {
+            ApiError::new(
+                StatusCode::INTERNAL_SERVER_ERROR,
+                "internal",
+                "the read of the store failed",
+            )
+        })?
+        .map_err(|e| ApiError::store(&e))
+}
+
 async fn not_found() -> ApiError {
     ApiError::new(
         StatusCode::NOT_FOUND,

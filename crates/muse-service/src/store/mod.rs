@@ -387,8 +387,26 @@ pub struct Leader {
 /// is everything acknowledged (answers go out after their commit). Blocking: call them off the
 /// async workers (`spawn_blocking`).
 pub(crate) trait Reads: Send + Sync + std::fmt::Debug {
-    /// The flight with client id `id`.
-    fn flight(&self, airspace: &Airspace, id: &str) -> Result<Option<FlightEntry>, StoreError>;
+    /// The flight with client id `id`: from the hot tables, else from its archive file (see
+    /// [`archive`]).
+    fn flight(&self, airspace: &Airspace, id: &str) -> Result<Option<FlightEntry>, StoreError> {
+        if let Some(e) = self.hot_flight(airspace, id)? {
+            return Ok(Some(e));
+        }
+        self.archived_id(id)?
+            .map(|(seq, day)| archive::entry(self.archive_dir(), airspace, id, seq, &day))
+            .transpose()
+    }
+
+    /// The flight with client id `id` in the hot tables.
+    fn hot_flight(&self, airspace: &Airspace, id: &str) -> Result<Option<FlightEntry>, StoreError>;
+
+    /// The archived flight with client id `id`: its sequence number and the day of its file
+    /// (its `archived` row's checksum checked).
+    fn archived_id(&self, id: &str) -> Result<Option<(i64, String)>, StoreError>;
+
+    /// The archive folder archived flights are read from, if this service was given one.
+    fn archive_dir(&self) -> Option<&std::path::Path>;
 
     /// The flights a listing asks for, in answer order, and whether more follow the page.
     fn list(

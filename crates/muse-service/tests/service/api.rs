@@ -257,6 +257,16 @@ pub(crate) fn flight(id: &str, from: &str, to: &str, departure: &str) -> Value {
     json!({"id": id, "origin": from, "destination": to, "departure": departure})
 }
 
+/// The ids of a listing's flights, in its order.
+pub(crate) fn ids(list: &Value) -> Vec<&str> {
+    list["flights"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["request"].as_str().unwrap())
+        .collect()
+}
+
 fn error_field(v: &Value) -> Option<&str> {
     v["error"]["field"].as_str()
 }
@@ -304,13 +314,7 @@ async fn plan_reject_each_reason_and_read_back(kind: Kind) {
     assert_eq!(code, 404);
     let (code, list) = s.get("/v1/flights", None).await;
     assert_eq!(code, 200);
-    let ids: Vec<&str> = list["flights"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|f| f["request"].as_str().unwrap())
-        .collect();
-    assert_eq!(ids, ["f1", "f2", "f3", "f4", "f5"]);
+    assert_eq!(ids(&list), ["f1", "f2", "f3", "f4", "f5"]);
     let (_, list) = s.get("/v1/flights?status=planned", None).await;
     assert_eq!(list["flights"].as_array().unwrap().len(), 1);
     // Time window: f1 flies 10 to 14 minutes from now.

@@ -9,10 +9,10 @@ use std::path::Path;
 use std::time::Duration;
 
 use muse_model::{Instant, Millis, UtcOffset};
-use muse_service::Clock;
+use muse_service::{Clock, StoreAt};
 use serde_json::Value;
 
-use crate::api::{Kind, Service, flight, temp_dir};
+use crate::api::{Kind, Service, flight, ids, temp_dir};
 
 /// Flights answered each day.
 const PER_DAY: usize = 40;
@@ -29,6 +29,18 @@ async fn hot(s: &Service) -> BTreeMap<String, Value> {
         .iter()
         .map(|f| (f["request"].as_str().unwrap().to_owned(), f.clone()))
         .collect()
+}
+
+/// A service on `store` with its clock at `start`, archiving after a day into `dir`.
+async fn archiving(store: &StoreAt, start: Instant, dir: &Path) -> Service {
+    let dir = dir.to_path_buf();
+    Service::open(store.clone(), Vec::new(), move |o| {
+        o.clock = Clock::starting_at(start);
+        o.archive_after_days = Some(1);
+        o.archive_dir = Some(dir);
+    })
+    .await
+    .unwrap()
 }
 
 /// The number of rows of the gzip-compressed CSV file at `path`, its header aside.
@@ -53,14 +65,7 @@ async fn a_week_of_traffic(kind: Kind) {
     let legs = [("A", "C"), ("C", "A"), ("A", "B"), ("B", "C"), ("X", "Y")];
     for day in 0..DAYS {
         let start = monday + Millis::from_secs(day * 86_400);
-        let archive = dir.clone();
-        let s = Service::open(store.clone(), Vec::new(), move |o| {
-            o.clock = Clock::starting_at(start);
-            o.archive_after_days = Some(1);
-            o.archive_dir = Some(archive);
-        })
-        .await
-        .unwrap();
+        let s = archiving(&store, start, &dir).await;
         // The pass at the start leaves exactly yesterday's flights hot (those of the days
         // before it landed more than a whole day ago).
         let want: std::collections::BTreeSet<&String> = by_day
@@ -127,27 +132,14 @@ async fn a_week_of_traffic(kind: Kind) {
     // A new flight after a week takes a new number: the keys of archived flights are not
     // given again.
     let start = monday + Millis::from_secs(DAYS * 86_400);
-    let archive = dir.clone();
-    let s = Service::open(store.clone(), Vec::new(), move |o| {
-        o.clock = Clock::starting_at(start);
-        o.archive_after_days = Some(1);
-        o.archive_dir = Some(archive);
-    })
-    .await
-    .unwrap();
+    let s = archiving(&store, start, &dir).await;
     let at = (start + Millis::from_secs(600)).to_rfc3339(UtcOffset::SINGAPORE);
     let (code, v) = s.post(None, &flight("last", "A", "C", &at)).await;
     assert_eq!(code, 201, "{v}");
     let (_, list) = s
         .get(&format!("/v1/flights?after={}", answered.len()), None)
         .await;
-    let after: Vec<&str> = list["flights"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|f| f["request"].as_str().unwrap())
-        .collect();
-    assert_eq!(after, ["last"], "{list}");
+    assert_eq!(ids(&list), ["last"], "{list}");
     let _ = s.stop().await;
     let restarted = Service::open(store, Vec::new(), |_| {}).await.unwrap();
     assert_eq!(

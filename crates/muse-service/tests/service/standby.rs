@@ -7,7 +7,7 @@ use std::time::Duration;
 
 use serde_json::Value;
 
-use crate::api::{Kind, Service, flight, in_secs};
+use crate::api::{Kind, Service, flight, ids, in_secs};
 use crate::throwaway_pg::{Throwaway, execute};
 
 /// `/healthz` of `s`, once `ready` holds of it (within 10 s).
@@ -90,13 +90,7 @@ async fn a_standby_follows_forwards_and_takes_over_with_the_same_answers() {
     let (code, v) = b.post(None, &flight("k5", "X", "Y", &in_secs(900))).await;
     assert_eq!(code, 201, "{v}");
     let (_, list) = b.get("/v1/flights", None).await;
-    let ids: Vec<&str> = list["flights"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|f| f["request"].as_str().unwrap())
-        .collect();
-    assert_eq!(ids, ["k1", "k2", "k3", "k4", "k5"], "{list}");
+    assert_eq!(ids(&list), ["k1", "k2", "k3", "k4", "k5"], "{list}");
     let _ = b.stop().await;
 }
 

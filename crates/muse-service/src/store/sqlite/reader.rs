@@ -63,21 +63,18 @@ impl Reader {
 }
 
 impl Reads for Reader {
-    /// The flight with client id `id`.
-    fn flight(&self, airspace: &Airspace, id: &str) -> Result<Option<FlightEntry>, StoreError> {
-        self.with(|c, label| {
-            if let Some(e) = queries::flight_by_id(c, airspace, label, id)? {
-                return Ok(Some(e));
-            }
-            super::archive::archived_id(c, label, id)?
-                .map(|(seq, day)| {
-                    crate::store::archive::entry(self.archive.as_deref(), airspace, id, seq, &day)
-                })
-                .transpose()
-        })
+    fn hot_flight(&self, airspace: &Airspace, id: &str) -> Result<Option<FlightEntry>, StoreError> {
+        self.with(|c, label| queries::flight_by_id(c, airspace, label, id))
     }
 
-    /// The flights a listing asks for, in answer order, and whether more follow the page.
+    fn archived_id(&self, id: &str) -> Result<Option<(i64, String)>, StoreError> {
+        self.with(|c, label| super::archive::archived_id(c, label, id))
+    }
+
+    fn archive_dir(&self) -> Option<&std::path::Path> {
+        self.archive.as_deref()
+    }
+
     fn list(
         &self,
         airspace: &Airspace,
