@@ -117,9 +117,11 @@ def load(muse, out, base, mode, seconds, label):
     subprocess.run([muse, "load", "--url", base, *args, "--out", str(report)],
                    check=True, capture_output=True)
     r = json.load(open(report))
-    lat = r["latency"]
+    lat = r["latency_ms"]
     return {
-        "store": label, "mode": mode, "answered_per_s": round(lat["count"] / r["wall_s"]),
+        "store": label, "mode": mode,
+        "answered_per_s": round(r["throughput"]["answered_per_s"]),
+        "errors": r["counts"]["errors"],
         "p50_ms": round(lat["p50_ms"], 3), "p99_ms": round(lat["p99_ms"], 3),
         "p99_9_ms": round(lat["p99_9_ms"], 3), "max_ms": round(lat["max_ms"], 3),
     }

@@ -65,10 +65,11 @@ impl Role {
         self.standby.store(true, Ordering::Release);
     }
 
-    /// A standby has applied every event up to `applied`; the store held up to `stored`.
+    /// A standby has applied every event up to `applied`; the store held up to `stored` (or
+    /// more, if an earlier look read more).
     pub(crate) fn followed(&self, applied: u64, stored: u64, at_ms: i64) {
         self.applied_event.store(applied, Ordering::Relaxed);
-        self.stored_event.store(stored, Ordering::Relaxed);
+        self.stored_event.fetch_max(stored, Ordering::Relaxed);
         self.followed_ms.store(at_ms, Ordering::Relaxed);
     }
 

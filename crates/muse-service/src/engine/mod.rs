@@ -258,7 +258,7 @@ impl Engine<'_> {
                 state
                     .role
                     .stand_by(store.leader()?.map(|leader| leader.address));
-                self.follow(store)?;
+                self.follow(store, true)?;
             }
             Ok((leads, restored))
         });

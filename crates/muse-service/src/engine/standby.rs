@@ -10,8 +10,9 @@
 //! last event read. Rejected flights hold nothing and have no event: reads find them in the
 //! store.
 //!
-//! The standby looks again as soon as the leader's commit is announced, or every [`POLL`] at
-//! the latest, and each time first tries to take the lead: it succeeds once the leader's
+//! The standby looks again as soon as the leader's commit is announced (at most one look per
+//! [`GAP`]), or every [`POLL`] at the latest, and each time tries to take the lead (the zones,
+//! the lease and the last keys are read every [`WHOLE_EVERY`]): it succeeds once the leader's
 //! session has ended. It then reads the last of the old leader's commits (there can be no
 //! more: the lead is taken in the store, see `store::pg::lease`) and plans on from there; the
 //! schedule is warm, so the take-over reads only that tail.
@@ -30,6 +31,15 @@ use crate::store::{Store, StoreError};
 /// take the lead, anyway.
 pub(super) const POLL: Duration = Duration::from_millis(50);
 
+/// The least time between two looks: under steady writes the leader commits hundreds of
+/// times a second, and one look reads all the events since the last, so looks closer together
+/// would only cost the store and the machine work.
+const GAP: Duration = Duration::from_millis(10);
+
+/// How often a standby also reads the zones, the lease and the last keys (a zone announced
+/// that changed no flight has no event; the leader's address; how far behind it is).
+const WHOLE_EVERY: Duration = Duration::from_millis(250);
+
 /// Most events read from the store at once.
 const STEP: usize = 4_096;
 
@@ -42,7 +52,9 @@ impl Engine<'_> {
         commands: &mut mpsc::Receiver<Command>,
     ) -> Result<bool, StoreError> {
         let state = self.state;
+        let mut whole_at = std::time::Instant::now();
         loop {
+            let looked = std::time::Instant::now();
             // A command reaches a standby only in a race with a change of leader; the handlers
             // send writes to the leader.
             loop {
@@ -55,10 +67,11 @@ impl Engine<'_> {
                     Err(TryRecvError::Disconnected) => return Ok(false),
                 }
             }
-            self.follow(store)?;
+            let whole = whole_at.elapsed() >= WHOLE_EVERY;
+            self.follow(store, whole)?;
             if store.try_lead(&state.address)? {
                 // The old leader can commit no more: read what it committed last.
-                self.follow(store)?;
+                self.follow(store, true)?;
                 let (last_seq, last_event) = store.last_keys()?;
                 self.next_seq = last_seq + 1;
                 self.next_event = last_event + 1;
@@ -66,19 +79,27 @@ impl Engine<'_> {
                 self.update_gauges();
                 return Ok(true);
             }
-            state
-                .role
-                .stand_by(store.leader()?.map(|leader| leader.address));
+            if whole {
+                state
+                    .role
+                    .stand_by(store.leader()?.map(|leader| leader.address));
+                whole_at = std::time::Instant::now();
+            }
             store.wait_for_commits(POLL)?;
+            if let Some(rest) = GAP.checked_sub(looked.elapsed()) {
+                std::thread::sleep(rest);
+            }
         }
     }
 
     /// Applies what the leader committed since the last look (see the module docs), and
-    /// publishes it: to reads, to `GET /v1/zones`, to the event streams.
-    pub(super) fn follow(&mut self, store: &mut dyn Store) -> Result<(), StoreError> {
+    /// publishes it: to reads, to `GET /v1/zones`, to the event streams. `whole`: the zones
+    /// and the last keys are read too (else only the events).
+    pub(super) fn follow(&mut self, store: &mut dyn Store, whole: bool) -> Result<(), StoreError> {
         let state = self.state;
         self.tick();
-        for stored in store.zones()? {
+        let zones = if whole { store.zones()? } else { Vec::new() };
+        for stored in zones {
             let known = state
                 .zones
                 .read()
