@@ -439,6 +439,9 @@ pub fn pass(
         }
         out.days.push(day);
     }
+    if out.flights > 0 {
+        archiver.reclaim()?;
+    }
     Ok(out)
 }
 

@@ -372,6 +372,12 @@ pub(crate) trait Archiver: Send {
         flights: &[rows::FlightRow],
         events: &[i64],
     ) -> Result<(), StoreError>;
+
+    /// After a pass that moved rows: lets the space they took be used again (PostgreSQL:
+    /// `VACUUM` of the hot tables; SQLite reuses freed pages by itself).
+    fn reclaim(&mut self) -> Result<(), StoreError> {
+        Ok(())
+    }
 }
 
 /// The service that leads a shared store.

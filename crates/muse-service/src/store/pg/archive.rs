@@ -138,6 +138,21 @@ impl Archiver for PgArchiver {
         }
         moved.map_err(pg(what))
     }
+
+    fn reclaim(&mut self) -> Result<(), StoreError> {
+        self.vacuum()
+    }
+}
+
+/// (The rest of [`Archiver`] for PostgreSQL.)
+impl PgArchiver {
+    /// `VACUUM` of the hot tables, so that the next day's rows take the space the archived
+    /// ones left (autovacuum would, later; this is at once, and only after a pass).
+    fn vacuum(&mut self) -> Result<(), StoreError> {
+        self.client
+            .batch_execute("VACUUM flights, events")
+            .map_err(pg("vacuuming the hot tables after archiving"))
+    }
 }
 
 /// The archived flight with client id `id`: its `seq` and day, its row's checksum checked.
