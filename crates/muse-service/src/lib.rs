@@ -24,6 +24,8 @@
 //! - `http`: the HTTP server itself: timeouts, connection cap, graceful stop;
 //! - `auth`: bearer tokens, operators and the authority, the rate limit;
 //! - `metrics`: the Prometheus exposition;
+//! - `role`: leader or standby, for several services on one PostgreSQL store (the engine's
+//!   `standby` follows the leader; the API's `forward` sends a standby's writes to it);
 //! - `state`: what is planned on (airspace, zones, parameters, clock).
 //!
 //! The planning itself is `muse_planner::Live`, the same planner and schedule as a batch day.

@@ -5,11 +5,14 @@
 //! [`Engine::apply`], as live changes are. Flights that ended stay in the store, where reads
 //! find them; so the start's time and memory grow with the traffic still ahead, not with the
 //! days served. Nothing is planned again: each flight is put back as it stands, with the
-//! outcome of every zone that changed it.
+//! outcome of every zone that changed it. Then the service leads its store or stands by
+//! ([`Engine::start`]).
 
 use std::sync::Arc;
 
 use super::apply::Change;
+use tokio::sync::oneshot;
+
 use super::{Engine, Restored};
 use crate::store::{Store, StoreError, StoredZone};
 use crate::zones::book::{AnnouncedZone, read_stored};
@@ -52,6 +55,44 @@ impl Engine<'_> {
 }
 
 impl Engine<'_> {
+    /// Loads the store, then takes the lead or stands by (following what the leader committed
+    /// meanwhile), and says the service is ready on `ready`: whether it leads, `None` if the
+    /// start failed (`ready` says why).
+    pub(super) fn start(
+        &mut self,
+        store: &mut dyn Store,
+        import: Option<crate::store::ImportReport>,
+        ready: oneshot::Sender<Result<Restored, StoreError>>,
+    ) -> Option<bool> {
+        let state = self.state;
+        let started = self.load(store).and_then(|mut restored| {
+            restored.import = import;
+            let leads = store.try_lead(&state.address)?;
+            if !leads {
+                state
+                    .role
+                    .stand_by(store.leader()?.map(|leader| leader.address));
+                self.follow(store, true)?;
+            }
+            Ok((leads, restored))
+        });
+        match started {
+            Ok((leads, restored)) => {
+                // The gauges (`/healthz`, `/metrics`) count what was loaded before anyone is
+                // told the service is ready.
+                state.metrics.set_store_bytes(store.bytes());
+                self.update_gauges();
+                state.phase.set_ready();
+                let _ = ready.send(Ok(restored));
+                Some(leads)
+            }
+            Err(e) => {
+                let _ = ready.send(Err(e));
+                None
+            }
+        }
+    }
+
     /// The change a stored zone makes: its closures bind planning unless it was withdrawn.
     /// `label` names the store in errors.
     pub(super) fn stored_zone(&self, label: &str, z: StoredZone) -> Result<Change, StoreError> {

@@ -46,7 +46,7 @@ use crate::events::{Event, EventKind};
 use crate::flights::{FlightEntry, Status};
 use crate::metrics::PlanOutcome;
 use crate::state::State;
-use crate::store::{Opening, Store, StoreError};
+use crate::store::{Opening, StoreError};
 use crate::zones::book::{AnnouncedZone, NewZone};
 use crate::zones::decide::{self, AnnounceReply, Announcement, WithdrawReply};
 
@@ -241,44 +241,6 @@ struct Engine<'s> {
 struct Fatal;
 
 impl Engine<'_> {
-    /// Loads the store, then takes the lead or stands by (following what the leader committed
-    /// meanwhile), and says the service is ready on `ready`: whether it leads, `None` if the
-    /// start failed (`ready` says why).
-    fn start(
-        &mut self,
-        store: &mut dyn Store,
-        import: Option<crate::store::ImportReport>,
-        ready: oneshot::Sender<Result<Restored, StoreError>>,
-    ) -> Option<bool> {
-        let state = self.state;
-        let started = self.load(store).and_then(|mut restored| {
-            restored.import = import;
-            let leads = store.try_lead(&state.address)?;
-            if !leads {
-                state
-                    .role
-                    .stand_by(store.leader()?.map(|leader| leader.address));
-                self.follow(store, true)?;
-            }
-            Ok((leads, restored))
-        });
-        match started {
-            Ok((leads, restored)) => {
-                // The gauges (`/healthz`, `/metrics`) count what was loaded before anyone is
-                // told the service is ready.
-                state.metrics.set_store_bytes(store.bytes());
-                self.update_gauges();
-                state.phase.set_ready();
-                let _ = ready.send(Ok(restored));
-                Some(leads)
-            }
-            Err(e) => {
-                let _ = ready.send(Err(e));
-                None
-            }
-        }
-    }
-
     /// Decides every command of `group` and sends it to the writer, which answers once it
     /// is durable. `Err` once the writer has failed (the task stops).
     fn decide_and_send(&mut self, group: &mut Vec<Command>) -> Result<(), Fatal> {
