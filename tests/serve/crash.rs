@@ -109,6 +109,18 @@ async fn client(
     }
 }
 
+/// The station ids of the Singapore default the binary serves.
+pub(crate) fn stations() -> Arc<Vec<String>> {
+    let scenario = muse_scenario::by_name("singapore-77").unwrap();
+    Arc::new(
+        scenario
+            .airspace
+            .stations()
+            .map(|s| scenario.airspace.node(s).id.clone())
+            .collect(),
+    )
+}
+
 pub(crate) async fn get(http: &reqwest::Client, url: String) -> (u16, Value) {
     let r = http.get(url).send().await.expect("server answers");
     let code = r.status().as_u16();
@@ -245,14 +257,7 @@ async fn survive_sigkill(postgres: bool) {
     let Some(data) = StoreArg::fresh("serve-crash", postgres) else {
         return;
     };
-    let scenario = muse_scenario::by_name("singapore-77").unwrap();
-    let stations: Arc<Vec<String>> = Arc::new(
-        scenario
-            .airspace
-            .stations()
-            .map(|s| scenario.airspace.node(s).id.clone())
-            .collect(),
-    );
+    let stations = stations();
     let ledger = Arc::new(Mutex::new(Ledger::default()));
     let mut rng = ChaCha8Rng::seed_from_u64(SEED);
     for cycle in 0..CYCLES {

@@ -20,7 +20,7 @@ use rand::{RngExt as _, SeedableRng as _};
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
 
-use crate::crash::{all_flights, get, rfc3339_in, verify_all};
+use crate::crash::{all_flights, get, rfc3339_in, stations, verify_all};
 use crate::support::throwaway_pg::Throwaway;
 use crate::support::{Server, start_with};
 
@@ -181,14 +181,7 @@ async fn the_leader_killed_again_and_again_loses_and_changes_nothing() {
     println!("seed {SEED:#x}");
     let url = pg.url();
     let args = ["--store", url.as_str()];
-    let scenario = muse_scenario::by_name("singapore-77").unwrap();
-    let stations: Arc<Vec<String>> = Arc::new(
-        scenario
-            .airspace
-            .stations()
-            .map(|s| scenario.airspace.node(s).id.clone())
-            .collect(),
-    );
+    let stations = stations();
     // The first to start leads; the others stand by.
     let mut servers: Vec<Option<Server>> = Vec::new();
     for _ in 0..INSTANCES {

@@ -67,7 +67,7 @@ impl Engine<'_> {
         let state = self.state;
         let started = self.load(store).and_then(|mut restored| {
             restored.import = import;
-            let leads = store.try_lead(&state.address)?;
+            let leads = store.try_lead(&state.address, state.clock.now())?;
             if !leads {
                 state
                     .role

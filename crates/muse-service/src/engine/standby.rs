@@ -69,12 +69,14 @@ impl Engine<'_> {
             }
             let whole = whole_at.elapsed() >= WHOLE_EVERY;
             self.follow(store, whole)?;
-            if store.try_lead(&state.address)? {
+            if store.try_lead(&state.address, state.clock.now())? {
                 // The old leader can commit no more: read what it committed last.
-                self.follow(store, true)?;
-                let (last_seq, last_event) = store.last_keys()?;
-                self.next_seq = last_seq + 1;
-                self.next_event = last_event + 1;
+                // Every event is applied now, and the old leader commits no more: the next
+                // numbers follow the last keys (archived ones included).
+                if let Some((last_seq, last_event)) = self.follow(store, true)? {
+                    self.next_seq = self.next_seq.max(last_seq + 1);
+                    self.next_event = self.next_event.max(last_event + 1);
+                }
                 state.role.took_over();
                 self.update_gauges();
                 return Ok(true);
@@ -94,8 +96,14 @@ impl Engine<'_> {
 
     /// Applies what the leader committed since the last look (see the module docs), and
     /// publishes it: to reads, to `GET /v1/zones`, to the event streams. `whole`: the zones
-    /// and the last keys are read too (else only the events).
-    pub(super) fn follow(&mut self, store: &mut dyn Store, whole: bool) -> Result<(), StoreError> {
+    /// and the last keys are read too (else only the events), and the keys are returned. They
+    /// are read after the events: while the leader writes, more may have come since, so the
+    /// next event to read stays the one after the last applied.
+    pub(super) fn follow(
+        &mut self,
+        store: &mut dyn Store,
+        whole: bool,
+    ) -> Result<Option<(u64, u64)>, StoreError> {
         let state = self.state;
         self.tick();
         let zones = if whole { store.zones()? } else { Vec::new() };
@@ -132,14 +140,19 @@ impl Engine<'_> {
                 break;
             }
         }
-        let (last_seq, last_event) = store.last_keys()?;
-        self.next_seq = self.next_seq.max(last_seq + 1);
+        let keys = if whole {
+            Some(store.last_keys()?)
+        } else {
+            None
+        };
         self.send(&mut Vec::new())
             .unwrap_or_else(|_| unreachable!("a standby sends nothing to a writer"));
-        state
-            .role
-            .followed(self.next_event - 1, last_event, crate::state::system_ms());
+        state.role.followed(
+            self.next_event - 1,
+            keys.map_or(self.next_event - 1, |(_, event)| event),
+            crate::state::system_ms(),
+        );
         self.update_gauges();
-        Ok(())
+        Ok(keys)
     }
 }

@@ -70,6 +70,24 @@ pub(super) fn archived_sum(seq: i64, id: &str, day: &str) -> i64 {
     RowSum::new("archived").int(seq).text(id).text(day).finish()
 }
 
+/// An `archived` row read by id `id` (its `seq`, the `found` id, `day` and `crc`), checked:
+/// its seq and day, or the damage of the store `label`.
+pub(super) fn checked_archived(
+    label: &str,
+    id: &str,
+    (seq, found, day, crc): (i64, String, String, i64),
+) -> Result<(i64, String), StoreError> {
+    if found != id || archived_sum(seq, &found, &day) != crc {
+        return Err(StoreError::Damaged {
+            path: label.to_owned(),
+            what: format!(
+                "archived row seq {seq} (id {found:?}): its checksum does not match its content"
+            ),
+        });
+    }
+    Ok((seq, day))
+}
+
 /// The file of `what` (`flights`, `events`) for `day` in `dir`.
 pub(super) fn file(dir: &Path, what: &str, day: &str) -> PathBuf {
     dir.join(format!("{what}-{day}.csv.gz"))

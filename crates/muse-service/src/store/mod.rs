@@ -30,8 +30,10 @@
 //!   flights are read by index when asked for, and checked then.
 
 pub mod archive;
+mod keys;
 mod meta;
 mod pg;
+mod pool;
 mod rows;
 mod sqlite;
 
@@ -319,11 +321,12 @@ pub(crate) trait Store: Send {
     }
 
     /// Takes the lead if no other service holds it, advertising `address` (the URL other
-    /// services forward writes to): from then on this service alone writes, and a write of a
-    /// service the lead was taken from fails. `Ok(false)`: another service leads. A store in
-    /// a data folder is led by the one process that holds its folder.
-    fn try_lead(&mut self, address: &str) -> Result<bool, StoreError> {
-        let _ = address;
+    /// services forward writes to) and recording `now` as its start: from then on this service
+    /// alone writes, and a write of a service the lead was taken from fails. `Ok(false)`:
+    /// another service leads. A store in a data folder is led by the one process that holds
+    /// its folder.
+    fn try_lead(&mut self, address: &str, now: Instant) -> Result<bool, StoreError> {
+        let _ = (address, now);
         Ok(true)
     }
 

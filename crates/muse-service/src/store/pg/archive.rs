@@ -3,9 +3,9 @@
 //! nothing) and short (one chunk of flights each).
 
 use muse_model::Instant;
-use postgres::{Client, SimpleQueryMessage};
+use postgres::Client;
 
-use super::super::archive::archived_sum;
+use super::super::archive::{archived_sum, checked_archived};
 use super::super::rows::{EVENT_COLUMNS, EventRow, FLIGHT_COLUMNS, FlightRow};
 use super::pg;
 use crate::store::{Archiver, StoreError};
@@ -95,22 +95,7 @@ impl Archiver for PgArchiver {
         events: &[i64],
     ) -> Result<(), StoreError> {
         let what = "moving flights to the archive";
-        let messages = self
-            .client
-            .simple_query("BEGIN; SELECT term FROM lease WHERE one = 1 FOR SHARE")
-            .map_err(pg(what))?;
-        let now = messages.iter().find_map(|m| match m {
-            SimpleQueryMessage::Row(row) => row.get(0).and_then(|t| t.parse::<i64>().ok()),
-            _ => None,
-        });
-        if now != Some(self.term) {
-            let _ = self.client.batch_execute("ROLLBACK");
-            return Err(StoreError::Deposed {
-                path: self.label.clone(),
-                mine: self.term,
-                now: now.unwrap_or(0),
-            });
-        }
+        super::lease::begin_fenced(&mut self.client, &self.label, self.term)?;
         let seqs: Vec<i64> = flights.iter().map(|f| f.seq).collect();
         let ids: Vec<&str> = flights.iter().map(|f| f.id.as_str()).collect();
         let sums: Vec<i64> = flights
@@ -176,16 +161,8 @@ pub(super) fn archived_id(
             row.try_get(3)?,
         ))
     };
-    let (seq, found, day, crc) = read().map_err(pg("reading the archived ids"))?;
-    if found != id || archived_sum(seq, &found, &day) != crc {
-        return Err(StoreError::Damaged {
-            path: label.to_owned(),
-            what: format!(
-                "archived row seq {seq} (id {found:?}): its checksum does not match its content"
-            ),
-        });
-    }
-    Ok(Some((seq, day)))
+    let row = read().map_err(pg("reading the archived ids"))?;
+    checked_archived(label, id, row).map(Some)
 }
 
 /// How many of the keys in `[from, to)` of `table` (`archived` by `seq`, `archived_events` by
@@ -194,14 +171,15 @@ pub(super) fn archived_between(
     client: &mut Client,
     table: &str,
     key: &str,
-    from: i64,
-    to: i64,
-) -> Result<i64, StoreError> {
+    from: u64,
+    to: u64,
+) -> Result<u64, StoreError> {
     client
         .query_one(
             &format!("SELECT count(*) FROM {table} WHERE {key} >= $1 AND {key} < $2"),
-            &[&from, &to],
+            &[&(from as i64), &(to as i64)],
         )
-        .and_then(|r| r.try_get(0))
+        .and_then(|r| r.try_get::<_, i64>(0))
+        .map(|n| n as u64)
         .map_err(pg("reading the archived keys"))
 }

@@ -15,7 +15,8 @@
 //! - **Following.** The leader's commits notify [`CHANNEL`]; a standby listens on it and reads
 //!   what was committed as soon as it is told (or every time its wait ends).
 
-use postgres::SimpleQueryMessage;
+use muse_model::Instant;
+use postgres::{Client, SimpleQueryMessage};
 
 use super::{PostgresStore, pg};
 use crate::store::{Leader, StoreError};
@@ -35,7 +36,7 @@ pub(super) const COMMIT: &str = "NOTIFY muse_commits; COMMIT";
 impl PostgresStore {
     /// Takes the lead if no service holds it (see the module docs): `Ok(true)` if this
     /// service leads now.
-    pub(super) fn take_lead(&mut self, address: &str) -> Result<bool, StoreError> {
+    pub(super) fn take_lead(&mut self, address: &str, now: Instant) -> Result<bool, StoreError> {
         if self.term.is_some() {
             return Ok(true);
         }
@@ -47,14 +48,13 @@ impl PostgresStore {
         if !mine {
             return Ok(false);
         }
-        let now = crate::state::system_ms();
         let term: i64 = self
             .client
             .query_one(
                 "INSERT INTO lease (one, term, holder, since_ms) VALUES (1, 1, $1, $2) \
                  ON CONFLICT (one) DO UPDATE SET term = lease.term + 1, holder = $1, \
                  since_ms = $2 RETURNING term",
-                &[&address, &now],
+                &[&address, &now.0],
             )
             .and_then(|r| r.try_get(0))
             .map_err(pg("taking the lead"))?;
@@ -70,30 +70,14 @@ impl PostgresStore {
 
     /// Begins a write transaction of the leader, after checking that it still leads.
     pub(super) fn begin_fenced(&mut self) -> Result<(), StoreError> {
-        let Some(mine) = self.term else {
-            return Err(StoreError::Deposed {
+        match self.term {
+            Some(mine) => begin_fenced(&mut self.client, &self.label, mine),
+            None => Err(StoreError::Deposed {
                 path: self.label.clone(),
                 mine: 0,
                 now: self.read_leader()?.map_or(0, |l| l.term),
-            });
-        };
-        let messages = self
-            .client
-            .simple_query(BEGIN)
-            .map_err(pg("starting a transaction"))?;
-        let now = messages.iter().find_map(|m| match m {
-            SimpleQueryMessage::Row(row) => row.get(0).and_then(|t| t.parse::<i64>().ok()),
-            _ => None,
-        });
-        if now != Some(mine) {
-            let _ = self.client.batch_execute("ROLLBACK");
-            return Err(StoreError::Deposed {
-                path: self.label.clone(),
-                mine,
-                now: now.unwrap_or(0),
-            });
+            }),
         }
-        Ok(())
     }
 
     /// The leader, as the lease records it.
@@ -139,4 +123,26 @@ impl PostgresStore {
         }
         Ok(())
     }
+}
+
+/// Begins a write transaction on `client` after checking, in it, that the term is still
+/// `mine` (see the module docs); rolls back and says so if it is not. `label` names the
+/// store in errors.
+pub(super) fn begin_fenced(client: &mut Client, label: &str, mine: i64) -> Result<(), StoreError> {
+    let messages = client
+        .simple_query(BEGIN)
+        .map_err(pg("starting a transaction"))?;
+    let now = messages.iter().find_map(|m| match m {
+        SimpleQueryMessage::Row(row) => row.get(0).and_then(|t| t.parse::<i64>().ok()),
+        _ => None,
+    });
+    if now != Some(mine) {
+        let _ = client.batch_execute("ROLLBACK");
+        return Err(StoreError::Deposed {
+            path: label.to_owned(),
+            mine,
+            now: now.unwrap_or(0),
+        });
+    }
+    Ok(())
 }

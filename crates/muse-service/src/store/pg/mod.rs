@@ -20,6 +20,7 @@
 //! PostgreSQL's to keep (its page checksums, `initdb --data-checksums`, and `amcheck`).
 
 mod archive;
+mod connect;
 mod lease;
 mod open;
 mod queries;
@@ -338,8 +339,8 @@ impl Store for PostgresStore {
             .map_err(pg("ending a snapshot"))
     }
 
-    fn try_lead(&mut self, address: &str) -> Result<bool, StoreError> {
-        self.take_lead(address)
+    fn try_lead(&mut self, address: &str, now: Instant) -> Result<bool, StoreError> {
+        self.take_lead(address, now)
     }
 
     fn leader(&mut self) -> Result<Option<Leader>, StoreError> {
@@ -360,7 +361,7 @@ impl Store for PostgresStore {
         };
         Ok(Box::new(archive::PgArchiver {
             label: self.label.clone(),
-            client: open::connect(&self.url, &self.label)?,
+            client: connect::connect(&self.url, &self.label)?,
             term,
         }))
     }

@@ -1,11 +1,10 @@
 //! Opening a PostgreSQL store: the connection and its settings, a new store's tables, and the
 //! check that a store was written for the world this service plans with.
 
+use postgres::Client;
 use std::collections::HashMap;
-use std::time::Duration;
 
-use postgres::{Client, NoTls};
-
+use super::connect::connect;
 use super::reader::Reader;
 use super::{PostgresStore, pg, schema};
 use crate::store::{StoreError, WorldMeta, meta};
@@ -13,30 +12,6 @@ use crate::store::{StoreError, WorldMeta, meta};
 /// The key of the transaction-level advisory lock under which a store's tables are made and
 /// checked, so that services starting together on an empty database make them once.
 const SCHEMA_LOCK: i64 = 0x4d55_5345_0001;
-
-/// How long a connection may take to open.
-const CONNECT_TIMEOUT: Duration = Duration::from_secs(10);
-
-/// Connects to the database at `url` (`label`: the URL without its password, for messages),
-/// with the password in `PGPASSWORD` when the URL gives none, as PostgreSQL's own tools do.
-pub(super) fn connect(url: &str, label: &str) -> Result<Client, StoreError> {
-    let mut config: postgres::Config = url.parse().map_err(|error| StoreError::Postgres {
-        what: format!("reading the URL {label}"),
-        error,
-    })?;
-    config
-        .connect_timeout(CONNECT_TIMEOUT)
-        .application_name("muse serve");
-    if config.get_password().is_none()
-        && let Some(password) = std::env::var_os("PGPASSWORD")
-    {
-        config.password(password.as_encoded_bytes());
-    }
-    config.connect(NoTls).map_err(|error| StoreError::Postgres {
-        what: format!("connecting to {label}"),
-        error,
-    })
-}
 
 /// A PostgreSQL store opened and checked, not yet loaded.
 pub struct Opening {

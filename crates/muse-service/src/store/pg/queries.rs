@@ -10,9 +10,11 @@ use postgres::{Client, GenericClient};
 use super::super::rows::{
     EVENT_COLUMNS, EventRow, FLIGHT_COLUMNS, FlightRow, ZONE_COLUMNS, ZoneRow,
 };
+use super::archive::archived_between;
 use super::pg;
 use crate::events::Event;
 use crate::flights::{FlightEntry, ListQuery};
+use crate::store::keys::Keys;
 use crate::store::{Checked, Recent, StoreError, StoredZone};
 
 /// The damage `what` of the store `label`.
@@ -23,6 +25,21 @@ fn damaged(label: &str, what: String) -> StoreError {
     }
 }
 
+/// The flights row whose `column` is `value` (the key `id` or `seq`), as read.
+fn flight_row(
+    client: &mut Client,
+    column: &str,
+    value: &(dyn postgres::types::ToSql + Sync),
+) -> Result<Option<FlightRow>, StoreError> {
+    client
+        .query_opt(
+            &format!("SELECT {FLIGHT_COLUMNS} FROM flights WHERE {column} = $1"),
+            &[value],
+        )
+        .and_then(|row| row.map(|r| FlightRow::read(&r, 0)).transpose())
+        .map_err(pg("reading a flight"))
+}
+
 /// The flight with client id `id`.
 pub(super) fn flight_by_id(
     client: &mut Client,
@@ -30,14 +47,9 @@ pub(super) fn flight_by_id(
     label: &str,
     id: &str,
 ) -> Result<Option<FlightEntry>, StoreError> {
-    let row = client
-        .query_opt(
-            &format!("SELECT {FLIGHT_COLUMNS} FROM flights WHERE id = $1"),
-            &[&id],
-        )
-        .map_err(pg("reading a flight"))?;
-    let Some(row) = row else { return Ok(None) };
-    let r = FlightRow::read(&row, 0).map_err(pg("reading a flight"))?;
+    let Some(r) = flight_row(client, "id", &id)? else {
+        return Ok(None);
+    };
     if r.id != id {
         return Err(damaged(
             label,
@@ -240,60 +252,6 @@ pub(super) fn bytes(client: &mut Client) -> Result<u64, StoreError> {
     Ok(n as u64)
 }
 
-/// Keys read in order, which must run without a gap from the first to the last (but for
-/// keys archived; see `store::archive`).
-struct Keys<'a> {
-    label: &'a str,
-    table: &'static str,
-    expected: i64,
-    last: i64,
-    /// Keys archived within the window.
-    archived: i64,
-}
-
-impl Keys<'_> {
-    fn next(&mut self, client: &mut Client, key: i64) -> Result<(), StoreError> {
-        if key > self.expected {
-            let (table, column) = if self.table == "flights" {
-                ("archived", "seq")
-            } else {
-                ("archived_events", "id")
-            };
-            let gap = key - self.expected;
-            if super::archive::archived_between(client, table, column, self.expected, key)? == gap {
-                self.archived += gap;
-                self.expected = key;
-            }
-        }
-        if key != self.expected {
-            return Err(damaged(
-                self.label,
-                format!(
-                    "{} row {} follows row {} (a row is missing or misplaced)",
-                    self.table,
-                    key,
-                    self.expected - 1
-                ),
-            ));
-        }
-        self.expected += 1;
-        Ok(())
-    }
-
-    fn finish(self) -> Result<u64, StoreError> {
-        if self.expected <= self.last {
-            return Err(damaged(
-                self.label,
-                format!(
-                    "{} rows {} to {} are missing",
-                    self.table, self.expected, self.last
-                ),
-            ));
-        }
-        Ok((self.expected - self.archived) as u64)
-    }
-}
-
 /// Checks the last `window` flights and events whole (see the module docs of `pg`); `held`
 /// are the flights the start read as still holding at `now`.
 pub(super) fn check_recent(
@@ -307,16 +265,9 @@ pub(super) fn check_recent(
     if window == 0 {
         return Ok(Recent::default());
     }
-    let window = i64::try_from(window).unwrap_or(i64::MAX);
-    let last = max_key(client, "flights", "seq")? as i64;
-    let first = (last - window + 1).max(1);
-    let mut keys = Keys {
-        label,
-        table: "flights",
-        expected: first,
-        last,
-        archived: 0,
-    };
+    let last = max_key(client, "flights", "seq")?;
+    let mut keys = Keys::window(label, "flights", "seq", last, window);
+    let first = keys.first as i64;
     let rows = client
         .query(
             &format!("SELECT {FLIGHT_COLUMNS} FROM flights WHERE seq >= $1 ORDER BY seq"),
@@ -326,7 +277,9 @@ pub(super) fn check_recent(
     let mut changes = HashMap::new();
     for row in &rows {
         let r = FlightRow::read(row, 0).map_err(pg("checking the last flights"))?;
-        keys.next(client, r.seq)?;
+        keys.next(r.seq, |t, k, from, to| {
+            archived_between(client, t, k, from, to)
+        })?;
         let entry = r.entry(airspace, label)?;
         if r.holds_until_ms.is_some_and(|h| h >= now.0) && !held.contains(&entry.seq) {
             return Err(damaged(
@@ -340,16 +293,10 @@ pub(super) fn check_recent(
         }
         changes.insert(r.seq, entry.changes.len());
     }
-    let flights = keys.finish()? - first as u64;
-    let last = max_key(client, "events", "id")? as i64;
-    let first = (last - window + 1).max(1);
-    let mut keys = Keys {
-        label,
-        table: "events",
-        expected: first,
-        last,
-        archived: 0,
-    };
+    let flights = keys.finish()?;
+    let last = max_key(client, "events", "id")?;
+    let mut keys = Keys::window(label, "events", "id", last, window);
+    let first = keys.first as i64;
     let rows = client
         .query(
             &format!(
@@ -362,7 +309,9 @@ pub(super) fn check_recent(
         .map_err(pg("checking the last events"))?;
     for row in &rows {
         let e = EventRow::read(row, 0).map_err(pg("checking the last events"))?;
-        keys.next(client, e.id)?;
+        keys.next(e.id, |t, k, from, to| {
+            archived_between(client, t, k, from, to)
+        })?;
         let found: Option<i64> = row.try_get(7).map_err(pg("checking the last events"))?;
         let of_flight = match changes.get(&e.flight_seq) {
             Some(&c) => Some(c),
@@ -374,7 +323,7 @@ pub(super) fn check_recent(
         };
         e.check(label, of_flight)?;
     }
-    let events = keys.finish()? - first as u64;
+    let events = keys.finish()?;
     Ok(Recent { flights, events })
 }
 
@@ -385,18 +334,9 @@ fn read_seq(
     label: &str,
     seq: i64,
 ) -> Result<Option<FlightEntry>, StoreError> {
-    let row = client
-        .query_opt(
-            &format!("SELECT {FLIGHT_COLUMNS} FROM flights WHERE seq = $1"),
-            &[&seq],
-        )
-        .map_err(pg("reading a flight"))?;
-    row.map(|row| {
-        FlightRow::read(&row, 0)
-            .map_err(pg("reading a flight"))?
-            .entry(airspace, label)
-    })
-    .transpose()
+    flight_row(client, "seq", &seq)?
+        .map(|r| r.entry(airspace, label))
+        .transpose()
 }
 
 /// Reads every row of the store and checks its checksum (and that it decodes); the first

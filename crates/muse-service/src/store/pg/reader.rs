@@ -1,19 +1,15 @@
 //! Reads for the HTTP handlers: a small pool of connections to the database, beside the
 //! planner task's. A reader sees what is committed, which is everything acknowledged.
 
-use std::sync::Mutex;
-
 use muse_model::Airspace;
 use postgres::Client;
 
-use super::open::connect;
+use super::super::pool::Pool;
+use super::connect::connect;
 use super::queries;
 use crate::events::Event;
 use crate::flights::{FlightEntry, ListQuery};
 use crate::store::{Reads, StoreError};
-
-/// Most idle connections kept for reuse.
-const KEEP: usize = 8;
 
 /// The handlers' reads (see the module docs).
 pub struct Reader {
@@ -21,7 +17,7 @@ pub struct Reader {
     label: String,
     /// The archive folder (see `store::archive`).
     archive: Option<std::path::PathBuf>,
-    idle: Mutex<Vec<Client>>,
+    idle: Pool<Client>,
 }
 
 impl std::fmt::Debug for Reader {
@@ -39,7 +35,7 @@ impl Reader {
             url,
             label,
             archive,
-            idle: Mutex::new(Vec::new()),
+            idle: Pool::default(),
         }
     }
 
@@ -47,27 +43,11 @@ impl Reader {
         &self,
         f: impl FnOnce(&mut Client, &str) -> Result<T, StoreError>,
     ) -> Result<T, StoreError> {
-        let idle = self
-            .idle
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-            .pop();
-        let mut client = match idle {
-            Some(c) if !c.is_closed() => c,
-            _ => connect(&self.url, &self.label)?,
-        };
-        let out = f(&mut client, &self.label);
-        let mut idle = self
-            .idle
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        if idle.len() < KEEP && !client.is_closed() {
-            idle.push(client);
-        } else {
-            drop(idle);
-            let _ = client.close();
-        }
-        out
+        self.idle.with(
+            || connect(&self.url, &self.label),
+            |c| !c.is_closed(),
+            |client| f(client, &self.label),
+        )
     }
 }
 
@@ -75,11 +55,7 @@ impl Drop for Reader {
     /// The connections are closed on a thread of their own: each holds a small runtime of its
     /// own, which may not be dropped on an async worker.
     fn drop(&mut self) {
-        let idle = std::mem::take(
-            self.idle
-                .get_mut()
-                .unwrap_or_else(std::sync::PoisonError::into_inner),
-        );
+        let idle = self.idle.take_all();
         if !idle.is_empty() {
             let _ = std::thread::Builder::new()
                 .name("muse-pg-close".into())

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use muse_model::Instant;
 use rusqlite::{Connection, OptionalExtension as _, params};
 
-use super::super::archive::archived_sum;
+use super::super::archive::{archived_sum, checked_archived};
 use super::super::rows::{EVENT_COLUMNS, EventRow, FLIGHT_COLUMNS, FlightRow};
 use super::{Archiver, StoreError, connect, sql};
 
@@ -141,19 +141,7 @@ pub(super) fn archived_id(
                 .optional()
         })
         .map_err(sql("reading the archived ids"))?;
-    row.map(|(seq, found, day, crc)| {
-        if found != id || archived_sum(seq, &found, &day) != crc {
-            return Err(StoreError::Damaged {
-                path: path.to_owned(),
-                what: format!(
-                    "archived row seq {seq} (id {found:?}): its checksum does not match its \
-                     content"
-                ),
-            });
-        }
-        Ok((seq, day))
-    })
-    .transpose()
+    row.map(|r| checked_archived(path, id, r)).transpose()
 }
 
 /// How many of the keys in `[from, to)` of `table` (`archived` by `seq`, `archived_events` by

@@ -3,17 +3,14 @@
 //! what is committed, which is everything acknowledged: answers go out after their commit.
 
 use std::path::PathBuf;
-use std::sync::Mutex;
 
 use muse_model::Airspace;
 use rusqlite::Connection;
 
+use super::super::pool::Pool;
 use super::{Reads, StoreError, connect, queries};
 use crate::events::Event;
 use crate::flights::{FlightEntry, ListQuery};
-
-/// Most idle connections kept for reuse.
-const KEEP: usize = 8;
 
 /// The handlers' reads (see the module docs).
 #[derive(Debug)]
@@ -22,7 +19,7 @@ pub struct Reader {
     label: String,
     /// The archive folder (see `store::archive`).
     archive: Option<PathBuf>,
-    idle: Mutex<Vec<Connection>>,
+    idle: Pool<Connection>,
 }
 
 impl Reader {
@@ -33,7 +30,7 @@ impl Reader {
             label: path.display().to_string(),
             path,
             archive,
-            idle: Mutex::new(Vec::new()),
+            idle: Pool::default(),
         }
     }
 
@@ -41,24 +38,11 @@ impl Reader {
         &self,
         f: impl FnOnce(&Connection, &str) -> Result<T, StoreError>,
     ) -> Result<T, StoreError> {
-        let idle = self
-            .idle
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-            .pop();
-        let conn = match idle {
-            Some(c) => c,
-            None => connect(&self.path, false)?,
-        };
-        let out = f(&conn, &self.label).map_err(|e| e.in_store(&self.label));
-        let mut idle = self
-            .idle
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        if idle.len() < KEEP {
-            idle.push(conn);
-        }
-        out
+        self.idle.with(
+            || connect(&self.path, false),
+            |_| true,
+            |conn| f(conn, &self.label).map_err(|e| e.in_store(&self.label)),
+        )
     }
 }
 

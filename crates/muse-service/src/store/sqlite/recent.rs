@@ -16,6 +16,7 @@ use std::collections::{HashMap, HashSet};
 use muse_model::{Airspace, Instant};
 use rusqlite::Connection;
 
+use super::super::keys::Keys;
 use super::archive::archived_between;
 use super::queries::{flight_by_seq, indexed, max_key};
 use super::rows::{EVENT_COLUMNS, EventRow, FLIGHT_COLUMNS, FlightRow};
@@ -34,7 +35,14 @@ pub(super) fn check(
     if window == 0 {
         return Ok(Recent::default());
     }
-    let mut keys = Keys::last(conn, path, "flights", "seq", window)?;
+    let archived = |table, key, from, to| archived_between(conn, table, key, from, to);
+    let mut keys = Keys::window(
+        path,
+        "flights",
+        "seq",
+        max_key(conn, "flights", "seq")?,
+        window,
+    );
     let mut changes = HashMap::new();
     {
         let mut stmt = conn
@@ -47,7 +55,7 @@ pub(super) fn check(
             .map_err(sql("checking the last flights"))?;
         for row in rows {
             let row = row.map_err(sql("checking the last flights"))?;
-            keys.next(conn, row.seq)?;
+            keys.next(row.seq, archived)?;
             let entry = row.entry(airspace, path)?;
             indexed(conn, path, &row)?;
             if row.holds_until_ms.is_some_and(|h| h >= now.0) && !held.contains(&entry.seq) {
@@ -64,7 +72,7 @@ pub(super) fn check(
         }
     }
     let flights = keys.finish()?;
-    let mut keys = Keys::last(conn, path, "events", "id", window)?;
+    let mut keys = Keys::window(path, "events", "id", max_key(conn, "events", "id")?, window);
     let mut stmt = conn
         .prepare(&format!(
             "SELECT {EVENT_COLUMNS} FROM events WHERE id >= ?1 ORDER BY id"
@@ -75,7 +83,7 @@ pub(super) fn check(
         .map_err(sql("checking the last events"))?;
     for row in rows {
         let row = row.map_err(sql("checking the last events"))?;
-        keys.next(conn, row.id)?;
+        keys.next(row.id, archived)?;
         let seq = u64::try_from(row.flight_seq).unwrap_or(0);
         let flight_changes = match changes.get(&seq) {
             Some(&c) => Some(c),
@@ -87,81 +95,4 @@ pub(super) fn check(
         flights,
         events: keys.finish()?,
     })
-}
-
-/// The keys of a table's last rows, read in order: they run without a gap from `first` to the
-/// largest stored.
-struct Keys<'a> {
-    path: &'a str,
-    table: &'static str,
-    key: &'static str,
-    first: u64,
-    /// The key the next row must have.
-    want: u64,
-    last: u64,
-}
-
-impl<'a> Keys<'a> {
-    /// The last `window` keys of `table` (column `key`).
-    fn last(
-        conn: &Connection,
-        path: &'a str,
-        table: &'static str,
-        key: &'static str,
-        window: u64,
-    ) -> Result<Keys<'a>, StoreError> {
-        let last = max_key(conn, table, key)?;
-        let first = last.saturating_sub(window) + 1;
-        Ok(Keys {
-            path,
-            table,
-            key,
-            first,
-            want: first,
-            last,
-        })
-    }
-
-    /// The next row read has key `got`: the one expected (or the next after keys archived;
-    /// see `store::archive`), or damage.
-    fn next(&mut self, conn: &Connection, got: i64) -> Result<(), StoreError> {
-        if got > self.want as i64 {
-            let (table, key) = if self.table == "flights" {
-                ("archived", "seq")
-            } else {
-                ("archived_events", "id")
-            };
-            let gap = got as u64 - self.want;
-            if archived_between(conn, table, key, self.want, got as u64)? == gap {
-                self.first += gap;
-                self.want = got as u64;
-            }
-        }
-        if got != self.want as i64 {
-            return Err(self.damaged(format!(
-                "{} row {} {} is missing (the rows go on with {} {got})",
-                self.table, self.key, self.want, self.key
-            )));
-        }
-        self.want += 1;
-        Ok(())
-    }
-
-    /// Every key up to the largest was read; returns how many rows were.
-    fn finish(self) -> Result<u64, StoreError> {
-        if self.last > 0 && self.want != self.last + 1 {
-            return Err(self.damaged(format!(
-                "{} rows {} {} to {} are missing",
-                self.table, self.key, self.want, self.last
-            )));
-        }
-        Ok(self.want - self.first)
-    }
-
-    fn damaged(&self, what: String) -> StoreError {
-        StoreError::Damaged {
-            path: self.path.to_owned(),
-            what,
-        }
-    }
 }
